@@ -1,0 +1,104 @@
+# albatros — the front door: make, make test, make asan, make bench, make demo.
+# GNU Make; dependencies through pkg-config (docs/building.md).
+
+CC      ?= cc
+BUILD   ?= build
+PKGS    := libpng
+OPT     ?= -O2
+WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes -Wmissing-prototypes \
+           -Wpointer-arith -Wcast-qual -Wvla
+# The GP's doubles must round the same everywhere: no contraction into fused
+# multiply-adds, no fast-math (docs/number-formats.md).
+FPFLAGS := -ffp-contract=off -fno-fast-math
+CFLAGS  ?= $(OPT) -g
+ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) $(FPFLAGS) $(CFLAGS) $(EXTRA_CFLAGS) $(shell pkg-config --cflags $(PKGS))
+LDLIBS  = $(shell pkg-config --libs $(PKGS)) -lm $(EXTRA_LDLIBS)
+
+COMMON_SRC := common/diag.c common/profile.c common/words.c
+GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
+EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cli.c
+LIB_SRC    := $(COMMON_SRC) $(GP_SRC) $(BUILD)/gen/builtin_scene.c
+TEST_SRC   := $(wildcard tests/test_*.c) tests/t.c tests/gp_helpers.c
+
+LIB_OBJ  := $(patsubst %.c,$(BUILD)/%.o,$(LIB_SRC:$(BUILD)/%=%))
+EMU_OBJ  := $(patsubst %.c,$(BUILD)/%.o,$(EMU_SRC))
+TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
+
+ALBATROS := $(BUILD)/albatros
+UNIT     := $(BUILD)/tests/unit
+
+.PHONY: all test unit vectors bless asan bench demo setup deps clean help check-fresh
+all: $(ALBATROS) $(UNIT)
+
+help:
+	@echo "make            build $(ALBATROS) and the tests"
+	@echo "make setup      install missing Debian packages (apt-get), then build"
+	@echo "make demo       run the main job on the built-in scene (out/)"
+	@echo "make test       run every test (unit, CLI, golden vectors)"
+	@echo "make vectors    check the golden vectors only"
+	@echo "make bless      regenerate the golden vectors' expected outputs"
+	@echo "make asan       build and test under AddressSanitizer + UBSan"
+	@echo "make clean"
+
+# ---- set-up: install what pkg-config cannot find (Debian 12) ----
+DEB_PKGS := build-essential pkg-config libpng-dev
+setup: deps
+	$(MAKE) all
+deps:
+	@missing=""; \
+	for p in $(DEB_PKGS); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing:$$missing"; \
+	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
+	  $$SUDO apt-get update && $$SUDO apt-get install -y $$missing; \
+	else echo "all build dependencies present"; fi
+
+# ---- build ----
+$(BUILD)/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -MMD -MP -c $< -o $@
+
+$(BUILD)/gen/%.o: $(BUILD)/gen/%.c
+	$(CC) $(ALL_CFLAGS) -I. -c $< -o $@
+
+$(BUILD)/tools/embed: tools/embed.c
+	@mkdir -p $(dir $@)
+	$(CC) -std=c11 $(WARN) -O1 $< -o $@
+
+$(BUILD)/gen/builtin_scene.c: gp/builtin.scene $(BUILD)/tools/embed
+	@mkdir -p $(dir $@)
+	$(BUILD)/tools/embed scene_builtin_data $< $@
+
+$(ALBATROS): $(EMU_OBJ) $(LIB_OBJ)
+	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
+
+$(UNIT): $(TEST_OBJ) $(LIB_OBJ)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
+
+# ---- tests: every runner prints "N passed, N failed"; tests/summary adds them ----
+test: $(ALBATROS) $(UNIT)
+	@bash tests/run-all.sh $(BUILD)
+
+unit: $(UNIT)
+	$(UNIT)
+
+vectors: $(ALBATROS)
+	$(ALBATROS) vectors check test-vectors
+
+bless: $(ALBATROS)
+	$(ALBATROS) vectors bless test-vectors
+
+asan:
+	$(MAKE) BUILD=build-asan OPT=-O1 \
+	  EXTRA_CFLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
+	  EXTRA_LDLIBS="-fsanitize=address,undefined" test
+
+demo: $(ALBATROS)
+	@mkdir -p out
+	$(ALBATROS) gp -o out/builtin.stream --hex out/builtin.hex
+
+clean:
+	rm -rf $(BUILD) build-asan out
+
+-include $(shell find $(BUILD) -name '*.d' 2>/dev/null)

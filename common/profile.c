@@ -1,0 +1,174 @@
+/* profile.c — the built-in members of the family and their overrides. */
+#include "profile.h"
+#include "fix.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Defaults are chosen as a 1990s team would for 50 Hz at these sizes: 24-bit
+ * mantissas and depth (what a 24-bit DSP datapath carries), 8-bit colour, and
+ * six bits below the pixel in edge intercepts (docs/profiles.md). */
+static const profile_t builtin[] = {
+    {"a512", 512, 512, 0, 14, 24, 24, 8, 16, 12, BOUND_ALBATROS, true},
+    {"a1024", 1024, 1024, 0, 15, 24, 24, 8, 16, 12, BOUND_ALBATROS, true},
+    {"a1024x512", 1024, 512, 0, 15, 24, 24, 8, 16, 12, BOUND_ALBATROS, true},
+    {"a256", 256, 256, 0, 13, 24, 24, 8, 16, 12, BOUND_ALBATROS, true},
+    {"t32", 32, 32, 0, 10, 24, 24, 8, 16, 12, BOUND_ALBATROS, true},
+};
+
+static const char *const names[] = {"a512", "a1024", "a1024x512", "a256", "t32", NULL};
+
+const char *const *profile_names(void) { return names; }
+
+int profile_lookup(const char *name, profile_t *p)
+{
+    for (size_t i = 0; i < sizeof builtin / sizeof builtin[0]; i++) {
+        if (strcmp(builtin[i].name, name) == 0) {
+            *p = builtin[i];
+            return 0;
+        }
+    }
+    return -1;
+}
+
+const char *bound_method_name(bound_method m)
+{
+    switch (m) {
+    case BOUND_NONE: return "none";
+    case BOUND_ALBATROS: return "albatros";
+    case BOUND_BOX: return "box";
+    case BOUND_BISECTOR: return "bisector";
+    }
+    return "?";
+}
+
+int bound_method_parse(const char *s, bound_method *m)
+{
+    for (int i = BOUND_NONE; i <= BOUND_BISECTOR; i++) {
+        if (strcmp(s, bound_method_name((bound_method)i)) == 0) {
+            *m = (bound_method)i;
+            return 0;
+        }
+    }
+    return -1;
+}
+
+static int parse_uint(const char *s, unsigned *out)
+{
+    char *end;
+    errno = 0;
+    if (*s < '0' || *s > '9')
+        return -1;
+    unsigned long v = strtoul(s, &end, 10);
+    if (errno || *end || v > 1u << 20)
+        return -1;
+    *out = (unsigned)v;
+    return 0;
+}
+
+typedef struct {
+    const char *key;
+    size_t offset;
+} uint_field;
+
+#define FIELD(f) {#f, offsetof(profile_t, f)}
+static const uint_field uint_fields[] = {
+    FIELD(width), FIELD(height), {"aa", offsetof(profile_t, aa_levels)},
+    FIELD(edge_frac_bits), FIELD(coef_bits), FIELD(depth_bits),
+    FIELD(colour_bits), FIELD(recip_bits), FIELD(shade_frac_bits),
+};
+
+int profile_set(profile_t *p, const char *assignment, char *err, size_t errlen)
+{
+    const char *eq = strchr(assignment, '=');
+    if (!eq) {
+        snprintf(err, errlen, "'%s': expected key=value", assignment);
+        return -1;
+    }
+    size_t klen = (size_t)(eq - assignment);
+    const char *val = eq + 1;
+    for (size_t i = 0; i < sizeof uint_fields / sizeof uint_fields[0]; i++) {
+        if (strlen(uint_fields[i].key) == klen &&
+            strncmp(uint_fields[i].key, assignment, klen) == 0) {
+            unsigned v;
+            if (parse_uint(val, &v)) {
+                snprintf(err, errlen, "'%s': expected a non-negative integer", assignment);
+                return -1;
+            }
+            *(unsigned *)((char *)p + uint_fields[i].offset) = v;
+            return 0;
+        }
+    }
+    if (klen == 5 && strncmp(assignment, "bound", 5) == 0) {
+        if (bound_method_parse(val, &p->bound)) {
+            snprintf(err, errlen, "'%s': expected none, albatros, box or bisector", assignment);
+            return -1;
+        }
+        return 0;
+    }
+    if (klen == 8 && strncmp(assignment, "backface", 8) == 0) {
+        if (strcmp(val, "0") && strcmp(val, "1")) {
+            snprintf(err, errlen, "'%s': expected 0 or 1", assignment);
+            return -1;
+        }
+        p->cull_backfaces = val[0] == '1';
+        return 0;
+    }
+    snprintf(err, errlen, "'%.*s': unknown profile key (known: width height aa "
+             "edge_frac_bits coef_bits depth_bits colour_bits recip_bits "
+             "shade_frac_bits bound backface)", (int)klen, assignment);
+    return -1;
+}
+
+unsigned profile_levels(const profile_t *p)
+{
+    unsigned w = fix_log2(p->width), h = fix_log2(p->height);
+    return (w > h ? w : h) + p->aa_levels;
+}
+
+unsigned profile_sample_shift(const profile_t *p) { return profile_levels(p); }
+
+int profile_check(const profile_t *p, char *err, size_t errlen)
+{
+#define BAD(...) do { snprintf(err, errlen, __VA_ARGS__); return -1; } while (0)
+    if (!fix_is_pow2(p->width) || !fix_is_pow2(p->height) || p->width < 2 ||
+        p->height < 2 || p->width > 8192 || p->height > 8192)
+        BAD("screen %ux%u: width and height must be powers of two in 2..8192",
+            p->width, p->height);
+    if (p->aa_levels > 3)
+        BAD("aa=%u: at most 3 anti-aliasing levels (64 samples per pixel)", p->aa_levels);
+    if (p->edge_frac_bits < EDGE_FRAC_MIN || p->edge_frac_bits > EDGE_FRAC_MAX)
+        BAD("edge_frac_bits=%u: must be in %d..%d", p->edge_frac_bits,
+            EDGE_FRAC_MIN, EDGE_FRAC_MAX);
+    if (p->coef_bits < COEF_BITS_MIN || p->coef_bits > COEF_BITS_MAX)
+        BAD("coef_bits=%u: must be in %d..%d", p->coef_bits, COEF_BITS_MIN, COEF_BITS_MAX);
+    if (p->depth_bits < 8 || p->depth_bits > 32)
+        BAD("depth_bits=%u: must be in 8..32", p->depth_bits);
+    if (p->colour_bits < 4 || p->colour_bits > 16)
+        BAD("colour_bits=%u: must be in 4..16", p->colour_bits);
+    if (p->recip_bits < 8 || p->recip_bits > 24)
+        BAD("recip_bits=%u: must be in 8..24", p->recip_bits);
+    if (p->shade_frac_bits < 8 || p->shade_frac_bits > 16)
+        BAD("shade_frac_bits=%u: must be in 8..16", p->shade_frac_bits);
+    /* A form evaluated at a sample is below 2^(coef_bits + levels + 1); times a
+     * reciprocal of recip_bits + 1 bits it must stay inside int64
+     * (docs/number-formats.md §4). */
+    if (p->coef_bits + profile_levels(p) + 2 + p->recip_bits + 1 > 63)
+        BAD("coef_bits + levels + recip_bits = %u: the product would not fit 63 bits",
+            p->coef_bits + profile_levels(p) + p->recip_bits);
+    return 0;
+#undef BAD
+}
+
+void profile_describe(const profile_t *p, char *buf, size_t len)
+{
+    snprintf(buf, len,
+             "profile=%s\nwidth=%u\nheight=%u\naa=%u\nedge_frac_bits=%u\n"
+             "coef_bits=%u\ndepth_bits=%u\ncolour_bits=%u\nrecip_bits=%u\n"
+             "shade_frac_bits=%u\nbound=%s\nbackface=%d\n",
+             p->name, p->width, p->height, p->aa_levels, p->edge_frac_bits,
+             p->coef_bits, p->depth_bits, p->colour_bits, p->recip_bits,
+             p->shade_frac_bits, bound_method_name(p->bound), p->cull_backfaces);
+}

@@ -1,0 +1,91 @@
+/* vec3.h — double-precision 3-vectors and 3x3 matrices for the GP and the
+ * reference renderer (never used by the VP, which has no floating point). */
+#ifndef ALBATROS_VEC3_H
+#define ALBATROS_VEC3_H
+
+#include <math.h>
+
+#define VEC3_PI 3.14159265358979323846
+
+typedef struct {
+    double x, y, z;
+} vec3;
+
+typedef struct {
+    double m[3][3];   /* row-major: (M v)_i = sum_j m[i][j] v_j */
+} mat3;
+
+static inline vec3 v3(double x, double y, double z) { return (vec3){x, y, z}; }
+static inline vec3 v3_add(vec3 a, vec3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
+static inline vec3 v3_sub(vec3 a, vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
+static inline vec3 v3_scale(vec3 a, double s) { return v3(a.x * s, a.y * s, a.z * s); }
+static inline double v3_dot(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline double v3_len(vec3 a) { return sqrt(v3_dot(a, a)); }
+
+/* eq. (16): the cross product, written out in the paper's order. */
+static inline vec3 v3_cross(vec3 a, vec3 b)
+{
+    return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+
+static inline vec3 m3_apply(const mat3 *m, vec3 v)
+{
+    return v3(m->m[0][0] * v.x + m->m[0][1] * v.y + m->m[0][2] * v.z,
+              m->m[1][0] * v.x + m->m[1][1] * v.y + m->m[1][2] * v.z,
+              m->m[2][0] * v.x + m->m[2][1] * v.y + m->m[2][2] * v.z);
+}
+
+static inline mat3 m3_mul(const mat3 *a, const mat3 *b)
+{
+    mat3 r;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            r.m[i][j] = a->m[i][0] * b->m[0][j] + a->m[i][1] * b->m[1][j] + a->m[i][2] * b->m[2][j];
+    return r;
+}
+
+static inline mat3 m3_transpose(const mat3 *a)
+{
+    mat3 r;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            r.m[i][j] = a->m[j][i];
+    return r;
+}
+
+/* (M^-1)^T = cofactor(M) / det(M): the T_k of eq. (3).  Returns 0 if singular. */
+static inline int m3_inverse_transpose(const mat3 *a, mat3 *r)
+{
+    const double (*m)[3] = a->m;
+    mat3 c;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+            c.m[i][j] = m[i1][j1] * m[i2][j2] - m[i1][j2] * m[i2][j1];
+        }
+    double det = m[0][0] * c.m[0][0] + m[0][1] * c.m[0][1] + m[0][2] * c.m[0][2];
+    if (det == 0 || !isfinite(det))
+        return 0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            r->m[i][j] = c.m[i][j] / det;
+    return 1;
+}
+
+/* Orientation from yaw (about y, toward +x), pitch (about x, toward +y) and
+ * roll (about z, up toward +x), degrees; maps body axes to parent axes
+ * (docs/scene-format.md, "Orientation"). */
+static inline mat3 m3_orientation(double yaw_deg, double pitch_deg, double roll_deg)
+{
+    const double k = VEC3_PI / 180;
+    double cy = cos(yaw_deg * k), sy = sin(yaw_deg * k);
+    double cp = cos(pitch_deg * k), sp = sin(pitch_deg * k);
+    double cr = cos(roll_deg * k), sr = sin(roll_deg * k);
+    mat3 ry = {{{cy, 0, sy}, {0, 1, 0}, {-sy, 0, cy}}};
+    mat3 rx = {{{1, 0, 0}, {0, cp, sp}, {0, -sp, cp}}};
+    mat3 rz = {{{cr, sr, 0}, {-sr, cr, 0}, {0, 0, 1}}};
+    mat3 t = m3_mul(&ry, &rx);
+    return m3_mul(&t, &rz);
+}
+
+#endif

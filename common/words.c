@@ -1,0 +1,548 @@
+/* words.c — packing and validating decoding of the GP -> VP word stream.
+ * The layouts are those of docs/word-format.md; tests/test_words.c checks
+ * every packet by round trip and every malformation by its message. */
+#include "words.h"
+#include "fix.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void ws_buf_init(ws_buf *b) { memset(b, 0, sizeof *b); }
+
+void ws_buf_free(ws_buf *b)
+{
+    free(b->w);
+    memset(b, 0, sizeof *b);
+}
+
+void ws_put(ws_buf *b, uint32_t word)
+{
+    if (b->oom)
+        return;
+    if (b->n == b->cap) {
+        size_t cap = b->cap ? b->cap * 2 : 1024;
+        uint32_t *w = realloc(b->w, cap * sizeof *w);
+        if (!w) {
+            b->oom = true;
+            return;
+        }
+        b->w = w;
+        b->cap = cap;
+    }
+    b->w[b->n++] = word;
+}
+
+static uint32_t op_word(unsigned op, uint32_t low24) { return (uint32_t)op << 24 | (low24 & 0xFFFFFF); }
+
+void ws_put_config(ws_buf *b, const ws_config *c)
+{
+    ws_put(b, op_word(WS_OP_CONFIG, WS_VERSION << 16 | 1));
+    ws_put(b, (uint32_t)c->coef_bits << 8 | c->edge_frac_bits);
+}
+
+void ws_put_texture(ws_buf *b, const ws_texture *t)
+{
+    size_t n = (size_t)1 << (2 * t->log2size);
+    ws_put(b, op_word(WS_OP_TEXTURE, (uint32_t)t->id << 16 | (uint32_t)t->log2size << 8));
+    for (size_t i = 0; i < n; i++)
+        ws_put(b, t->texels[i] & 0xFFFFFF);
+}
+
+void ws_put_frame(ws_buf *b, const ws_frame *f)
+{
+    ws_put(b, op_word(WS_OP_FRAME, f->number));
+    ws_put(b, f->background & 0xFFFFFF);
+    ws_put(b, (f->fog ? 1u << 31 : 0) | (f->fog_rgb & 0xFFFFFF));
+    ws_put(b, f->fog_near);
+    ws_put(b, f->fog_far);
+}
+
+static void put_form(ws_buf *b, const ws_form *f)
+{
+    ws_put(b, (uint32_t)f->exp);
+    for (int i = 0; i < 3; i++)
+        ws_put(b, (uint32_t)f->m[i]);
+}
+
+void ws_put_face(ws_buf *b, const ws_face *f)
+{
+    ws_put(b, op_word(WS_OP_FACE, (uint32_t)f->n_edges << 16 | (uint32_t)f->flags << 8 | f->texture));
+    ws_put(b, f->id);
+    ws_put(b, f->rgb & 0xFFFFFF);
+    put_form(b, &f->depth);
+    if (f->flags & WS_FACE_SHADE)
+        put_form(b, &f->shade);
+    if (f->flags & WS_FACE_TEXTURE) {
+        put_form(b, &f->tex_u);
+        put_form(b, &f->tex_v);
+    }
+    for (unsigned i = 0; i < f->n_edges; i++) {
+        ws_put(b, ws_edge_word0(&f->edge[i]));
+        ws_put(b, f->edge[i].x2);
+    }
+}
+
+size_t ws_face_words(const ws_face *f)
+{
+    size_t n = 3 + 4;
+    if (f->flags & WS_FACE_SHADE)
+        n += 4;
+    if (f->flags & WS_FACE_TEXTURE)
+        n += 8;
+    return n + 2u * f->n_edges;
+}
+
+void ws_put_frame_end(ws_buf *b, uint32_t faces) { ws_put(b, op_word(WS_OP_FRAME_END, faces)); }
+void ws_put_end(ws_buf *b) { ws_put(b, op_word(WS_OP_END, 0)); }
+
+/* ---- decoding ---- */
+
+void ws_reader_init(ws_reader *r, const uint32_t *w, size_t n, const char *name)
+{
+    memset(r, 0, sizeof *r);
+    r->w = w;
+    r->n = n;
+    r->name = name ? name : "<stream>";
+}
+
+/* Fail at word `word`: the message names the word index; the diag the byte offset. */
+static alb_err __attribute__((format(printf, 4, 5)))
+bad(ws_reader *r, diag_t *d, size_t word, const char *fmt, ...)
+{
+    char msg[400];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    return diag_off(d, ALB_ERR_STREAM, r->name, (long long)word * 4, "word %zu: %s", word, msg);
+}
+
+/* Take `count` words starting at r->pos, or fail naming what was cut short. */
+static alb_err need(ws_reader *r, diag_t *d, size_t count, const char *what)
+{
+    if (r->n - r->pos < count)
+        return bad(r, d, r->n, "stream truncated inside %s (%zu more words expected)", what, count - (r->n - r->pos));
+    return ALB_OK;
+}
+
+static alb_err read_form(ws_reader *r, diag_t *d, ws_form *f, const char *name)
+{
+    alb_err e = need(r, d, 4, name);
+    if (e)
+        return e;
+    int32_t ex = (int32_t)r->w[r->pos];
+    if (ex < FORM_EXP_MIN || ex > FORM_EXP_MAX)
+        return bad(r, d, r->pos, "%s.exp = %d outside %d..%d", name, ex,
+                        FORM_EXP_MIN, FORM_EXP_MAX);
+    f->exp = ex;
+    int32_t lim = (int32_t)((1u << (r->config.coef_bits - 1)) - 1);
+    for (int i = 0; i < 3; i++) {
+        size_t at = r->pos + 1 + (size_t)i;
+        int32_t m = (int32_t)r->w[at];
+        if (m > lim || m < -lim)
+            return bad(r, d, at, "%s.%c = %d does not fit %u-bit mantissa (|m| <= %d)", name, "ABC"[i], m, r->config.coef_bits, lim);
+        f->m[i] = m;
+    }
+    r->pos += 4;
+    return ALB_OK;
+}
+
+static alb_err read_face(ws_reader *r, diag_t *d, ws_face *f, uint32_t head)
+{
+    size_t at = r->pos;
+    f->n_edges = (uint8_t)(head >> 16);
+    f->flags = (uint8_t)(head >> 8);
+    f->texture = (uint8_t)head;
+    if (f->flags & ~WS_FACE_FLAGS_ALL)
+        return bad(r, d, at, "FACE flags 0x%02x has reserved bits set", f->flags);
+    if (f->n_edges > WS_MAX_EDGES)
+        return bad(r, d, at, "FACE has %u edges, the VP edge store holds %d", f->n_edges, WS_MAX_EDGES);
+    r->pos++;
+    alb_err e = need(r, d, 2, "FACE header");
+    if (e)
+        return e;
+    f->id = r->w[r->pos];
+    if (r->w[r->pos + 1] >> 24)
+        return bad(r, d, r->pos + 1, "FACE colour has bits 31..24 set");
+    f->rgb = r->w[r->pos + 1];
+    r->pos += 2;
+    if ((e = read_form(r, d, &f->depth, "depth")))
+        return e;
+    if ((f->flags & WS_FACE_SHADE) && (e = read_form(r, d, &f->shade, "shade")))
+        return e;
+    if (f->flags & WS_FACE_TEXTURE) {
+        if ((e = read_form(r, d, &f->tex_u, "tex_u")) || (e = read_form(r, d, &f->tex_v, "tex_v")))
+            return e;
+    }
+    if ((e = need(r, d, 2u * f->n_edges, "FACE edges")))
+        return e;
+    uint32_t lim = 1u << (EDGE_INT_BITS + r->config.edge_frac_bits);
+    for (unsigned i = 0; i < f->n_edges; i++) {
+        uint32_t w0 = r->w[r->pos], w1 = r->w[r->pos + 1];
+        ws_edge *ed = &f->edge[i];
+        ed->u = (uint8_t)(w0 >> 31);
+        ed->r = (uint8_t)(w0 >> 30 & 1);
+        ed->x1 = w0 & 0x3FFFFFFF;
+        ed->x2 = w1;
+        if (ed->x1 >= lim)
+            return bad(r, d, r->pos, "edge[%u].X1 = 0x%x exceeds the 3.%u format", i, ed->x1, r->config.edge_frac_bits);
+        if (ed->x2 >= lim)
+            return bad(r, d, (r->pos + 1), "edge[%u].X2 = 0x%x exceeds the 3.%u format", i, ed->x2, r->config.edge_frac_bits);
+        r->pos += 2;
+    }
+    return ALB_OK;
+}
+
+static const char *op_name(unsigned op)
+{
+    switch (op) {
+    case WS_OP_CONFIG: return "CONFIG";
+    case WS_OP_TEXTURE: return "TEXTURE";
+    case WS_OP_FRAME: return "FRAME";
+    case WS_OP_FACE: return "FACE";
+    case WS_OP_FRAME_END: return "FRAME_END";
+    case WS_OP_END: return "END";
+    }
+    return NULL;
+}
+
+alb_err ws_next(ws_reader *r, ws_event *ev, diag_t *d)
+{
+    alb_err e;
+    if (r->ended)
+        return bad(r, d, r->pos, "read past END");
+    if (r->pos >= r->n)
+        return bad(r, d, r->n, "stream ends without an END packet%s",
+                        r->in_frame ? " (inside a frame)" : "");
+    size_t at = r->pos;
+    uint32_t head = r->w[at];
+    unsigned op = head >> 24;
+    ev->first = at;
+    if (!op_name(op))
+        return bad(r, d, at, "0x%08x is not a packet opcode (expected %s)", head,
+                        !r->have_config ? "CONFIG" : r->in_frame ? "FACE or FRAME_END"
+                                                                 : "TEXTURE, FRAME or END");
+    if (!r->have_config && op != WS_OP_CONFIG)
+        return bad(r, d, at, "%s before CONFIG (a stream starts with CONFIG)", op_name(op));
+    if (r->in_frame && op != WS_OP_FACE && op != WS_OP_FRAME_END)
+        return bad(r, d, at, "%s inside a frame (expected FACE or FRAME_END)", op_name(op));
+    if (!r->in_frame && (op == WS_OP_FACE || op == WS_OP_FRAME_END))
+        return bad(r, d, at, "%s outside a frame (expected FRAME first)", op_name(op));
+    switch (op) {
+    case WS_OP_CONFIG: {
+        if (r->have_config)
+            return bad(r, d, at, "second CONFIG");
+        if ((head >> 16 & 0xFF) != WS_VERSION)
+            return bad(r, d, at, "CONFIG version %u, this decoder reads version %d", head >> 16 & 0xFF, WS_VERSION);
+        if ((head & 0xFFFF) != 1)
+            return bad(r, d, at, "CONFIG length %u, expected 1", head & 0xFFFF);
+        if ((e = need(r, d, 2, "CONFIG")))
+            return e;
+        uint32_t w1 = r->w[at + 1];
+        ev->u.config.edge_frac_bits = w1 & 0xFF;
+        ev->u.config.coef_bits = w1 >> 8 & 0xFF;
+        if (w1 >> 16 || ev->u.config.edge_frac_bits < EDGE_FRAC_MIN ||
+            ev->u.config.edge_frac_bits > EDGE_FRAC_MAX ||
+            ev->u.config.coef_bits < COEF_BITS_MIN || ev->u.config.coef_bits > COEF_BITS_MAX)
+            return bad(r, d, (at + 1), "CONFIG formats 0x%08x invalid (edge_frac_bits %d..%d, "
+                            "coef_bits %d..%d, bits 31..16 zero)", w1, EDGE_FRAC_MIN,
+                            EDGE_FRAC_MAX, COEF_BITS_MIN, COEF_BITS_MAX);
+        r->config = ev->u.config;
+        r->have_config = true;
+        r->pos += 2;
+        ev->kind = WS_EV_CONFIG;
+        break;
+    }
+    case WS_OP_TEXTURE: {
+        unsigned lg = head >> 8 & 0xFF;
+        if ((head & 0xFF) || lg > WS_TEX_LOG2_MAX)
+            return bad(r, d, at, "TEXTURE header 0x%08x: size 2^%u (at most 2^%d) "
+                            "or reserved bits 7..0 set", head, lg, WS_TEX_LOG2_MAX);
+        size_t count = (size_t)1 << (2 * lg);
+        r->pos++;
+        if ((e = need(r, d, count, "TEXTURE texels")))
+            return e;
+        for (size_t i = 0; i < count; i++)
+            if (r->w[r->pos + i] >> 24)
+                return bad(r, d, r->pos + i, "texel has bits 31..24 set");
+        ev->u.texture.id = (uint8_t)(head >> 16);
+        ev->u.texture.log2size = (uint8_t)lg;
+        ev->u.texture.texels = r->w + r->pos;
+        r->pos += count;
+        ev->kind = WS_EV_TEXTURE;
+        break;
+    }
+    case WS_OP_FRAME: {
+        if ((e = need(r, d, 5, "FRAME header")))
+            return e;
+        const uint32_t *w = r->w + at;
+        if (w[1] >> 24)
+            return bad(r, d, at + 1, "FRAME background has bits 31..24 set");
+        if (w[2] >> 24 & 0x7F)
+            return bad(r, d, at + 2, "FRAME fog word has bits 30..24 set");
+        ws_frame *f = &ev->u.frame;
+        f->number = head & 0xFFFFFF;
+        f->background = w[1];
+        f->fog = w[2] >> 31;
+        f->fog_rgb = w[2] & 0xFFFFFF;
+        f->fog_near = w[3];
+        f->fog_far = w[4];
+        if (f->fog && f->fog_far <= f->fog_near)
+            return bad(r, d, at + 4, "FRAME fog far must exceed fog near");
+        r->pos += 5;
+        r->in_frame = true;
+        r->faces_in_frame = 0;
+        ev->kind = WS_EV_FRAME;
+        break;
+    }
+    case WS_OP_FACE:
+        if ((e = read_face(r, d, &ev->u.face, head)))
+            return e;
+        r->faces_in_frame++;
+        ev->kind = WS_EV_FACE;
+        break;
+    case WS_OP_FRAME_END:
+        if ((head & 0xFFFFFF) != (r->faces_in_frame & 0xFFFFFF))
+            return bad(r, d, at, "FRAME_END counts %u faces, the frame had %u", head & 0xFFFFFF, r->faces_in_frame);
+        ev->u.faces = head & 0xFFFFFF;
+        r->pos++;
+        r->in_frame = false;
+        ev->kind = WS_EV_FRAME_END;
+        break;
+    case WS_OP_END:
+        if (head & 0xFFFFFF)
+            return bad(r, d, at, "END has reserved bits 23..0 set");
+        r->pos++;
+        if (r->pos != r->n)
+            return bad(r, d, r->pos, "%zu words after END", r->n - r->pos);
+        r->ended = true;
+        ev->kind = WS_EV_END;
+        break;
+    }
+    ev->count = r->pos - at;
+    return ALB_OK;
+}
+
+/* ---- description ---- */
+
+static double edge_value(uint32_t x, unsigned frac)
+{
+    return ldexp((double)x, -(int)frac) - EDGE_ORIGIN;
+}
+
+static void describe_face_word(const ws_face *f, const ws_config *cfg, size_t k,
+                               char *buf, size_t len)
+{
+    if (k == 0) {
+        snprintf(buf, len, "FACE edges=%u flags=%s%s%s texture=%u", f->n_edges,
+                 f->flags & WS_FACE_SHADE ? "S" : "-", f->flags & WS_FACE_TEXTURE ? "T" : "-",
+                 f->flags & WS_FACE_FOG ? "F" : "-", f->texture);
+        return;
+    }
+    if (k == 1) {
+        snprintf(buf, len, "face.id=%u", f->id);
+        return;
+    }
+    if (k == 2) {
+        snprintf(buf, len, "face.rgb=%u,%u,%u", f->rgb >> 16 & 0xFF, f->rgb >> 8 & 0xFF, f->rgb & 0xFF);
+        return;
+    }
+    const ws_form *forms[4];
+    const char *names[4];
+    unsigned nf = 0;
+    forms[nf] = &f->depth, names[nf++] = "depth";
+    if (f->flags & WS_FACE_SHADE)
+        forms[nf] = &f->shade, names[nf++] = "shade";
+    if (f->flags & WS_FACE_TEXTURE) {
+        forms[nf] = &f->tex_u, names[nf++] = "tex_u";
+        forms[nf] = &f->tex_v, names[nf++] = "tex_v";
+    }
+    size_t j = k - 3;
+    if (j < 4u * nf) {
+        const ws_form *fm = forms[j / 4];
+        if (j % 4 == 0)
+            snprintf(buf, len, "%s.exp=%d", names[j / 4], fm->exp);
+        else
+            snprintf(buf, len, "%s.%c=%d (%.9g)", names[j / 4], "ABC"[j % 4 - 1],
+                     fm->m[j % 4 - 1], ldexp(fm->m[j % 4 - 1], fm->exp));
+        return;
+    }
+    j -= 4u * nf;
+    const ws_edge *e = &f->edge[j / 2];
+    if (j % 2 == 0)
+        snprintf(buf, len, "edge[%zu] U=%u R=%u X1=0x%x (%+.6f)", j / 2, e->u, e->r, e->x1,
+                 edge_value(e->x1, cfg->edge_frac_bits));
+    else
+        snprintf(buf, len, "edge[%zu] X2=0x%x (%+.6f)", j / 2, e->x2,
+                 edge_value(e->x2, cfg->edge_frac_bits));
+}
+
+void ws_describe_word(const ws_event *ev, const ws_config *cfg, size_t k, char *buf, size_t len)
+{
+    switch (ev->kind) {
+    case WS_EV_CONFIG:
+        if (k == 0)
+            snprintf(buf, len, "CONFIG version=%d", WS_VERSION);
+        else
+            snprintf(buf, len, "config edge_frac_bits=%u coef_bits=%u",
+                     ev->u.config.edge_frac_bits, ev->u.config.coef_bits);
+        break;
+    case WS_EV_TEXTURE:
+        if (k == 0)
+            snprintf(buf, len, "TEXTURE id=%u size=%ux%u", ev->u.texture.id,
+                     1u << ev->u.texture.log2size, 1u << ev->u.texture.log2size);
+        else {
+            unsigned s = 1u << ev->u.texture.log2size;
+            uint32_t t = ev->u.texture.texels[k - 1];
+            snprintf(buf, len, "texel[%zu,%zu]=%u,%u,%u", (k - 1) % s, (k - 1) / s,
+                     t >> 16 & 0xFF, t >> 8 & 0xFF, t & 0xFF);
+        }
+        break;
+    case WS_EV_FRAME: {
+        const ws_frame *f = &ev->u.frame;
+        switch (k) {
+        case 0: snprintf(buf, len, "FRAME number=%u", f->number); break;
+        case 1: snprintf(buf, len, "frame.background=%u,%u,%u", f->background >> 16,
+                         f->background >> 8 & 0xFF, f->background & 0xFF); break;
+        case 2: snprintf(buf, len, "frame.fog=%s rgb=%u,%u,%u", f->fog ? "on" : "off",
+                         f->fog_rgb >> 16, f->fog_rgb >> 8 & 0xFF, f->fog_rgb & 0xFF); break;
+        case 3: snprintf(buf, len, "frame.fog_near=%.4f", f->fog_near / 256.0); break;
+        default: snprintf(buf, len, "frame.fog_far=%.4f", f->fog_far / 256.0); break;
+        }
+        break;
+    }
+    case WS_EV_FACE:
+        describe_face_word(&ev->u.face, cfg, k, buf, len);
+        break;
+    case WS_EV_FRAME_END:
+        snprintf(buf, len, "FRAME_END faces=%u", ev->u.faces);
+        break;
+    case WS_EV_END:
+        snprintf(buf, len, "END");
+        break;
+    }
+}
+
+void ws_describe_at(const uint32_t *w, size_t n, size_t idx, char *buf, size_t len)
+{
+    ws_reader r;
+    ws_event *ev = malloc(sizeof *ev);
+    diag_t d;
+    diag_init(&d, NULL);
+    snprintf(buf, len, "beyond the end of the stream");
+    if (!ev)
+        return;
+    ws_reader_init(&r, w, n, "");
+    while (!r.ended && idx < n) {
+        if (ws_next(&r, ev, &d)) {
+            snprintf(buf, len, "undecodable: %s", d.msg);
+            break;
+        }
+        if (idx < ev->first + ev->count) {
+            ws_describe_word(ev, &r.config, idx - ev->first, buf, len);
+            break;
+        }
+    }
+    free(ev);
+}
+
+alb_err ws_dump(FILE *out, const uint32_t *w, size_t n, const char *name, diag_t *d)
+{
+    ws_reader r;
+    ws_event *ev = malloc(sizeof *ev);
+    char desc[160];
+    if (!ev)
+        return ALB_ERR_NOMEM;
+    ws_reader_init(&r, w, n, name);
+    alb_err e = ALB_OK;
+    while (!r.ended) {
+        if ((e = ws_next(&r, ev, d)))
+            break;
+        for (size_t k = 0; k < ev->count; k++) {
+            size_t at = ev->first + k;
+            ws_describe_word(ev, &r.config, k, desc, sizeof desc);
+            fprintf(out, "%08zx  %08x  %s\n", at * 4, w[at], desc);
+        }
+    }
+    free(ev);
+    return e;
+}
+
+/* ---- files ---- */
+
+alb_err ws_read_file(const char *path, uint32_t **w, size_t *n, diag_t *d)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
+    size_t cap = 4096, len = 0;
+    uint8_t *bytes = malloc(cap);
+    if (!bytes) {
+        fclose(f);
+        return ALB_ERR_NOMEM;
+    }
+    for (;;) {
+        if (len == cap) {
+            uint8_t *nb = realloc(bytes, cap * 2);
+            if (!nb) {
+                free(bytes);
+                fclose(f);
+                return ALB_ERR_NOMEM;
+            }
+            bytes = nb;
+            cap *= 2;
+        }
+        size_t got = fread(bytes + len, 1, cap - len, f);
+        len += got;
+        if (got == 0)
+            break;
+    }
+    int err = ferror(f);
+    fclose(f);
+    if (err) {
+        free(bytes);
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "read error");
+    }
+    if (len % 4) {
+        free(bytes);
+        return diag_off(d, ALB_ERR_STREAM, path, (long long)(len - len % 4),
+                        "file length %zu is not a whole number of 32-bit words", len);
+    }
+    uint32_t *words = malloc(len ? len : 4);
+    if (!words) {
+        free(bytes);
+        return ALB_ERR_NOMEM;
+    }
+    for (size_t i = 0; i < len / 4; i++)
+        words[i] = (uint32_t)bytes[4 * i] | (uint32_t)bytes[4 * i + 1] << 8 |
+                   (uint32_t)bytes[4 * i + 2] << 16 | (uint32_t)bytes[4 * i + 3] << 24;
+    free(bytes);
+    *w = words;
+    *n = len / 4;
+    return ALB_OK;
+}
+
+alb_err ws_write_file(const char *path, const uint32_t *w, size_t n, diag_t *d)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
+    for (size_t i = 0; i < n; i++) {
+        uint8_t b[4] = {(uint8_t)w[i], (uint8_t)(w[i] >> 8), (uint8_t)(w[i] >> 16),
+                        (uint8_t)(w[i] >> 24)};
+        if (fwrite(b, 1, 4, f) != 4)
+            break;
+    }
+    int failed = ferror(f);
+    if (fclose(f) != 0 || failed)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "write error: %s", strerror(errno));
+    return ALB_OK;
+}
+
+double ws_form_eval(const ws_form *f, double x, double y)
+{
+    return ldexp((double)f->m[0] * x + (double)f->m[1] * y + (double)f->m[2], f->exp);
+}

@@ -1,0 +1,261 @@
+/* cli.c — option parsing and set-up shared by the subcommands. */
+#include "cli.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+const char run_opts_help[] =
+    "Profile (docs/profiles.md):\n"
+    "  --profile NAME     family member: a512 (default), a1024, a1024x512, a256, t32\n"
+    "  --set KEY=VALUE    override a profile field, e.g. --set bound=none --set aa=2\n"
+    "Camera for OBJ scenes, in the OBJ file's coordinates (docs/scene-format.md):\n"
+    "  --eye X,Y,Z        eye point (default 0,0,5)\n"
+    "  --at X,Y,Z         look-at point (default 0,0,0)\n"
+    "  --up X,Y,Z         up vector (default 0,1,0)\n"
+    "  --fov DEG          vertical field of view (default 60)\n"
+    "  --size WxH         resolution (sets the profile's width and height)\n";
+
+void run_opts_init(run_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    profile_lookup("a512", &o->prof);
+    o->cam.eye = v3(0, 0, 5);
+    o->cam.at = v3(0, 0, 0);
+    o->cam.up = v3(0, 1, 0);
+    o->cam.fov_y = 60;
+}
+
+static int parse_vec(const char *s, vec3 *v)
+{
+    char *end;
+    double c[3];
+    for (int i = 0; i < 3; i++) {
+        c[i] = strtod(s, &end);
+        if (end == s || !isfinite(c[i]))
+            return -1;
+        s = end;
+        if (i < 2) {
+            if (*s != ',')
+                return -1;
+            s++;
+        }
+    }
+    if (*s)
+        return -1;
+    *v = v3(c[0], c[1], c[2]);
+    return 0;
+}
+
+int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, size_t len)
+{
+    if (strcmp(name, "profile") == 0) {
+        if (profile_lookup(value, &o->prof)) {
+            char list[200] = "";
+            for (const char *const *n = profile_names(); *n; n++)
+                snprintf(list + strlen(list), sizeof list - strlen(list), " %s", *n);
+            snprintf(err, len, "--profile %s: unknown profile (known:%s)", value, list);
+            return -1;
+        }
+        if (o->size_given) {
+            o->prof.width = o->cam.width;
+            o->prof.height = o->cam.height;
+        }
+        return 1;
+    }
+    if (strcmp(name, "set") == 0) {
+        char msg[300];
+        if (profile_set(&o->prof, value, msg, sizeof msg)) {
+            snprintf(err, len, "--set %s", msg);
+            return -1;
+        }
+        return 1;
+    }
+    if (strcmp(name, "eye") == 0 || strcmp(name, "at") == 0 || strcmp(name, "up") == 0) {
+        vec3 *v = name[0] == 'e' ? &o->cam.eye : name[0] == 'a' ? &o->cam.at : &o->cam.up;
+        if (parse_vec(value, v)) {
+            snprintf(err, len, "--%s %s: expected three numbers X,Y,Z", name, value);
+            return -1;
+        }
+        o->cam_given = true;
+        return 1;
+    }
+    if (strcmp(name, "fov") == 0) {
+        char *end;
+        double v = strtod(value, &end);
+        if (end == value || *end || !(v > 0 && v < 180)) {
+            snprintf(err, len, "--fov %s: expected degrees in (0, 180)", value);
+            return -1;
+        }
+        o->cam.fov_y = v;
+        o->cam_given = true;
+        return 1;
+    }
+    if (strcmp(name, "size") == 0) {
+        unsigned w, h;
+        char tail;
+        if (sscanf(value, "%ux%u%c", &w, &h, &tail) != 2) {
+            snprintf(err, len, "--size %s: expected WIDTHxHEIGHT, e.g. 512x512", value);
+            return -1;
+        }
+        o->cam.width = o->prof.width = w;
+        o->cam.height = o->prof.height = h;
+        o->size_given = true;
+        return 1;
+    }
+    return 0;
+}
+
+static const char *const common_spec[] = {"profile=", "set=", "eye=", "at=", "up=",
+                                           "fov=", "size=", NULL};
+
+/* Does spec contain name, and does it take a value? 0 = absent, 1 = flag, 2 = value. */
+static int spec_kind(const char *const *spec, const char *name, size_t nlen)
+{
+    for (; spec && *spec; spec++) {
+        size_t l = strlen(*spec);
+        bool val = l && (*spec)[l - 1] == '=';
+        if (val)
+            l--;
+        if (l == nlen && strncmp(*spec, name, nlen) == 0)
+            return val ? 2 : 1;
+    }
+    return 0;
+}
+
+int cli_parse(const char *cmd, int argc, char **argv, const char *const *spec, opt_cb cb,
+              void *ctx, run_opts *o, const char **pos, int maxpos, int *npos)
+{
+    *npos = 0;
+    bool only_pos = false;
+    for (int i = 0; i < argc; i++) {
+        const char *a = argv[i];
+        if (only_pos || a[0] != '-' || a[1] == 0) {
+            if (*npos >= maxpos) {
+                fprintf(stderr, "albatros %s: unexpected argument '%s' (see --help)\n", cmd, a);
+                return -1;
+            }
+            pos[(*npos)++] = a;
+            continue;
+        }
+        if (strcmp(a, "--") == 0) {
+            only_pos = true;
+            continue;
+        }
+        const char *name = a[1] == '-' ? a + 2 : a + 1;
+        if (a[1] != '-' && strlen(name) == 1 && name[0] == 'o')
+            name = "output";
+        if (a[1] != '-' && strlen(name) == 1 && name[0] == 'h')
+            name = "help";
+        const char *eq = strchr(name, '=');
+        size_t nlen = eq ? (size_t)(eq - name) : strlen(name);
+        int own = spec_kind(spec, name, nlen), common = o ? spec_kind(common_spec, name, nlen) : 0;
+        int kind = own ? own : common;
+        if (!kind) {
+            fprintf(stderr, "albatros %s: unknown option '%s' (see albatros %s --help)\n", cmd, a, cmd);
+            return -1;
+        }
+        char namebuf[64];
+        snprintf(namebuf, sizeof namebuf, "%.*s", (int)nlen, name);
+        const char *value = NULL;
+        if (kind == 2) {
+            if (eq)
+                value = eq + 1;
+            else if (i + 1 < argc)
+                value = argv[++i];
+            else {
+                fprintf(stderr, "albatros %s: option '--%s' needs a value\n", cmd, namebuf);
+                return -1;
+            }
+        } else if (eq) {
+            fprintf(stderr, "albatros %s: option '--%s' takes no value\n", cmd, namebuf);
+            return -1;
+        }
+        if (own) {
+            if (cb(ctx, namebuf, value))
+                return -1;
+        } else {
+            char err[400];
+            if (run_opts_apply(o, namebuf, value, err, sizeof err) < 0) {
+                fprintf(stderr, "albatros %s: %s\n", cmd, err);
+                return -1;
+            }
+        }
+    }
+    return 0;
+}
+
+static bool ends_with(const char *s, const char *suffix)
+{
+    size_t a = strlen(s), b = strlen(suffix);
+    if (a < b)
+        return false;
+    for (size_t i = 0; i < b; i++)
+        if (tolower((unsigned char)s[a - b + i]) != suffix[i])
+            return false;
+    return true;
+}
+
+int cli_load_scene(const char *path, const run_opts *o, scene_t *s)
+{
+    diag_t d;
+    diag_init(&d, stderr);
+    alb_err e;
+    if (!path) {
+        e = scene_load_builtin(s, &d);
+    } else if (ends_with(path, ".obj")) {
+        scene_camera cam = o->cam;
+        cam.width = o->prof.width;
+        cam.height = o->prof.height;
+        e = scene_load_obj(path, &cam, s, &d);
+    } else {
+        if (o->cam_given)
+            fprintf(stderr, "albatros: warning: --eye/--at/--up/--fov apply to OBJ scenes only; "
+                            "%s has its own observer\n", path);
+        e = scene_load(path, s, &d);
+    }
+    if (e) {
+        diag_print(&d, stderr);
+        return 1;
+    }
+    return 0;
+}
+
+int cli_check_profile(const profile_t *p)
+{
+    char msg[300];
+    if (profile_check(p, msg, sizeof msg)) {
+        fprintf(stderr, "albatros: profile %s: %s\n", p->name, msg);
+        return 1;
+    }
+    return 0;
+}
+
+int cli_split_words(char *text, char **argv, int max)
+{
+    int n = 0;
+    char *p = text;
+    for (;;) {
+        while (*p && isspace((unsigned char)*p))
+            p++;
+        if (!*p)
+            break;
+        if (*p == '#') {      /* comment to end of line */
+            while (*p && *p != '\n')
+                p++;
+            continue;
+        }
+        if (n == max)
+            return -1;
+        argv[n++] = p;
+        while (*p && !isspace((unsigned char)*p))
+            p++;
+        if (*p)
+            *p++ = 0;
+    }
+    return n;
+}
+
+bool cli_isatty_stderr(void) { return isatty(2) != 0; }

@@ -1,0 +1,50 @@
+/* cli.h — what the subcommands share: option parsing (with the same options
+ * accepted on the command line and in a golden vector's `options` file), the
+ * scene/profile set-up, and output helpers. */
+#ifndef ALBATROS_CLI_H
+#define ALBATROS_CLI_H
+
+#include "../common/profile.h"
+#include "../gp/scene.h"
+
+#include <stdbool.h>
+#include <stdio.h>
+
+#define ALBATROS_VERSION "0.1.0"
+
+/* Options common to every subcommand that runs the GP. */
+typedef struct {
+    profile_t prof;
+    scene_camera cam;
+    bool cam_given;      /* any of --eye/--at/--up/--fov */
+    bool size_given;
+} run_opts;
+
+void run_opts_init(run_opts *o);
+/* Apply one common option (name without "--"); 1 if it took the value, 0 if
+ * the name is not a common option, -1 with a message on a bad value. */
+int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, size_t len);
+/* Help text for the common options. */
+extern const char run_opts_help[];
+
+/* Parse a command line.  spec lists the subcommand's own options as
+ * "name" (flag) or "name=" (takes a value); on each, cb is called.  Common
+ * options go to o.  Positional arguments are collected in pos[].  Returns 0,
+ * or -1 after printing an error (the caller exits with status 2). */
+typedef int (*opt_cb)(void *ctx, const char *name, const char *value);
+int cli_parse(const char *cmd, int argc, char **argv, const char *const *spec, opt_cb cb,
+              void *ctx, run_opts *o, const char **pos, int maxpos, int *npos);
+
+/* Load the scene named by path (NULL: the built-in scene; *.obj: OBJ with
+ * the camera of o).  Prints the error and returns non-zero on failure. */
+int cli_load_scene(const char *path, const run_opts *o, scene_t *s);
+/* Validate the profile; prints the error. */
+int cli_check_profile(const profile_t *p);
+
+/* Split a text of options ("--profile a256 --set bound=none ...") into argv;
+ * returns the count, or -1 if there are more than max. */
+int cli_split_words(char *text, char **argv, int max);
+
+bool cli_isatty_stderr(void);
+
+#endif

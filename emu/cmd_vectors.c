@@ -1,0 +1,290 @@
+/* cmd_vectors.c — `albatros vectors check|bless DIR [NAME...]`: the golden
+ * vectors of test-vectors/ (docs/golden-vectors.md).  Each folder holds a
+ * scene, its options, a README line and the expected outputs; check compares
+ * exact bits and names the first difference; bless rewrites the expected
+ * outputs on purpose. */
+#include "cli.h"
+#include "commands.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+typedef struct {
+    char dir[512];
+    char name[256];
+} vector;
+
+static int read_text(const char *path, char *buf, size_t len)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return -1;
+    size_t n = fread(buf, 1, len - 1, f);
+    buf[n] = 0;
+    fclose(f);
+    return 0;
+}
+
+static bool exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+/* The scene file of a vector: scene.scene or scene.obj. */
+static int scene_path(const vector *v, char *out, size_t len)
+{
+    snprintf(out, len, "%s/scene.scene", v->dir);
+    if (exists(out))
+        return 0;
+    snprintf(out, len, "%s/scene.obj", v->dir);
+    return exists(out) ? 0 : -1;
+}
+
+static int no_own_options(void *ctx, const char *name, const char *value)
+{
+    (void)ctx, (void)name, (void)value;
+    return -1;
+}
+
+/* Run the vector's GP; its stream goes to out.  Non-zero after a message. */
+static int run_vector(const vector *v, ws_buf *out)
+{
+    char path[600], opts[4096] = "";
+    run_opts o;
+    run_opts_init(&o);
+    snprintf(path, sizeof path, "%s/options", v->dir);
+    if (exists(path) && read_text(path, opts, sizeof opts)) {
+        fprintf(stderr, "%s: cannot read\n", path);
+        return -1;
+    }
+    char *argv[64];
+    int argc = cli_split_words(opts, argv, 64);
+    const char *pos[1];
+    int npos;
+    static const char *const none[] = {NULL};
+    if (argc < 0 || cli_parse("vectors", argc, argv, none, no_own_options, NULL, &o, pos, 0, &npos)) {
+        fprintf(stderr, "%s: bad options file\n", path);
+        return -1;
+    }
+    if (cli_check_profile(&o.prof))
+        return -1;
+    if (scene_path(v, path, sizeof path)) {
+        fprintf(stderr, "%s: no scene.scene or scene.obj\n", v->dir);
+        return -1;
+    }
+    scene_t scene;
+    if (cli_load_scene(path, &o, &scene))
+        return -1;
+    diag_t d;
+    diag_init(&d, stderr);
+    gp_t *gp = NULL;
+    alb_err e = gp_create(&gp, &scene, &o.prof, &d);
+    if (!e)
+        e = gp_run(gp, out, NULL, &d);
+    gp_destroy(gp);
+    scene_free(&scene);
+    if (e) {
+        diag_print(&d, stderr);
+        return -1;
+    }
+    return 0;
+}
+
+/* Compare streams; on a difference print the first differing word with its
+ * field names on both sides.  Returns 0 if equal. */
+static int compare_streams(const char *name, const uint32_t *want, size_t nw, const uint32_t *got,
+                           size_t ng)
+{
+    size_t n = nw < ng ? nw : ng;
+    size_t i = 0;
+    while (i < n && want[i] == got[i])
+        i++;
+    if (i == n && nw == ng)
+        return 0;
+    char dw[200], dg[200];
+    ws_describe_at(want, nw, i, dw, sizeof dw);
+    ws_describe_at(got, ng, i, dg, sizeof dg);
+    fprintf(stderr, "FAIL %s: stream differs at word %zu (byte offset %zu)\n", name, i, i * 4);
+    if (i < nw)
+        fprintf(stderr, "  expected %08x  %s\n", want[i], dw);
+    else
+        fprintf(stderr, "  expected end of stream (%zu words)\n", nw);
+    if (i < ng)
+        fprintf(stderr, "  got      %08x  %s\n", got[i], dg);
+    else
+        fprintf(stderr, "  got      end of stream (%zu words)\n", ng);
+    size_t diff = 0;
+    for (size_t k = 0; k < n; k++)
+        diff += want[k] != got[k];
+    fprintf(stderr, "  %zu of %zu words differ%s\n", diff + (nw > ng ? nw - ng : ng - nw),
+            nw > ng ? nw : ng, nw != ng ? " (lengths differ)" : "");
+    return 1;
+}
+
+/* 0 pass, 1 fail, 2 known failure. */
+static int check_vector(const vector *v)
+{
+    ws_buf got;
+    ws_buf_init(&got);
+    char path[600], known[512] = "";
+    snprintf(path, sizeof path, "%s/KNOWN-FAILURE", v->dir);
+    bool is_known = exists(path) && read_text(path, known, sizeof known) == 0;
+    int rc = run_vector(v, &got);
+    if (!rc) {
+        uint32_t *want;
+        size_t nw;
+        diag_t d;
+        diag_init(&d, NULL);
+        snprintf(path, sizeof path, "%s/expected.stream", v->dir);
+        if (ws_read_file(path, &want, &nw, &d)) {
+            diag_print(&d, stderr);
+            fprintf(stderr, "  (run 'make bless' to create the expected outputs)\n");
+            rc = 1;
+        } else {
+            rc = compare_streams(v->name, want, nw, got.w, got.n);
+            free(want);
+        }
+    } else {
+        fprintf(stderr, "FAIL %s: could not run\n", v->name);
+        rc = 1;
+    }
+    ws_buf_free(&got);
+    if (is_known) {
+        if (rc) {
+            printf("known failure %s: %s", v->name, known);
+            return 2;
+        }
+        fprintf(stderr, "FAIL %s: marked KNOWN-FAILURE but passes; remove the marker\n", v->name);
+        return 1;
+    }
+    if (!rc)
+        printf("ok %s\n", v->name);
+    return rc;
+}
+
+static int bless_vector(const vector *v)
+{
+    ws_buf got;
+    ws_buf_init(&got);
+    if (run_vector(v, &got)) {
+        ws_buf_free(&got);
+        return 1;
+    }
+    char path[600];
+    snprintf(path, sizeof path, "%s/expected.stream", v->dir);
+    uint32_t *old = NULL;
+    size_t nold = 0;
+    diag_t d;
+    diag_init(&d, NULL);
+    bool had = ws_read_file(path, &old, &nold, &d) == ALB_OK;
+    bool same = had && nold == got.n && !memcmp(old, got.w, nold * 4);
+    free(old);
+    int rc = 0;
+    if (!same && ws_write_file(path, got.w, got.n, &d)) {
+        diag_print(&d, stderr);
+        rc = 1;
+    }
+    /* the readable twin, so reviews of a re-bless show field-level diffs */
+    snprintf(path, sizeof path, "%s/expected.hex", v->dir);
+    FILE *hex = fopen(path, "w");
+    alb_err he = hex ? ws_dump(hex, got.w, got.n, "expected.stream", &d) : ALB_ERR_IO;
+    if ((hex && fclose(hex)) || he) {
+        fprintf(stderr, "%s: cannot write\n", path);
+        rc = 1;
+    }
+    printf("%s %s (%zu words)\n", same ? "unchanged" : had ? "REBLESSED" : "created", v->name, got.n);
+    ws_buf_free(&got);
+    return rc;
+}
+
+static int cmp_names(const void *a, const void *b)
+{
+    return strcmp(((const vector *)a)->name, ((const vector *)b)->name);
+}
+
+/* The vectors of dir (every sub-folder with a README), sorted by name. */
+static vector *list_vectors(const char *dir, size_t *count)
+{
+    DIR *dp = opendir(dir);
+    if (!dp) {
+        fprintf(stderr, "albatros vectors: %s: %s\n", dir, strerror(errno));
+        return NULL;
+    }
+    vector *v = NULL;
+    size_t n = 0;
+    struct dirent *de;
+    while ((de = readdir(dp))) {
+        if (de->d_name[0] == '.')
+            continue;
+        vector one;
+        snprintf(one.dir, sizeof one.dir, "%s/%s", dir, de->d_name);
+        snprintf(one.name, sizeof one.name, "%s", de->d_name);
+        char readme[600];
+        snprintf(readme, sizeof readme, "%s/README", one.dir);
+        if (!exists(readme))
+            continue;
+        vector *nv = realloc(v, (n + 1) * sizeof *nv);
+        if (!nv)
+            break;
+        v = nv;
+        v[n++] = one;
+    }
+    closedir(dp);
+    if (v)
+        qsort(v, n, sizeof *v, cmp_names);
+    *count = n;
+    return v;
+}
+
+int cmd_vectors(int argc, char **argv)
+{
+    if (argc < 2 || (strcmp(argv[0], "check") && strcmp(argv[0], "bless"))) {
+        printf("usage: albatros vectors check|bless DIR [NAME...]\n\n"
+               "check: run every golden vector in DIR (or the NAMEd ones) and compare its\n"
+               "       outputs bit for bit; the first difference is named; exit 1 on any.\n"
+               "bless: regenerate the expected outputs (a deliberate act: say why in the\n"
+               "       commit message).\n");
+        return argc >= 1 && strcmp(argv[0], "--help") == 0 ? 0 : 2;
+    }
+    bool bless = strcmp(argv[0], "bless") == 0;
+    size_t n;
+    vector *v = list_vectors(argv[1], &n);
+    if (!v) {
+        printf("0 passed, 1 failed\n");
+        return 1;
+    }
+    unsigned passed = 0, failed = 0, known = 0, selected = 0;
+    for (size_t i = 0; i < n; i++) {
+        bool want = argc == 2;
+        for (int k = 2; k < argc; k++)
+            want |= strcmp(argv[k], v[i].name) == 0;
+        if (!want)
+            continue;
+        selected++;
+        int rc = bless ? bless_vector(&v[i]) : check_vector(&v[i]);
+        if (rc == 0)
+            passed++;
+        else if (rc == 2)
+            known++;
+        else
+            failed++;
+    }
+    for (int k = 2; k < argc; k++) {
+        bool found = false;
+        for (size_t i = 0; i < n; i++)
+            found |= strcmp(argv[k], v[i].name) == 0;
+        if (!found) {
+            fprintf(stderr, "albatros vectors: no vector named '%s' in %s\n", argv[k], argv[1]);
+            failed++;
+        }
+    }
+    free(v);
+    if (known)
+        printf("%u known failures\n", known);
+    printf("%u passed, %u failed\n", passed, failed);
+    return failed || selected == 0 ? 1 : 0;
+}

@@ -1,0 +1,18 @@
+/* commands.h — the subcommands of the albatros driver. */
+#ifndef ALBATROS_COMMANDS_H
+#define ALBATROS_COMMANDS_H
+
+#include "../gp/gp.h"
+
+#include <stdio.h>
+
+int cmd_gp(int argc, char **argv);
+int cmd_dump(int argc, char **argv);
+int cmd_vectors(int argc, char **argv);
+int cmd_profiles(int argc, char **argv);
+
+/* GP statistics as a JSON object (no trailing newline) / a readable block. */
+void gp_stats_json(FILE *f, const gp_stats *s);
+void gp_stats_text(FILE *f, const gp_stats *s);
+
+#endif

@@ -1,0 +1,891 @@
+/* scene.c — the text scene format of docs/scene-format.md: a line-oriented
+ * parser whose every error names file:line:column and what was expected, and
+ * the degenerate-face checks shared with the OBJ importer. */
+#include "scene.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_TOKENS 96
+
+typedef struct {
+    const char *s;
+    unsigned len, col;
+} token;
+
+typedef struct {
+    scene_t *s;
+    diag_t *d;
+    const char *file;
+    unsigned line;
+    token tok[MAX_TOKENS];
+    unsigned ntok;
+    scene_object *obj;        /* inside object ... end */
+    uint8_t colour[3];
+    int texture;
+    scene_frame init;         /* state before the first frame line */
+    scene_frame *cur;         /* state being modified */
+    bool in_frames;
+} parser;
+
+/* ---- allocation helpers ---- */
+
+static int grow(void **p, unsigned *cap, unsigned need, size_t elem)
+{
+    if (need <= *cap)
+        return 0;
+    unsigned n = *cap ? *cap : 8;
+    while (n < need) {
+        if (n > (1u << 30))
+            return -1;
+        n *= 2;
+    }
+    void *q = realloc(*p, (size_t)n * elem);
+    if (!q)
+        return -1;
+    *p = q;
+    *cap = n;
+    return 0;
+}
+
+void scene_init(scene_t *s, const char *name)
+{
+    memset(s, 0, sizeof *s);
+    snprintf(s->file, sizeof s->file, "%s", name ? name : "<scene>");
+    s->near = 0.1;
+    s->background[0] = 90, s->background[1] = 140, s->background[2] = 210;
+}
+
+scene_object *scene_add_object(scene_t *s, const char *name)
+{
+    if (grow((void **)&s->obj, &s->cap_obj, s->nobj + 1, sizeof *s->obj))
+        return NULL;
+    scene_object *o = &s->obj[s->nobj++];
+    memset(o, 0, sizeof *o);
+    snprintf(o->name, sizeof o->name, "%s", name);
+    return o;
+}
+
+int scene_add_vertex(scene_object *o, const scene_vertex *v)
+{
+    if (grow((void **)&o->v, &o->cap_v, o->nv + 1, sizeof *o->v))
+        return -1;
+    o->v[o->nv++] = *v;
+    return 0;
+}
+
+scene_face *scene_add_face(scene_t *s, scene_object *o, const unsigned *vidx, unsigned n)
+{
+    if (grow((void **)&o->f, &o->cap_f, o->nf + 1, sizeof *o->f) ||
+        grow((void **)&o->idx, &o->cap_idx, o->nidx + n, sizeof *o->idx))
+        return NULL;
+    scene_face *f = &o->f[o->nf++];
+    memset(f, 0, sizeof *f);
+    f->first = o->nidx;
+    f->count = n;
+    memcpy(o->idx + o->nidx, vidx, n * sizeof *vidx);
+    o->nidx += n;
+    f->rgb[0] = f->rgb[1] = f->rgb[2] = 200;
+    f->intensity = 1.0;
+    f->texture = -1;
+    f->fog = true;
+    f->id = s->nfaces++;
+    return f;
+}
+
+void scene_free(scene_t *s)
+{
+    for (unsigned i = 0; i < s->nobj; i++) {
+        free(s->obj[i].v);
+        free(s->obj[i].idx);
+        free(s->obj[i].f);
+    }
+    for (unsigned i = 0; i < s->ntex; i++)
+        free(s->tex[i].texels);
+    for (unsigned i = 0; i < s->nframes; i++)
+        free(s->frames[i].poses);
+    free(s->obj);
+    free(s->tex);
+    free(s->frames);
+    char file[sizeof s->file];
+    memcpy(file, s->file, sizeof file);
+    scene_init(s, file);
+}
+
+/* ---- geometry checks ---- */
+
+vec3 scene_face_newell(const scene_object *o, const scene_face *f)
+{
+    vec3 n = {0, 0, 0};
+    for (unsigned k = 0; k < f->count; k++) {
+        vec3 a = scene_face_vertex(o, f, k), b = scene_face_vertex(o, f, (k + 1) % f->count);
+        n.x += (a.y - b.y) * (a.z + b.z);
+        n.y += (a.z - b.z) * (a.x + b.x);
+        n.z += (a.x - b.x) * (a.y + b.y);
+    }
+    return n;
+}
+
+/* Tolerances of docs/scene-format.md §"Degenerate faces", relative to the
+ * face's longest edge L. */
+#define TOL_AREA   1e-12   /* |Newell| / L^2 below this: collinear */
+#define TOL_PLANE  1e-6    /* distance from the plane / L above this: non-planar */
+#define TOL_TURN   1e-9    /* radians: a turn this far negative is a reflex vertex */
+
+alb_err scene_check_face(const scene_t *s, const scene_object *o, const scene_face *f, diag_t *d)
+{
+    const char *file = s->file;
+    unsigned n = f->count;
+    if (n < 3)
+        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+                       "face %u of object '%s' has %u vertices; a face needs at least 3",
+                       f->id, o->name, n);
+    if (n > SCENE_MAX_FACE_VERTICES)
+        return diag_at(d, ALB_ERR_LIMIT, file, f->line, 0,
+                       "face %u of object '%s' has %u vertices; the GP takes at most %d",
+                       f->id, o->name, n, SCENE_MAX_FACE_VERTICES);
+    double L = 0;
+    for (unsigned k = 0; k < n; k++) {
+        vec3 a = scene_face_vertex(o, f, k), b = scene_face_vertex(o, f, (k + 1) % n);
+        if (!isfinite(a.x) || !isfinite(a.y) || !isfinite(a.z))
+            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+                           "face %u: vertex %u is not finite", f->id, k + 1);
+        double len = v3_len(v3_sub(b, a));
+        if (len == 0)
+            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+                           "face %u of object '%s': vertices %u and %u coincide (zero-length edge)",
+                           f->id, o->name, k + 1, (k + 1) % n + 1);
+        if (len > L)
+            L = len;
+    }
+    if (!isfinite(L))
+        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+                       "face %u of object '%s': coordinates too large (edge length overflows)",
+                       f->id, o->name);
+    vec3 nn = scene_face_newell(o, f);
+    double nl = v3_len(nn);
+    if (!(nl > TOL_AREA * L * L))
+        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+                       "face %u of object '%s' has zero area (collinear vertices)", f->id, o->name);
+    vec3 u = v3_scale(nn, 1 / nl);
+    vec3 c = {0, 0, 0};
+    for (unsigned k = 0; k < n; k++)
+        c = v3_add(c, scene_face_vertex(o, f, k));
+    c = v3_scale(c, 1.0 / n);
+    for (unsigned k = 0; k < n; k++) {
+        double dist = fabs(v3_dot(u, v3_sub(scene_face_vertex(o, f, k), c)));
+        if (dist > TOL_PLANE * L)
+            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+                           "face %u of object '%s' is not planar: vertex %u is %.3g from the "
+                           "face plane (tolerance %.3g)", f->id, o->name, k + 1, dist, TOL_PLANE * L);
+    }
+    /* Convex and simple: every turn is non-negative about the Newell normal
+     * and the turns add up to one full revolution. */
+    double total = 0;
+    for (unsigned k = 0; k < n; k++) {
+        vec3 a = scene_face_vertex(o, f, (k + n - 1) % n), b = scene_face_vertex(o, f, k),
+             e = scene_face_vertex(o, f, (k + 1) % n);
+        vec3 e1 = v3_sub(b, a), e2 = v3_sub(e, b);
+        double turn = atan2(v3_dot(v3_cross(e1, e2), u), v3_dot(e1, e2));
+        if (turn < -TOL_TURN)
+            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+                           "face %u of object '%s' is not convex at vertex %u", f->id, o->name, k + 1);
+        total += turn;
+    }
+    if (fabs(total - 2 * VEC3_PI) > 1e-6)
+        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+                       "face %u of object '%s' is not a simple convex polygon (it winds %.2f times)",
+                       f->id, o->name, total / (2 * VEC3_PI));
+    return ALB_OK;
+}
+
+/* ---- tokens ---- */
+
+static void tokenize(parser *p, const char *line, size_t len)
+{
+    p->ntok = 0;
+    size_t i = 0;
+    while (i < len) {
+        while (i < len && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r'))
+            i++;
+        if (i >= len || line[i] == '#')
+            break;
+        size_t start = i;
+        if (line[i] == '"') {
+            start = ++i;
+            while (i < len && line[i] != '"')
+                i++;
+        } else {
+            while (i < len && line[i] != ' ' && line[i] != '\t' && line[i] != '\r' && line[i] != '#')
+                i++;
+        }
+        if (p->ntok < MAX_TOKENS)
+            p->tok[p->ntok] = (token){line + start, (unsigned)(i - start), (unsigned)start + 1};
+        p->ntok++;
+        if (i < len && line[i] == '"')
+            i++;
+    }
+}
+
+static bool tok_is(const token *t, const char *w)
+{
+    return strlen(w) == t->len && memcmp(t->s, w, t->len) == 0;
+}
+
+static alb_err __attribute__((format(printf, 3, 4)))
+perr(parser *p, unsigned col, const char *fmt, ...)
+{
+    char msg[400];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, col, "%s", msg);
+}
+
+static alb_err err_tok(parser *p, unsigned i, const char *expected)
+{
+    if (i >= p->ntok) {
+        unsigned col = p->ntok ? p->tok[p->ntok - 1].col + p->tok[p->ntok - 1].len : 1;
+        return perr(p, col, "expected %s at end of line", expected);
+    }
+    char got[48];
+    snprintf(got, sizeof got, "%.*s", (int)(p->tok[i].len > 40 ? 40 : p->tok[i].len), p->tok[i].s);
+    return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, p->tok[i].col,
+                   "expected %s, found '%s'", expected, got);
+}
+
+static alb_err num(parser *p, unsigned i, double *out)
+{
+    if (i >= p->ntok)
+        return err_tok(p, i, "a number");
+    char buf[64];
+    const token *t = &p->tok[i];
+    if (t->len >= sizeof buf)
+        return err_tok(p, i, "a number");
+    memcpy(buf, t->s, t->len);
+    buf[t->len] = 0;
+    char *end;
+    errno = 0;
+    double v = strtod(buf, &end);
+    if (end == buf || *end)
+        return err_tok(p, i, "a number");
+    if (!isfinite(v) || errno == ERANGE)
+        return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, t->col,
+                       "number '%s' is not finite or out of range", buf);
+    *out = v;
+    return ALB_OK;
+}
+
+static alb_err nums(parser *p, unsigned i, double *out, unsigned n)
+{
+    for (unsigned k = 0; k < n; k++) {
+        alb_err e = num(p, i + k, &out[k]);
+        if (e)
+            return e;
+    }
+    return ALB_OK;
+}
+
+static alb_err byte3(parser *p, unsigned i, uint8_t out[3])
+{
+    for (unsigned k = 0; k < 3; k++) {
+        double v;
+        alb_err e = num(p, i + k, &v);
+        if (e)
+            return e;
+        if (v < 0 || v > 255 || v != floor(v))
+            return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, p->tok[i + k].col,
+                           "colour component must be an integer 0..255, found %g", v);
+        out[k] = (uint8_t)v;
+    }
+    return ALB_OK;
+}
+
+static alb_err name_tok(parser *p, unsigned i, char *out)
+{
+    if (i >= p->ntok)
+        return err_tok(p, i, "a name");
+    if (p->tok[i].len >= SCENE_NAME_MAX)
+        return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, p->tok[i].col,
+                       "name longer than %d characters", SCENE_NAME_MAX - 1);
+    memcpy(out, p->tok[i].s, p->tok[i].len);
+    out[p->tok[i].len] = 0;
+    return ALB_OK;
+}
+
+/* "at X Y Z", "yaw D", "pitch D", "roll D" from token i on. */
+static alb_err pose_options(parser *p, unsigned i, scene_pose *pose, unsigned *next,
+                            const char *others)
+{
+    while (i < p->ntok) {
+        double v[3];
+        alb_err e;
+        if (tok_is(&p->tok[i], "at")) {
+            if ((e = nums(p, i + 1, v, 3)))
+                return e;
+            pose->pos = v3(v[0], v[1], v[2]);
+            i += 4;
+        } else if (tok_is(&p->tok[i], "yaw") || tok_is(&p->tok[i], "pitch") ||
+                   tok_is(&p->tok[i], "roll")) {
+            if ((e = num(p, i + 1, v)))
+                return e;
+            double *slot = tok_is(&p->tok[i], "yaw") ? &pose->yaw
+                         : tok_is(&p->tok[i], "pitch") ? &pose->pitch : &pose->roll;
+            *slot = v[0];
+            i += 2;
+        } else {
+            break;
+        }
+    }
+    *next = i;
+    if (!others && i < p->ntok)
+        return err_tok(p, i, "at, yaw, pitch or roll");
+    return ALB_OK;
+}
+
+static scene_object *find_object(scene_t *s, const token *t)
+{
+    for (unsigned i = 0; i < s->nobj; i++)
+        if (tok_is(t, s->obj[i].name))
+            return &s->obj[i];
+    return NULL;
+}
+
+static int find_texture(scene_t *s, const token *t)
+{
+    for (unsigned i = 0; i < s->ntex; i++)
+        if (tok_is(t, s->tex[i].name))
+            return (int)i;
+    return -1;
+}
+
+/* ---- statements ---- */
+
+static alb_err st_observer(parser *p)
+{
+    scene_observer *o = &p->cur->obs;
+    unsigned i = 1;
+    while (i < p->ntok) {
+        unsigned next;
+        alb_err e = pose_options(p, i, &o->pose, &next, "fov aspect");
+        if (e)
+            return e;
+        i = next;
+        if (i >= p->ntok)
+            break;
+        double v;
+        if (tok_is(&p->tok[i], "fov")) {
+            if ((e = num(p, i + 1, &v)))
+                return e;
+            if (!(v > 0 && v < 180))
+                return perr(p, p->tok[i + 1].col, "field of view must be in (0, 180) degrees");
+            o->fov_y = v;
+        } else if (tok_is(&p->tok[i], "aspect")) {
+            if ((e = num(p, i + 1, &v)))
+                return e;
+            if (!(v > 0 && v < 100))
+                return perr(p, p->tok[i + 1].col, "aspect must be in (0, 100)");
+            o->aspect = v;
+        } else {
+            return err_tok(p, i, "at, yaw, pitch, roll, fov or aspect");
+        }
+        i += 2;
+    }
+    return ALB_OK;
+}
+
+static alb_err st_light(parser *p)
+{
+    double v[3];
+    alb_err e = nums(p, 1, v, 3);
+    if (e)
+        return e;
+    p->cur->light.dir = v3(v[0], v[1], v[2]);
+    if (p->ntok > 4) {
+        if (!tok_is(&p->tok[4], "ambient"))
+            return err_tok(p, 4, "'ambient'");
+        if ((e = num(p, 5, &p->cur->light.ambient)))
+            return e;
+        if (p->ntok > 6)
+            return err_tok(p, 6, "end of line");
+    }
+    return ALB_OK;
+}
+
+static alb_err st_texture(parser *p)
+{
+    scene_t *s = p->s;
+    char name[SCENE_NAME_MAX];
+    alb_err e = name_tok(p, 1, name);
+    if (e)
+        return e;
+    if (find_texture(s, &p->tok[1]) >= 0)
+        return perr(p, p->tok[1].col, "texture '%s' defined twice", name);
+    if (s->ntex >= 255)
+        return perr(p, p->tok[0].col, "more than 255 textures");
+    if (grow((void **)&s->tex, &s->cap_tex, s->ntex + 1, sizeof *s->tex))
+        return ALB_ERR_NOMEM;
+    scene_texture t = {.line = p->line};
+    snprintf(t.name, sizeof t.name, "%s", name);
+    if (p->ntok > 2 && tok_is(&p->tok[2], "checker")) {
+        double lg, sq = 8;
+        uint8_t a[3], b[3];
+        if ((e = num(p, 3, &lg)) || (e = byte3(p, 4, a)) || (e = byte3(p, 7, b)))
+            return e;
+        if (lg < 1 || lg > 10 || lg != floor(lg))
+            return perr(p, p->tok[3].col, "texture size must be 2^1 .. 2^10 (give log2)");
+        if (p->ntok > 10) {
+            if ((e = num(p, 10, &sq)))
+                return e;
+            if (sq < 1 || sq > ldexp(1, (int)lg) || sq != floor(sq))
+                return perr(p, p->tok[10].col, "squares must be an integer in 1..size");
+        }
+        if (p->ntok > 11)
+            return err_tok(p, 11, "end of line");
+        if (scene_texture_checker(&t, (unsigned)lg, a, b, (unsigned)sq))
+            return ALB_ERR_NOMEM;
+    } else if (p->ntok > 2 && tok_is(&p->tok[2], "file")) {
+        if (p->ntok < 4)
+            return err_tok(p, 3, "a file name");
+        if (p->ntok > 4)
+            return err_tok(p, 4, "end of line");
+        char path[512];
+        const char *slash = strrchr(s->file, '/');
+        int dirlen = slash ? (int)(slash - s->file + 1) : 0;
+        if (p->tok[3].s[0] == '/')
+            dirlen = 0;
+        snprintf(path, sizeof path, "%.*s%.*s", dirlen, s->file, (int)p->tok[3].len, p->tok[3].s);
+        diag_t inner;
+        diag_init(&inner, NULL);
+        if ((e = scene_texture_png(&t, path, &inner)))
+            return diag_at(p->d, e, p->file, p->line, p->tok[3].col, "texture '%s': %s",
+                           name, inner.msg);
+    } else {
+        return err_tok(p, 2, "'checker' or 'file'");
+    }
+    s->tex[s->ntex++] = t;
+    return ALB_OK;
+}
+
+static alb_err st_object(parser *p)
+{
+    if (p->in_frames)
+        return perr(p, p->tok[0].col, "objects must be declared before the first 'frame'");
+    if (p->obj)
+        return perr(p, p->tok[0].col, "'object' inside object '%s' (missing 'end'?)", p->obj->name);
+    char name[SCENE_NAME_MAX];
+    alb_err e = name_tok(p, 1, name);
+    if (e)
+        return e;
+    if (find_object(p->s, &p->tok[1]))
+        return perr(p, p->tok[1].col, "object '%s' defined twice", name);
+    scene_object *o = scene_add_object(p->s, name);
+    if (!o)
+        return ALB_ERR_NOMEM;
+    o->line = p->line;
+    unsigned i = 2;
+    if (i < p->ntok && tok_is(&p->tok[i], "moving")) {
+        o->moving = true;
+        i++;
+    }
+    scene_pose pose = {{0, 0, 0}, 0, 0, 0};
+    unsigned next;
+    if ((e = pose_options(p, i, &pose, &next, NULL)))
+        return e;
+    /* the initial pose, copied into every frame */
+    scene_pose *poses = realloc(p->init.poses, p->s->nobj * sizeof *poses);
+    if (!poses)
+        return ALB_ERR_NOMEM;
+    poses[p->s->nobj - 1] = pose;
+    p->init.poses = poses;
+    p->obj = o;
+    p->colour[0] = p->colour[1] = p->colour[2] = 200;
+    p->texture = -1;
+    return ALB_OK;
+}
+
+static alb_err st_vertex(parser *p)
+{
+    scene_vertex v = {0};
+    double x[3];
+    alb_err e = nums(p, 1, x, 3);
+    if (e)
+        return e;
+    v.p = v3(x[0], x[1], x[2]);
+    unsigned i = 4;
+    while (i < p->ntok) {
+        if (tok_is(&p->tok[i], "i")) {
+            if ((e = num(p, i + 1, &v.i)))
+                return e;
+            v.has |= SV_INTENSITY;
+            i += 2;
+        } else if (tok_is(&p->tok[i], "n")) {
+            if ((e = nums(p, i + 1, x, 3)))
+                return e;
+            v.n = v3(x[0], x[1], x[2]);
+            double l = v3_len(v.n);
+            if (!(l > 0))
+                return perr(p, p->tok[i].col, "vertex normal has zero length");
+            v.n = v3_scale(v.n, 1 / l);
+            v.has |= SV_NORMAL;
+            i += 4;
+        } else if (tok_is(&p->tok[i], "t")) {
+            if ((e = nums(p, i + 1, x, 2)))
+                return e;
+            v.u = x[0], v.v = x[1];
+            v.has |= SV_UV;
+            i += 3;
+        } else {
+            return err_tok(p, i, "i, n or t");
+        }
+    }
+    if (scene_add_vertex(p->obj, &v))
+        return ALB_ERR_NOMEM;
+    return ALB_OK;
+}
+
+static alb_err face_options(parser *p, unsigned i, scene_face *f)
+{
+    alb_err e;
+    while (i < p->ntok) {
+        if (tok_is(&p->tok[i], "colour") || tok_is(&p->tok[i], "color")) {
+            if ((e = byte3(p, i + 1, f->rgb)))
+                return e;
+            i += 4;
+        } else if (tok_is(&p->tok[i], "texture")) {
+            if (i + 1 >= p->ntok)
+                return err_tok(p, i + 1, "a texture name");
+            f->texture = find_texture(p->s, &p->tok[i + 1]);
+            if (f->texture < 0)
+                return err_tok(p, i + 1, "the name of a texture defined above");
+            i += 2;
+        } else if (tok_is(&p->tok[i], "axes")) {
+            if ((e = nums(p, i + 1, f->axes, 8)))
+                return e;
+            f->texmap = TEXMAP_AXES;
+            i += 9;
+        } else if (tok_is(&p->tok[i], "intensity")) {
+            if ((e = num(p, i + 1, &f->intensity)))
+                return e;
+            i += 2;
+        } else if (tok_is(&p->tok[i], "nofog")) {
+            f->fog = false;
+            i++;
+        } else {
+            return err_tok(p, i, "a vertex number, colour, texture, axes, intensity or nofog");
+        }
+    }
+    return ALB_OK;
+}
+
+static alb_err st_face(parser *p)
+{
+    scene_object *o = p->obj;
+    unsigned vidx[SCENE_MAX_FACE_VERTICES];
+    unsigned n = 0, i = 1;
+    for (; i < p->ntok; i++) {
+        const token *t = &p->tok[i];
+        if (t->s[0] < '0' || t->s[0] > '9')
+            break;
+        double v;
+        alb_err e = num(p, i, &v);
+        if (e)
+            return e;
+        if (v < 1 || v > o->nv || v != floor(v))
+            return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, t->col,
+                           "vertex number %g: object '%s' has vertices 1..%u so far", v,
+                           o->name, o->nv);
+        if (n == SCENE_MAX_FACE_VERTICES)
+            return diag_at(p->d, ALB_ERR_LIMIT, p->file, p->line, t->col,
+                           "face has more than %d vertices", SCENE_MAX_FACE_VERTICES);
+        vidx[n++] = (unsigned)v - 1;
+    }
+    if (n < 3)
+        return err_tok(p, i, n ? "at least 3 vertex numbers" : "vertex numbers");
+    scene_face *f = scene_add_face(p->s, o, vidx, n);
+    if (!f)
+        return ALB_ERR_NOMEM;
+    f->line = p->line;
+    memcpy(f->rgb, p->colour, 3);
+    f->texture = p->texture;
+    alb_err e = face_options(p, i, f);
+    if (e)
+        return e;
+    /* Shading: vertex intensities if every vertex has one; a moving object
+     * is lit through its normals; otherwise flat. */
+    bool all_i = true, all_uv = true;
+    for (unsigned k = 0; k < n; k++) {
+        all_i &= (o->v[vidx[k]].has & SV_INTENSITY) != 0;
+        all_uv &= (o->v[vidx[k]].has & SV_UV) != 0;
+    }
+    f->shade = o->moving ? SHADE_LIT : all_i ? SHADE_VERTEX : SHADE_FLAT;
+    if (f->texture >= 0 && f->texmap != TEXMAP_AXES) {
+        if (!all_uv)
+            return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, p->tok[0].col,
+                           "face has texture '%s' but no mapping: give 't U V' on each of its "
+                           "vertices or 'axes' on the face", p->s->tex[f->texture].name);
+        f->texmap = TEXMAP_UV;
+    }
+    if (f->texture < 0)
+        f->texmap = TEXMAP_NONE;
+    return scene_check_face(p->s, o, f, p->d);
+}
+
+static alb_err st_pose(parser *p)
+{
+    if (!p->in_frames)
+        return perr(p, p->tok[0].col, "'pose' belongs inside a frame (after a 'frame' line)");
+    if (p->ntok < 2)
+        return err_tok(p, 1, "an object name");
+    scene_object *o = find_object(p->s, &p->tok[1]);
+    if (!o)
+        return err_tok(p, 1, "the name of an object defined above");
+    unsigned next;
+    return pose_options(p, 2, &p->cur->poses[o - p->s->obj], &next, NULL);
+}
+
+static alb_err copy_frame(scene_frame *dst, const scene_frame *src, unsigned nobj)
+{
+    *dst = *src;
+    dst->poses = malloc((nobj ? nobj : 1) * sizeof *dst->poses);
+    if (!dst->poses)
+        return ALB_ERR_NOMEM;
+    if (nobj)
+        memcpy(dst->poses, src->poses, nobj * sizeof *dst->poses);
+    return ALB_OK;
+}
+
+static alb_err st_frame(parser *p)
+{
+    scene_t *s = p->s;
+    if (p->ntok > 1)
+        return err_tok(p, 1, "end of line");
+    scene_frame *nf = realloc(s->frames, (s->nframes + 1) * sizeof *nf);
+    if (!nf)
+        return ALB_ERR_NOMEM;
+    s->frames = nf;
+    const scene_frame *prev = s->nframes ? &s->frames[s->nframes - 1] : &p->init;
+    alb_err e = copy_frame(&s->frames[s->nframes], prev, s->nobj);
+    if (e)
+        return e;
+    p->cur = &s->frames[s->nframes++];
+    p->in_frames = true;
+    return ALB_OK;
+}
+
+static alb_err statement(parser *p)
+{
+    const token *k = &p->tok[0];
+    scene_t *s = p->s;
+    alb_err e;
+    double v[3];
+    if (p->obj) {
+        if (tok_is(k, "v"))
+            return st_vertex(p);
+        if (tok_is(k, "f"))
+            return st_face(p);
+        if (tok_is(k, "colour") || tok_is(k, "color")) {
+            if ((e = byte3(p, 1, p->colour)))
+                return e;
+            return p->ntok > 4 ? err_tok(p, 4, "end of line") : ALB_OK;
+        }
+        if (tok_is(k, "texture")) {
+            if (p->ntok != 2)
+                return err_tok(p, p->ntok < 2 ? 1 : 2, p->ntok < 2 ? "a texture name" : "end of line");
+            if (tok_is(&p->tok[1], "none")) {
+                p->texture = -1;
+                return ALB_OK;
+            }
+            p->texture = find_texture(s, &p->tok[1]);
+            return p->texture < 0 ? err_tok(p, 1, "the name of a texture defined above") : ALB_OK;
+        }
+        if (tok_is(k, "end")) {
+            if (p->obj->nf == 0)
+                return perr(p, k->col, "object '%s' has no faces", p->obj->name);
+            p->obj = NULL;
+            return p->ntok > 1 ? err_tok(p, 1, "end of line") : ALB_OK;
+        }
+        return err_tok(p, 0, "v, f, colour, texture or end (inside an object)");
+    }
+    if (tok_is(k, "observer"))
+        return st_observer(p);
+    if (tok_is(k, "light"))
+        return st_light(p);
+    if (tok_is(k, "frame"))
+        return st_frame(p);
+    if (tok_is(k, "pose"))
+        return st_pose(p);
+    if (p->in_frames)
+        return err_tok(p, 0, "observer, light, pose or frame (inside frames)");
+    if (tok_is(k, "object"))
+        return st_object(p);
+    if (tok_is(k, "texture"))
+        return st_texture(p);
+    if (tok_is(k, "near")) {
+        if ((e = num(p, 1, &s->near)))
+            return e;
+        if (!(s->near > 0))
+            return perr(p, p->tok[1].col, "near must be positive");
+        return p->ntok > 2 ? err_tok(p, 2, "end of line") : ALB_OK;
+    }
+    if (tok_is(k, "background")) {
+        if ((e = byte3(p, 1, s->background)))
+            return e;
+        return p->ntok > 4 ? err_tok(p, 4, "end of line") : ALB_OK;
+    }
+    if (tok_is(k, "fog")) {
+        if ((e = byte3(p, 1, s->fog_rgb)) || (e = nums(p, 4, v, 2)))
+            return e;
+        if (!(v[0] >= 0 && v[1] > v[0]))
+            return perr(p, p->tok[5].col, "fog needs 0 <= near < far");
+        s->fog = true;
+        s->fog_near = v[0];
+        s->fog_far = v[1];
+        return p->ntok > 6 ? err_tok(p, 6, "end of line") : ALB_OK;
+    }
+    return err_tok(p, 0, "a statement (object, texture, observer, light, near, background, "
+                         "fog, frame)");
+}
+
+void scene_default_frame(scene_frame *f)
+{
+    memset(f, 0, sizeof *f);
+    f->obs.fov_y = 60;
+    f->light = (scene_light){{0.3, 0.8, -0.5}, 0.3};
+}
+
+alb_err scene_finish(scene_t *s, diag_t *d)
+{
+    (void)d;
+    if (s->nframes == 0) {
+        s->frames = calloc(1, sizeof *s->frames);
+        if (!s->frames)
+            return ALB_ERR_NOMEM;
+        s->nframes = 1;
+        scene_default_frame(&s->frames[0]);
+    }
+    for (unsigned f = 0; f < s->nframes; f++) {
+        if (!s->frames[f].poses) {
+            s->frames[f].poses = calloc(s->nobj ? s->nobj : 1, sizeof(scene_pose));
+            if (!s->frames[f].poses)
+                return ALB_ERR_NOMEM;
+        }
+    }
+    return ALB_OK;
+}
+
+alb_err scene_parse(const char *text, size_t len, const char *name, scene_t *s, diag_t *d)
+{
+    parser p;
+    memset(&p, 0, sizeof p);
+    scene_init(s, name);
+    p.s = s;
+    p.d = d;
+    p.file = s->file;
+    p.texture = -1;
+    scene_default_frame(&p.init);
+    p.cur = &p.init;
+    alb_err e = ALB_OK;
+    bool header = false;
+    size_t pos = 0;
+    while (pos < len && !e) {
+        size_t end = pos;
+        while (end < len && text[end] != '\n')
+            end++;
+        p.line++;
+        for (size_t i = pos; i < end; i++) {
+            unsigned char c = (unsigned char)text[i];
+            if (c == 0 || c >= 0x80) {
+                e = diag_at(d, ALB_ERR_PARSE, p.file, p.line, (unsigned)(i - pos) + 1,
+                            "byte 0x%02x: scene files are ASCII text", c);
+                break;
+            }
+        }
+        if (e)
+            break;
+        tokenize(&p, text + pos, end - pos);
+        pos = end + 1;
+        if (p.ntok == 0)
+            continue;
+        if (p.ntok > MAX_TOKENS) {
+            e = diag_at(d, ALB_ERR_PARSE, p.file, p.line, p.tok[MAX_TOKENS - 1].col,
+                        "more than %d words on one line", MAX_TOKENS);
+            break;
+        }
+        if (!header) {
+            if (!tok_is(&p.tok[0], "albatros-scene") || p.ntok != 2 || !tok_is(&p.tok[1], "1")) {
+                e = diag_at(d, ALB_ERR_PARSE, p.file, p.line, 1,
+                            "expected the header line 'albatros-scene 1'");
+                break;
+            }
+            header = true;
+            continue;
+        }
+        e = statement(&p);
+    }
+    if (!e && !header)
+        e = diag_at(d, ALB_ERR_PARSE, p.file, p.line ? p.line : 1, 1,
+                    "empty scene: expected the header line 'albatros-scene 1'");
+    if (!e && p.obj)
+        e = diag_at(d, ALB_ERR_PARSE, p.file, p.line, 1,
+                    "object '%s' (line %u) has no 'end'", p.obj->name, p.obj->line);
+    if (!e && s->nobj == 0)
+        e = diag_at(d, ALB_ERR_PARSE, p.file, p.line, 1, "scene has no objects");
+    if (!e && s->nframes == 0) {
+        /* one frame: the initial state itself */
+        s->frames = malloc(sizeof *s->frames);
+        if (!s->frames || copy_frame(s->frames, &p.init, s->nobj))
+            e = ALB_ERR_NOMEM;
+        else
+            s->nframes = 1;
+    }
+    free(p.init.poses);
+    if (!e)
+        e = scene_finish(s, d);
+    if (e == ALB_ERR_NOMEM)
+        diag_at(d, e, p.file, p.line, 0, "out of memory");
+    if (e)
+        scene_free(s);
+    return e;
+}
+
+alb_err scene_load(const char *path, scene_t *s, diag_t *d)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open scene: %s", strerror(errno));
+    size_t cap = 1 << 16, len = 0;
+    char *buf = malloc(cap);
+    while (buf) {
+        if (len == cap) {
+            char *nb = cap < ((size_t)1 << 31) ? realloc(buf, cap * 2) : NULL;
+            if (!nb) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
+            buf = nb;
+            cap *= 2;
+        }
+        size_t got = fread(buf + len, 1, cap - len, f);
+        len += got;
+        if (!got)
+            break;
+    }
+    int rerr = ferror(f);
+    fclose(f);
+    if (!buf)
+        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "scene too large for memory");
+    if (rerr) {
+        free(buf);
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "read error");
+    }
+    alb_err e = scene_parse(buf, len, path, s, d);
+    free(buf);
+    return e;
+}

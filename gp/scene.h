@@ -1,0 +1,153 @@
+/* scene.h — the 3-D database the GP reads: objects of planar convex faces,
+ * textures, lights, the observer, and per-frame poses.  Parsed from the text
+ * format of docs/scene-format.md or imported from Wavefront OBJ. */
+#ifndef ALBATROS_SCENE_H
+#define ALBATROS_SCENE_H
+
+#include "../common/diag.h"
+#include "../common/vec3.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define SCENE_MAX_FACE_VERTICES 32
+#define SCENE_NAME_MAX 64
+
+enum { SV_INTENSITY = 1, SV_NORMAL = 2, SV_UV = 4 };
+
+typedef struct {
+    vec3 p;
+    double i;            /* intensity, if has & SV_INTENSITY */
+    vec3 n;              /* normal, if has & SV_NORMAL */
+    double u, v;         /* texture coordinates, if has & SV_UV */
+    uint8_t has;
+} scene_vertex;
+
+typedef enum { SHADE_FLAT, SHADE_VERTEX, SHADE_LIT } shade_kind;
+typedef enum { TEXMAP_NONE, TEXMAP_UV, TEXMAP_AXES } texmap_kind;
+
+typedef struct {
+    unsigned first, count;   /* into the object's index array */
+    uint8_t rgb[3];
+    shade_kind shade;
+    double intensity;        /* SHADE_FLAT value */
+    int texture;             /* scene texture index, -1 = none */
+    texmap_kind texmap;
+    double axes[8];          /* TEXMAP_AXES: Au Bu Cu Du Av Bv Cv Dv (object space) */
+    bool fog;
+    unsigned line;           /* where it was defined */
+    uint32_t id;             /* index in input order over the whole scene */
+} scene_face;
+
+typedef struct {
+    vec3 pos;
+    double yaw, pitch, roll; /* degrees */
+} scene_pose;
+
+typedef struct {
+    char name[SCENE_NAME_MAX];
+    bool moving;             /* lit through its vertex normals (eq. 8) */
+    scene_vertex *v;
+    unsigned nv, cap_v;
+    unsigned *idx;
+    unsigned nidx, cap_idx;
+    scene_face *f;
+    unsigned nf, cap_f;
+    unsigned line;
+} scene_object;
+
+typedef struct {
+    scene_pose pose;
+    double fov_y;            /* vertical field of view, degrees */
+    double aspect;           /* width / height; 0 = from the profile */
+} scene_observer;
+
+typedef struct {
+    vec3 dir;                /* toward the light, world space; length = strength */
+    double ambient;          /* I0 of eq. (8) */
+} scene_light;
+
+typedef struct {
+    scene_observer obs;
+    scene_light light;
+    scene_pose *poses;       /* one per object */
+} scene_frame;
+
+typedef struct {
+    char name[SCENE_NAME_MAX];
+    unsigned log2size;
+    uint32_t *texels;        /* 0x00RRGGBB, row-major, row 0 at v = 0 */
+    unsigned line;
+} scene_texture;
+
+typedef struct {
+    char file[256];
+    double near;             /* depth scale: the VP stores near / Z */
+    uint8_t background[3];
+    bool fog;
+    uint8_t fog_rgb[3];
+    double fog_near, fog_far;
+    scene_object *obj;
+    unsigned nobj, cap_obj;
+    scene_texture *tex;
+    unsigned ntex, cap_tex;
+    scene_frame *frames;
+    unsigned nframes;
+    unsigned nfaces;
+} scene_t;
+
+/* Parse scene text; `name` is used in diagnostics and to resolve relative
+ * texture paths.  On error *s is freed and d says file:line:col and why. */
+alb_err scene_parse(const char *text, size_t len, const char *name, scene_t *s, diag_t *d);
+alb_err scene_load(const char *path, scene_t *s, diag_t *d);
+void scene_free(scene_t *s);
+
+/* The built-in default scene (docs/builtin-scene.md). */
+const char *scene_builtin_text(size_t *len);
+alb_err scene_load_builtin(scene_t *s, diag_t *d);
+
+/* Degenerate-face diagnostics: collinear, non-planar, non-convex, repeated
+ * vertices.  Called by the parser and the OBJ importer. */
+alb_err scene_check_face(const scene_t *s, const scene_object *o, const scene_face *f,
+                         diag_t *d);
+
+/* Geometry helpers shared with the GP's database preparation. */
+vec3 scene_face_newell(const scene_object *o, const scene_face *f);
+static inline vec3 scene_face_vertex(const scene_object *o, const scene_face *f, unsigned k)
+{
+    return o->v[o->idx[f->first + k]].p;
+}
+
+/* Building blocks for importers: append and grow; NULL/-1 on allocation failure. */
+scene_object *scene_add_object(scene_t *s, const char *name);
+scene_face *scene_add_face(scene_t *s, scene_object *o, const unsigned *vidx, unsigned n);
+int scene_add_vertex(scene_object *o, const scene_vertex *v);
+/* Finish: one frame of default state if none, poses for every object. */
+alb_err scene_finish(scene_t *s, diag_t *d);
+void scene_init(scene_t *s, const char *name);
+/* Observer at the origin looking along +Z, fov 60, default light. */
+void scene_default_frame(scene_frame *f);
+
+/* Textures */
+alb_err scene_texture_checker(scene_texture *t, unsigned log2size, const uint8_t a[3],
+                              const uint8_t b[3], unsigned squares);
+alb_err scene_texture_png(scene_texture *t, const char *path, diag_t *d);
+
+/* Wavefront OBJ import (obj.c) */
+typedef struct {
+    vec3 eye, at, up;        /* camera: eye point, look-at point, up vector (world) */
+    double fov_y;            /* vertical field of view, degrees */
+    unsigned width, height;  /* resolution: sets the observer aspect = width/height */
+} scene_camera;
+/* Import an OBJ file (with the Kd colours of its MTL libraries) as a
+ * one-object scene with one frame whose observer is the camera.  Faces the GP
+ * cannot draw are split into triangles, skipped if they have no area (one
+ * summary warning), or rejected.  OBJ is right-handed, the scene left-handed:
+ * the importer negates z (scene = file (x, y, -z)) and keeps each face's
+ * vertex order, so fronts stay fronts and the model is not mirrored; the
+ * camera is in the file's own coordinates, converted alike.  On error *s is
+ * freed and d says where. */
+alb_err scene_load_obj(const char *path, const scene_camera *cam, scene_t *s, diag_t *d);
+
+#endif

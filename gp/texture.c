@@ -1,0 +1,71 @@
+/* texture.c — texture images for the GP's database: the built-in procedural
+ * checker and PNG files through libpng.  The VP sees only texels, loaded
+ * through TEXTURE packets of the word stream. */
+#include "scene.h"
+
+#include <errno.h>
+#include <png.h>
+#include <stdlib.h>
+#include <string.h>
+
+alb_err scene_texture_checker(scene_texture *t, unsigned log2size, const uint8_t a[3],
+                              const uint8_t b[3], unsigned squares)
+{
+    unsigned size = 1u << log2size;
+    t->log2size = log2size;
+    t->texels = malloc((size_t)size * size * sizeof *t->texels);
+    if (!t->texels)
+        return ALB_ERR_NOMEM;
+    uint32_t ca = (uint32_t)a[0] << 16 | (uint32_t)a[1] << 8 | a[2];
+    uint32_t cb = (uint32_t)b[0] << 16 | (uint32_t)b[1] << 8 | b[2];
+    for (unsigned y = 0; y < size; y++)
+        for (unsigned x = 0; x < size; x++) {
+            unsigned sx = x * squares / size, sy = y * squares / size;
+            t->texels[(size_t)y * size + x] = (sx + sy) % 2 ? cb : ca;
+        }
+    return ALB_OK;
+}
+
+alb_err scene_texture_png(scene_texture *t, const char *path, diag_t *d)
+{
+    png_image img;
+    memset(&img, 0, sizeof img);
+    img.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_file(&img, path))
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read PNG: %s", img.message);
+    if (img.width != img.height || img.width < 2 || img.width > 1024 ||
+        (img.width & (img.width - 1))) {
+        unsigned w = img.width, h = img.height;
+        png_image_free(&img);
+        return diag_at(d, ALB_ERR_PARSE, path, 0, 0,
+                       "texture is %ux%u; the VP takes square powers of two, 2..1024", w, h);
+    }
+    img.format = PNG_FORMAT_RGB;
+    size_t n = (size_t)img.width * img.height;
+    uint8_t *rgb = malloc(n * 3);
+    t->texels = malloc(n * sizeof *t->texels);
+    if (!rgb || !t->texels) {
+        free(rgb);
+        free(t->texels);
+        t->texels = NULL;
+        png_image_free(&img);
+        return ALB_ERR_NOMEM;
+    }
+    /* Negative stride: PNG row 0 is the image top; texel row 0 is v = 0, the
+     * bottom, as in OBJ and the paper's y-up screen. */
+    if (!png_image_finish_read(&img, NULL, rgb,
+                               -(png_int_32)(img.width * 3), NULL)) {
+        free(rgb);
+        free(t->texels);
+        t->texels = NULL;
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot decode PNG: %s", img.message);
+    }
+    for (size_t i = 0; i < n; i++)
+        t->texels[i] = (uint32_t)rgb[3 * i] << 16 | (uint32_t)rgb[3 * i + 1] << 8 | rgb[3 * i + 2];
+    free(rgb);
+    unsigned lg = 0;
+    while ((1u << lg) < img.width)
+        lg++;
+    t->log2size = lg;
+    return ALB_OK;
+}

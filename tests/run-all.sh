@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# run-all.sh BUILD — every test runner of the project, then the total.
+# Each runner ends with "N passed, N failed"; this sums them.
+set -u
+build=${1:-build}
+total_pass=0 total_fail=0 status=0
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+run() {
+    local name=$1; shift
+    echo "== $name: $*"
+    "$@" 2>&1 | tee "$log"
+    local rc=${PIPESTATUS[0]}
+    local out
+    out=$(tail -n 1 "$log")
+    if [[ $out =~ ^([0-9]+)\ passed,\ ([0-9]+)\ failed$ ]]; then
+        total_pass=$((total_pass + BASH_REMATCH[1]))
+        total_fail=$((total_fail + BASH_REMATCH[2]))
+        [[ ${BASH_REMATCH[1]} -eq 0 ]] && status=1
+    else
+        echo "$name: no summary line (exit $rc)"
+        total_fail=$((total_fail + 1))
+    fi
+    [[ $rc -ne 0 ]] && status=1
+}
+run unit "$build/tests/unit" --bindir "$build"
+run cli bash tests/cli.sh "$build/albatros"
+run vectors "$build/albatros" vectors check test-vectors
+echo "$total_pass passed, $total_fail failed"
+[[ $status -eq 0 && $total_fail -eq 0 ]]
