@@ -39,8 +39,11 @@ static uint32_t op_word(unsigned op, uint32_t low24) { return (uint32_t)op << 24
 
 void ws_put_config(ws_buf *b, const ws_config *c)
 {
-    ws_put(b, op_word(WS_OP_CONFIG, WS_VERSION << 16 | 1));
+    uint32_t near_bits;
+    memcpy(&near_bits, &c->near, sizeof near_bits);
+    ws_put(b, op_word(WS_OP_CONFIG, WS_VERSION << 16 | 2));
     ws_put(b, (uint32_t)c->coef_bits << 8 | c->edge_frac_bits);
+    ws_put(b, near_bits);
 }
 
 void ws_put_texture(ws_buf *b, const ws_texture *t)
@@ -237,9 +240,9 @@ alb_err ws_next(ws_reader *r, ws_event *ev, diag_t *d)
             return bad(r, d, at, "second CONFIG");
         if ((head >> 16 & 0xFF) != WS_VERSION)
             return bad(r, d, at, "CONFIG version %u, this decoder reads version %d", head >> 16 & 0xFF, WS_VERSION);
-        if ((head & 0xFFFF) != 1)
-            return bad(r, d, at, "CONFIG length %u, expected 1", head & 0xFFFF);
-        if ((e = need(r, d, 2, "CONFIG")))
+        if ((head & 0xFFFF) != 2)
+            return bad(r, d, at, "CONFIG length %u, expected 2", head & 0xFFFF);
+        if ((e = need(r, d, 3, "CONFIG")))
             return e;
         uint32_t w1 = r->w[at + 1];
         ev->u.config.edge_frac_bits = w1 & 0xFF;
@@ -250,9 +253,13 @@ alb_err ws_next(ws_reader *r, ws_event *ev, diag_t *d)
             return bad(r, d, (at + 1), "CONFIG formats 0x%08x invalid (edge_frac_bits %d..%d, "
                             "coef_bits %d..%d, bits 31..16 zero)", w1, EDGE_FRAC_MIN,
                             EDGE_FRAC_MAX, COEF_BITS_MIN, COEF_BITS_MAX);
+        memcpy(&ev->u.config.near, &r->w[at + 2], sizeof ev->u.config.near);
+        if (!(ev->u.config.near > 0 && isfinite(ev->u.config.near)))
+            return bad(r, d, at + 2, "CONFIG near = %g: must be positive and finite",
+                       (double)ev->u.config.near);
         r->config = ev->u.config;
         r->have_config = true;
-        r->pos += 2;
+        r->pos += 3;
         ev->kind = WS_EV_CONFIG;
         break;
     }
@@ -386,9 +393,11 @@ void ws_describe_word(const ws_event *ev, const ws_config *cfg, size_t k, char *
     case WS_EV_CONFIG:
         if (k == 0)
             snprintf(buf, len, "CONFIG version=%d", WS_VERSION);
-        else
+        else if (k == 1)
             snprintf(buf, len, "config edge_frac_bits=%u coef_bits=%u",
                      ev->u.config.edge_frac_bits, ev->u.config.coef_bits);
+        else
+            snprintf(buf, len, "config near=%.9g", (double)ev->u.config.near);
         break;
     case WS_EV_TEXTURE:
         if (k == 0)

@@ -47,6 +47,9 @@ typedef struct {
 
 typedef struct {
     unsigned edge_frac_bits, coef_bits;
+    float near;               /* the scene's near distance: metadata for
+                                 converting near/Z to distances; the VP's
+                                 arithmetic does not use it */
 } ws_config;
 
 typedef struct {

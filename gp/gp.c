@@ -460,7 +460,7 @@ static uint32_t rgb_word(const uint8_t c[3])
 
 void gp_stream_header(gp_t *gp, ws_buf *out)
 {
-    ws_config cfg = {gp->prof.edge_frac_bits, gp->prof.coef_bits};
+    ws_config cfg = {gp->prof.edge_frac_bits, gp->prof.coef_bits, (float)gp->scene->near};
     ws_put_config(out, &cfg);
     for (unsigned i = 0; i < gp->scene->ntex; i++) {
         const scene_texture *t = &gp->scene->tex[i];

@@ -69,7 +69,7 @@ echo "a triangle" > "$tmp/v/tri/README"
 echo "--profile a256" > "$tmp/v/tri/options"
 expect 0 "created tri" "$bin" vectors bless "$tmp/v"
 expect 0 "1 passed, 0 failed" "$bin" vectors check "$tmp/v"
-printf '\x01' | dd of="$tmp/v/tri/expected.stream" bs=1 seek=44 conv=notrunc 2>/dev/null
+printf '\x01' | dd of="$tmp/v/tri/expected.stream" bs=1 seek=48 conv=notrunc 2>/dev/null
 expect 1 "expected .* depth[.]A=" "$bin" vectors check "$tmp/v"
 echo "flipped on purpose" > "$tmp/v/tri/KNOWN-FAILURE"
 expect 0 "known failure tri" "$bin" vectors check "$tmp/v"

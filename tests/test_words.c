@@ -43,7 +43,8 @@ TEST(words_round_trip)
     uint64_t s = 99;
     for (int trial = 0; trial < 200; trial++) {
         ws_config cfg = {EDGE_FRAC_MIN + (unsigned)(t_rand(&s) % (EDGE_FRAC_MAX - EDGE_FRAC_MIN + 1)),
-                         COEF_BITS_MIN + (unsigned)(t_rand(&s) % (COEF_BITS_MAX - COEF_BITS_MIN + 1))};
+                         COEF_BITS_MIN + (unsigned)(t_rand(&s) % (COEF_BITS_MAX - COEF_BITS_MIN + 1)),
+                         (float)t_uniform(&s, 0.001, 100)};
         ws_buf b;
         ws_buf_init(&b);
         ws_put_config(&b, &cfg);
@@ -77,7 +78,7 @@ TEST(words_round_trip)
             switch (ev->kind) {
             case WS_EV_CONFIG:
                 CHECK(ev->u.config.edge_frac_bits == cfg.edge_frac_bits &&
-                      ev->u.config.coef_bits == cfg.coef_bits);
+                      ev->u.config.coef_bits == cfg.coef_bits && ev->u.config.near == cfg.near);
                 break;
             case WS_EV_TEXTURE:
                 CHECK(ev->u.texture.id == 7 && ev->u.texture.log2size == 2 &&
@@ -122,7 +123,7 @@ static size_t valid_stream(uint32_t *w)
 {
     ws_buf b;
     ws_buf_init(&b);
-    ws_config cfg = {14, 24};
+    ws_config cfg = {14, 24, 0.5f};
     ws_put_config(&b, &cfg);
     ws_frame fr = {0, 0, false, 0, 0, 0};
     ws_put_frame(&b, &fr);
@@ -161,29 +162,31 @@ TEST(words_malformed_streams_are_named)
     diag_t d;
     diag_init(&d, NULL);
     CHECK_EQ(decode_all(good, n, &d), ALB_OK);
-    /* layout: 0-1 CONFIG, 2-6 FRAME, 7 FACE hdr, 8 id, 9 rgb, 10-13 depth,
-     * 14-17 shade, 18-21 edges, 22 FRAME_END, 23 END */
-    CHECK_EQ(n, 24);
+    /* layout: 0-2 CONFIG, 3-7 FRAME, 8 FACE hdr, 9 id, 10 rgb, 11-14 depth,
+     * 15-18 shade, 19-22 edges, 23 FRAME_END, 24 END */
+    CHECK_EQ(n, 25);
     static const struct {
-        size_t word;          /* word to corrupt (n = truncate there) */
+        size_t word;          /* word to corrupt */
         uint32_t value;
         long long offset;     /* expected error offset in bytes */
         const char *msg;
     } cases[] = {
-        {0, 0xA5020001, 0, "CONFIG version 2"},
+        {0, 0xA5020002, 0, "CONFIG version 2"},
+        {0, 0xA5010001, 0, "CONFIG length 1, expected 2"},
         {0, 0xF0000000, 0, "FRAME before CONFIG"},
         {1, 0x00001803, 4, "CONFIG formats"},
-        {2, 0x12345678, 8, "not a packet opcode"},
-        {3, 0x01000000, 12, "background has bits 31..24"},
-        {7, 0xFA02F000, 28, "reserved bits"},
-        {7, 0xFA410100, 28, "the VP edge store holds 64"},
-        {10, 200, 40, "depth.exp = 200"},
-        {11, 1u << 23, 44, "does not fit 24-bit mantissa"},
-        {18, 0x80000000u | (8u << 14), 72, "edge[0].X1"},
-        {21, 8u << 14, 84, "edge[1].X2"},
-        {22, 0xFE000002, 88, "FRAME_END counts 2 faces, the frame had 1"},
-        {23, 0xFF000001, 92, "END has reserved bits"},
-        {22, 0xF0000001, 88, "FRAME inside a frame"},
+        {2, 0xBF800000, 8, "near = -1"},
+        {3, 0x12345678, 12, "not a packet opcode"},
+        {4, 0x01000000, 16, "background has bits 31..24"},
+        {8, 0xFA02F000, 32, "reserved bits"},
+        {8, 0xFA410100, 32, "the VP edge store holds 64"},
+        {11, 200, 44, "depth.exp = 200"},
+        {12, 1u << 23, 48, "does not fit 24-bit mantissa"},
+        {19, 0x80000000u | (8u << 14), 76, "edge[0].X1"},
+        {22, 8u << 14, 88, "edge[1].X2"},
+        {23, 0xFE000002, 92, "FRAME_END counts 2 faces, the frame had 1"},
+        {24, 0xFF000001, 96, "END has reserved bits"},
+        {23, 0xF0000001, 92, "FRAME inside a frame"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         uint32_t w[64];
@@ -197,10 +200,10 @@ TEST(words_malformed_streams_are_named)
     }
     /* truncations: inside a face, before END; extra words after END */
     diag_init(&d, NULL);
-    CHECK_EQ(decode_all(good, 20, &d), ALB_ERR_STREAM);
+    CHECK_EQ(decode_all(good, 21, &d), ALB_ERR_STREAM);
     CHECK_STR_CONTAINS(d.msg, "truncated inside FACE edges");
     diag_init(&d, NULL);
-    CHECK_EQ(decode_all(good, 23, &d), ALB_ERR_STREAM);
+    CHECK_EQ(decode_all(good, 24, &d), ALB_ERR_STREAM);
     CHECK_STR_CONTAINS(d.msg, "without an END");
     uint32_t longer[64];
     memcpy(longer, good, n * 4);
@@ -223,7 +226,7 @@ TEST(words_dump_names_fields)
     diag_init(&d, NULL);
     CHECK_EQ(ws_dump(f, good, n, "x", &d), ALB_OK);
     fclose(f);
-    CHECK_STR_CONTAINS(text, "00000048  8000c000  edge[0] U=1 R=0 X1=0xc000 (+0.000000)");
+    CHECK_STR_CONTAINS(text, "0000004c  8000c000  edge[0] U=1 R=0 X1=0xc000 (+0.000000)");
     CHECK_STR_CONTAINS(text, "edge[1] X2=0x8000 (-1.000000)");
     CHECK_STR_CONTAINS(text, "FACE edges=2 flags=S-- texture=0");
     CHECK_STR_CONTAINS(text, "FRAME_END faces=1");

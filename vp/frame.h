@@ -1,0 +1,38 @@
+/* frame.h — a finished frame as the VP's output stage delivers it: the frame
+ * store (colour), depth store, face ids, decision levels and coverage, per
+ * pixel, row 0 at the top of the screen (docs/vp.md, "Frames").  Sinks (EXR,
+ * PNG, USB) read this and nothing else of the VP. */
+#ifndef ALBATROS_FRAME_H
+#define ALBATROS_FRAME_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define FRAME_NO_FACE  0xFFFFFFFFu  /* face.id where no face covers the pixel */
+#define FRAME_NO_LEVEL 0xFFu        /* vp.level where no face covers the pixel */
+
+typedef struct {
+    unsigned width, height;     /* pixels */
+    unsigned colour_bits;       /* frame store values are 0 .. 2^colour_bits - 1 */
+    unsigned depth_bits;        /* depth store values are near/Z in 0.depth_bits */
+    unsigned aa_levels;         /* samples per pixel: 4^aa_levels */
+    float near;                 /* the scene's near distance (for Z in scene units) */
+    uint32_t number;            /* frame number from the stream */
+    uint16_t *rgb;              /* 3 per pixel: R, G, B frame store values */
+    uint32_t *depth;            /* depth store of the pixel's nearest sample; 0 = none */
+    uint32_t *face;             /* face id of that sample, FRAME_NO_FACE if none */
+    uint8_t *level;             /* subdivision level that decided that sample */
+    uint16_t *coverage;         /* covered samples of 4^aa_levels */
+    uint32_t *cycles;           /* VP cycles spent per pixel; NULL when not modelled */
+} frame_t;
+
+/* Allocate a frame's planes (cycles only if with_cycles); -1 if out of memory. */
+int frame_alloc(frame_t *f, unsigned width, unsigned height, bool with_cycles);
+void frame_free(frame_t *f);
+
+/* Z in scene units of a depth store value: near / (d / 2^depth_bits);
+ * +infinity for d = 0 (no surface). */
+float frame_z(const frame_t *f, uint32_t d);
+
+#endif
