@@ -4,6 +4,10 @@
 CC      ?= cc
 BUILD   ?= build
 PKGS    := libpng
+# OpenEXR 3.1 has no pkg-config module for its C library alone: the C API
+# (OpenEXRCore) takes the OpenEXR module's include path and one library.
+EXR_CFLAGS := $(shell pkg-config --cflags OpenEXR)
+EXR_LIBS   := -lOpenEXRCore-3_1
 OPT     ?= -O2
 WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes -Wmissing-prototypes \
            -Wpointer-arith -Wcast-qual -Wvla
@@ -11,13 +15,18 @@ WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes -Wmissing-proto
 # multiply-adds, no fast-math (docs/number-formats.md).
 FPFLAGS := -ffp-contract=off -fno-fast-math
 CFLAGS  ?= $(OPT) -g
-ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) $(FPFLAGS) $(CFLAGS) $(EXTRA_CFLAGS) $(shell pkg-config --cflags $(PKGS))
-LDLIBS  = $(shell pkg-config --libs $(PKGS)) -lm $(EXTRA_LDLIBS)
+ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) $(FPFLAGS) $(CFLAGS) $(EXTRA_CFLAGS) \
+             $(shell pkg-config --cflags $(PKGS)) $(EXR_CFLAGS)
+LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm $(EXTRA_LDLIBS)
 
 COMMON_SRC := common/diag.c common/profile.c common/words.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
-EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cli.c
-LIB_SRC    := $(COMMON_SRC) $(GP_SRC) $(BUILD)/gen/builtin_scene.c
+VP_SRC     := vp/vp.c vp/shade.c vp/frame.c
+TOOLS_SRC  := tools/ref.c
+SINK_SRC   := emu/exr.c emu/preview.c
+EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cmd_render.c emu/cmd_compare.c \
+              emu/cli.c
+LIB_SRC    := $(COMMON_SRC) $(GP_SRC) $(VP_SRC) $(TOOLS_SRC) $(SINK_SRC) $(BUILD)/gen/builtin_scene.c
 TEST_SRC   := $(wildcard tests/test_*.c) tests/t.c tests/gp_helpers.c
 
 LIB_OBJ  := $(patsubst %.c,$(BUILD)/%.o,$(LIB_SRC:$(BUILD)/%=%))
@@ -41,7 +50,7 @@ help:
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
-DEB_PKGS := build-essential pkg-config libpng-dev
+DEB_PKGS := build-essential pkg-config libpng-dev libopenexr-dev openexr
 setup: deps
 	$(MAKE) all
 deps:

@@ -152,6 +152,11 @@ int profile_check(const profile_t *p, char *err, size_t errlen)
         BAD("recip_bits=%u: must be in 8..24", p->recip_bits);
     if (p->shade_frac_bits < 8 || p->shade_frac_bits > 16)
         BAD("shade_frac_bits=%u: must be in 8..16", p->shade_frac_bits);
+    /* The edge set-up scales by 2^(F + 1 + lh - lw) and 2^(F + 1 + lw - lh). */
+    if (fix_log2(p->width) > fix_log2(p->height) + p->edge_frac_bits + 1 ||
+        fix_log2(p->height) > fix_log2(p->width) + p->edge_frac_bits + 1)
+        BAD("screen %ux%u is too elongated for edge_frac_bits=%u", p->width, p->height,
+            p->edge_frac_bits);
     /* A form evaluated at a sample is below 2^(coef_bits + levels + 1); times a
      * reciprocal of recip_bits + 1 bits it must stay inside int64
      * (docs/number-formats.md §4). */

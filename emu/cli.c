@@ -216,6 +216,8 @@ int cli_load_scene(const char *path, const run_opts *o, scene_t *s)
                             "%s has its own observer\n", path);
         e = scene_load(path, s, &d);
     }
+    if (!e && (e = scene_resolve_screenspace(s, o->prof.width, o->prof.height, &d)))
+        scene_free(s);
     if (e) {
         diag_print(&d, stderr);
         return 1;

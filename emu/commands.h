@@ -3,6 +3,7 @@
 #define ALBATROS_COMMANDS_H
 
 #include "../gp/gp.h"
+#include "../vp/frame.h"
 
 #include <stdio.h>
 
@@ -10,6 +11,12 @@ int cmd_gp(int argc, char **argv);
 int cmd_dump(int argc, char **argv);
 int cmd_vectors(int argc, char **argv);
 int cmd_profiles(int argc, char **argv);
+int cmd_render(int argc, char **argv);
+int cmd_vp(int argc, char **argv);
+int cmd_reference(int argc, char **argv);
+int cmd_compare(int argc, char **argv);
+
+
 
 /* GP statistics as a JSON object (no trailing newline) / a readable block. */
 void gp_stats_json(FILE *f, const gp_stats *s);

@@ -12,6 +12,10 @@ typedef struct {
 
 static const command commands[] = {
     {"gp", cmd_gp, "run the geometry processor: scene -> VP word stream"},
+    {"render", cmd_render, "render a scene: GP -> FIFO -> VP -> frames (EXR, PNG)"},
+    {"vp", cmd_vp, "run the VP alone on a word stream (RTL replay)"},
+    {"reference", cmd_reference, "render a scene with the exact double-precision reference"},
+    {"compare", cmd_compare, "compare two frames: face mismatches, colour error, diff image"},
     {"dump", cmd_dump, "check a word stream and print it with field names"},
     {"vectors", cmd_vectors, "check (or bless) the golden vectors"},
     {"profiles", cmd_profiles, "list the family's profiles and their fields"},

@@ -726,6 +726,12 @@ static alb_err statement(parser *p)
         return st_object(p);
     if (tok_is(k, "texture"))
         return st_texture(p);
+    if (tok_is(k, "screenspace")) {
+        if (s->nobj)
+            return perr(p, k->col, "'screenspace' must come before the first object");
+        s->screenspace = true;
+        return p->ntok > 1 ? err_tok(p, 1, "end of line") : ALB_OK;
+    }
     if (tok_is(k, "near")) {
         if ((e = num(p, 1, &s->near)))
             return e;
@@ -888,4 +894,56 @@ alb_err scene_load(const char *path, scene_t *s, diag_t *d)
     alb_err e = scene_parse(buf, len, path, s, d);
     free(buf);
     return e;
+}
+
+alb_err scene_resolve_screenspace(scene_t *s, unsigned width, unsigned height, diag_t *d)
+{
+    if (!s->screenspace)
+        return ALB_OK;
+    double dmax = 0;
+    for (unsigned i = 0; i < s->nobj; i++)
+        for (unsigned k = 0; k < s->obj[i].nv; k++) {
+            double z = s->obj[i].v[k].p.z;
+            if (!(z > 0))
+                return diag_at(d, ALB_ERR_GEOMETRY, s->file, s->obj[i].line, 0,
+                               "screen-space object '%s': vertex %u has depth %g; depths must be "
+                               "positive", s->obj[i].name, k + 1, z);
+            dmax = fmax(dmax, z);
+        }
+    /* (xs, ys, q) with q = depth / dmax in (0, 1] is the image of the point
+     * (xs / q, ys / q, 1 / q): its projection is (xs, ys) and its 1/Z is q, and
+     * the map takes planes to planes, so each face stays planar and convex
+     * with 1/Z linear on the screen, as the textbook's depth is. */
+    for (unsigned i = 0; i < s->nobj; i++) {
+        scene_object *o = &s->obj[i];
+        for (unsigned k = 0; k < o->nv; k++) {
+            vec3 *p = &o->v[k].p;
+            double xs = -1 + 2 * p->x / width, ys = -1 + 2 * p->y / height, q = p->z / dmax;
+            *p = v3(xs / q, ys / q, 1 / q);
+        }
+        for (unsigned j = 0; j < o->nf; j++) {
+            scene_face *f = &o->f[j];
+            double area = 0;
+            for (unsigned k = 0; k < f->count; k++) {
+                vec3 a = scene_face_vertex(o, f, k), b = scene_face_vertex(o, f, (k + 1) % f->count);
+                area += a.x / a.z * (b.y / b.z) - b.x / b.z * (a.y / a.z);
+            }
+            if (area < 0)   /* clockwise on the screen: turn it round */
+                for (unsigned a = 0, b = f->count - 1; a < b; a++, b--) {
+                    unsigned t = o->idx[f->first + a];
+                    o->idx[f->first + a] = o->idx[f->first + b];
+                    o->idx[f->first + b] = t;
+                }
+        }
+    }
+    s->near = 1;
+    for (unsigned f = 0; f < s->nframes; f++) {
+        s->frames[f].obs.pose = (scene_pose){{0, 0, 0}, 0, 0, 0};
+        s->frames[f].obs.fov_y = 90;
+        s->frames[f].obs.aspect = 1;
+        for (unsigned i = 0; i < s->nobj; i++)
+            s->frames[f].poses[i] = (scene_pose){{0, 0, 0}, 0, 0, 0};
+    }
+    s->screenspace = false;
+    return ALB_OK;
 }

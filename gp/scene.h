@@ -95,6 +95,8 @@ typedef struct {
     scene_frame *frames;
     unsigned nframes;
     unsigned nfaces;
+    bool screenspace;        /* vertices are (pixel x, pixel y, depth): see
+                                scene_resolve_screenspace */
 } scene_t;
 
 /* Parse scene text; `name` is used in diagnostics and to resolve relative
@@ -128,6 +130,15 @@ alb_err scene_finish(scene_t *s, diag_t *d);
 void scene_init(scene_t *s, const char *name);
 /* Observer at the origin looking along +Z, fov 60, default light. */
 void scene_default_frame(scene_frame *f);
+
+/* Screen-space scenes (the textbook's worked examples): vertices given as
+ * (x, y, depth) in pixels of a width x height screen, x right from the left
+ * border, y up from the bottom border, depth positive and larger nearer.
+ * Converts them in place to observer-space points whose projection and 1/Z
+ * are exactly those (docs/scene-format.md, "Screen space"), with the observer
+ * at the origin and a 90-degree square view; faces are turned counter-
+ * clockwise.  A scene without `screenspace` is left alone. */
+alb_err scene_resolve_screenspace(scene_t *s, unsigned width, unsigned height, diag_t *d);
 
 /* Textures */
 alb_err scene_texture_checker(scene_texture *t, unsigned log2size, const uint8_t a[3],

@@ -46,3 +46,29 @@ float frame_z(const frame_t *f, uint32_t d)
     /* one correctly rounded double division, then one rounding to float */
     return (float)((double)f->near / ldexp((double)d, -(int)f->depth_bits));
 }
+
+void frame_compare(const frame_t *a, const frame_t *b, frame_diff *r)
+{
+    memset(r, 0, sizeof *r);
+    size_t n = (size_t)a->width * a->height;
+    double sq = 0, sum = 0;
+    r->pixels = n;
+    for (size_t i = 0; i < n; i++) {
+        r->face_diff += a->face[i] != b->face[i];
+        r->coverage_diff += a->coverage[i] != b->coverage[i];
+        bool differs = false;
+        for (int ch = 0; ch < 3; ch++) {
+            int d = (int)a->rgb[3 * i + ch] - (int)b->rgb[3 * i + ch];
+            unsigned ad = (unsigned)(d < 0 ? -d : d);
+            differs |= ad != 0;
+            if (ad > r->max_error)
+                r->max_error = ad;
+            sum += ad;
+            sq += (double)d * d;
+        }
+        r->colour_diff += differs;
+    }
+    r->mean_error = sum / (3.0 * (double)n);
+    double peak = ldexp(1, (int)a->colour_bits) - 1, mse = sq / (3.0 * (double)n);
+    r->psnr = mse > 0 ? 10 * log10(peak * peak / mse) : INFINITY;
+}

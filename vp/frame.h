@@ -35,4 +35,13 @@ void frame_free(frame_t *f);
  * +infinity for d = 0 (no surface). */
 float frame_z(const frame_t *f, uint32_t d);
 
+/* How two frames of one size differ (albatros compare, the tests). */
+typedef struct {
+    size_t pixels, face_diff, colour_diff, coverage_diff;
+    unsigned max_error;         /* largest channel difference, frame-store units */
+    double mean_error;          /* mean absolute channel difference */
+    double psnr;                /* dB against 2^colour_bits - 1; +inf if equal */
+} frame_diff;
+void frame_compare(const frame_t *a, const frame_t *b, frame_diff *r);
+
 #endif

@@ -1,0 +1,338 @@
+/* cmd_render.c — `albatros render`: scene -> GP -> word stream -> VP ->
+ * frames (OpenEXR, PNG views); `albatros vp`: the VP alone on a stream file,
+ * as an RTL test bench replays it.  Both share the frame sinks below. */
+#include "cli.h"
+#include "commands.h"
+#include "exr.h"
+#include "preview.h"
+#include "../tools/ref.h"
+#include "../vp/vp.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_VIEWS 8
+
+typedef struct {
+    const char *output, *png, *stream;
+    struct {
+        preview_view view;
+        const char *path;
+    } views[MAX_VIEWS];
+    unsigned nviews;
+    bool json, quiet, help;
+    /* run state */
+    unsigned nframes, done;
+    const char *cmd;
+    bool progress;
+} render_args;
+
+static int render_opt(void *ctx, const char *name, const char *value)
+{
+    render_args *a = ctx;
+    if (strcmp(name, "output") == 0)
+        a->output = value;
+    else if (strcmp(name, "png") == 0)
+        a->png = value;
+    else if (strcmp(name, "stream") == 0)
+        a->stream = value;
+    else if (strcmp(name, "view") == 0) {
+        const char *colon = strchr(value, ':');
+        char vname[32];
+        if (!colon || (size_t)(colon - value) >= sizeof vname) {
+            fprintf(stderr, "albatros %s: --view %s: expected NAME:FILE.png, e.g. depth:d.png\n",
+                    a->cmd, value);
+            return -1;
+        }
+        snprintf(vname, sizeof vname, "%.*s", (int)(colon - value), value);
+        if (a->nviews == MAX_VIEWS || preview_view_parse(vname, &a->views[a->nviews].view)) {
+            fprintf(stderr, "albatros %s: --view %s: views are colour, depth, face, level, "
+                            "cycles, coverage (at most %d)\n", a->cmd, value, MAX_VIEWS);
+            return -1;
+        }
+        a->views[a->nviews++].path = colon + 1;
+    } else if (strcmp(name, "json") == 0)
+        a->json = true;
+    else if (strcmp(name, "quiet") == 0 || strcmp(name, "q") == 0)
+        a->quiet = true;
+    else if (strcmp(name, "help") == 0)
+        a->help = true;
+    return 0;
+}
+
+/* "dir/frame.exr" for one frame; "dir/frame.0003.exr" when there are more. */
+static void numbered(char *out, size_t len, const char *path, unsigned number, unsigned nframes)
+{
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    if (nframes <= 1) {
+        snprintf(out, len, "%s", path);
+        return;
+    }
+    if (!dot || (slash && dot < slash))
+        dot = path + strlen(path);
+    snprintf(out, len, "%.*s.%04u%s", (int)(dot - path), path, number, dot);
+}
+
+static void stats_json(FILE *f, const frame_t *fr, const vp_stats *st, unsigned levels)
+{
+    fprintf(f, "{\"frame\": %u, \"faces\": %llu, \"edges\": %llu, \"cells_per_level\": [",
+            fr->number, (unsigned long long)st->faces, (unsigned long long)st->edges);
+    for (unsigned l = 0; l <= levels; l++)
+        fprintf(f, "%s%llu", l ? ", " : "", (unsigned long long)st->cells[l]);
+    fprintf(f, "], \"cells_inside\": %llu, \"cells_outside\": %llu, \"cells_split\": %llu, "
+               "\"samples_tested\": %llu, \"samples_covered\": %llu, \"samples_written\": %llu}",
+            (unsigned long long)st->cells_inside, (unsigned long long)st->cells_outside,
+            (unsigned long long)st->cells_split, (unsigned long long)st->samples_tested,
+            (unsigned long long)st->samples_covered, (unsigned long long)st->samples_written);
+}
+
+static uint64_t total_cells(const vp_stats *st)
+{
+    uint64_t n = 0;
+    for (unsigned l = 0; l < VP_MAX_LEVELS; l++)
+        n += st->cells[l];
+    return n;
+}
+
+typedef struct {
+    render_args *a;
+    unsigned levels;
+} sink_ctx;
+
+static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st)
+{
+    sink_ctx *s = ctx;
+    render_args *a = s->a;
+    char path[1024];
+    diag_t d;
+    diag_init(&d, NULL);
+    if (a->output) {
+        numbered(path, sizeof path, a->output, f->number, a->nframes);
+        if (exr_write_frame(path, f, &d)) {
+            diag_print(&d, stderr);
+            return -1;
+        }
+    }
+    if (a->png) {
+        numbered(path, sizeof path, a->png, f->number, a->nframes);
+        if (preview_write(path, f, PREVIEW_COLOUR, &d)) {
+            diag_print(&d, stderr);
+            return -1;
+        }
+    }
+    for (unsigned i = 0; i < a->nviews; i++) {
+        numbered(path, sizeof path, a->views[i].path, f->number, a->nframes);
+        if (preview_write(path, f, a->views[i].view, &d)) {
+            diag_print(&d, stderr);
+            return -1;
+        }
+    }
+    if (a->json) {
+        printf("%s", a->done ? ",\n  " : "  ");
+        if (st)
+            stats_json(stdout, f, st, s->levels);
+        else
+            printf("{\"frame\": %u}", f->number);
+    } else if (!a->quiet && !st) {
+        fprintf(stderr, "%sreference frame %u\n", a->progress ? "\r" : "", f->number);
+    } else if (!a->quiet) {
+        fprintf(stderr, "%sframe %u: %llu faces, %llu cells visited, %llu samples written\n",
+                a->progress ? "\r" : "", f->number, (unsigned long long)st->faces,
+                (unsigned long long)total_cells(st), (unsigned long long)st->samples_written);
+    }
+    a->done++;
+    return 0;
+}
+
+/* Frames in a stream, by a quick pass of the decoder (0 if malformed: the
+ * real pass will report it). */
+static unsigned count_frames(const uint32_t *w, size_t n)
+{
+    ws_reader r;
+    ws_event *ev = malloc(sizeof *ev);
+    diag_t d;
+    diag_init(&d, NULL);
+    unsigned frames = 0;
+    ws_reader_init(&r, w, n, "");
+    while (ev && !r.ended && ws_next(&r, ev, &d) == ALB_OK)
+        frames += ev->kind == WS_EV_FRAME;
+    free(ev);
+    return frames;
+}
+
+/* The VP on a whole stream, frames to the sinks. */
+static int run_vp(render_args *a, const profile_t *prof, const uint32_t *w, size_t n,
+                  const char *name)
+{
+    diag_t d;
+    diag_init(&d, stderr);
+    vp_t *vp = NULL;
+    if (vp_create(&vp, prof, &d)) {
+        diag_print(&d, stderr);
+        return 1;
+    }
+    a->nframes = count_frames(w, n);
+    sink_ctx s = {a, profile_levels(prof)};
+    if (a->json)
+        printf("{\"profile\": \"%s\", \"frames\": [\n", prof->name);
+    alb_err e = vp_run_stream(vp, w, n, name, write_outputs, &s, &d);
+    if (a->json)
+        printf("\n]}\n");
+    vp_destroy(vp);
+    if (e && e != ALB_ERR_IO)
+        diag_print(&d, stderr);
+    return e ? 1 : 0;
+}
+
+static const char render_help[] =
+    "usage: albatros render [SCENE] [-o FRAME.exr] [--png FRAME.png] [--view NAME:FILE.png]\n"
+    "                       [--stream FILE] [--json] [options]\n\n"
+    "Render SCENE (the built-in scene if omitted): GP -> word stream -> VP -> frames.\n"
+    "With several frames, outputs are numbered: frame.exr -> frame.0000.exr, ...\n\n"
+    "  -o, --output FILE   OpenEXR frame: R G B, Z, face.id, vp.level, vp.depth, ...\n"
+    "                      (docs/vp.md, \"Frames\")\n"
+    "  --png FILE          PNG preview of the colour\n"
+    "  --view NAME:FILE    PNG of one view: colour, depth, face, level, coverage\n"
+    "  --stream FILE       also write the GP's word stream\n"
+    "  --json              per-frame VP statistics as JSON on stdout\n"
+    "  -q, --quiet         no summary\n\n";
+
+static const char vp_help[] =
+    "usage: albatros vp STREAM [-o FRAME.exr] [--png FRAME.png] [--view NAME:FILE.png]\n"
+    "                   [--json] [--profile NAME] [--set KEY=VALUE]\n\n"
+    "Run the VP alone on a word stream (as written by albatros gp), as an RTL test\n"
+    "bench replays it.  The profile must match the stream's CONFIG formats.\n\n";
+
+static int check_outputs(render_args *a)
+{
+    if (!a->output && !a->png && !a->nviews && !a->json && !a->stream) {
+        fprintf(stderr, "albatros %s: nothing to write: give -o FRAME.exr, --png FILE, --view "
+                        "NAME:FILE or --json\n", a->cmd);
+        return 2;
+    }
+    return 0;
+}
+
+int cmd_render(int argc, char **argv)
+{
+    static const char *const spec[] = {"output=", "png=", "view=", "stream=", "json", "quiet",
+                                       "q", "help", NULL};
+    render_args a = {.cmd = "render", .progress = cli_isatty_stderr()};
+    run_opts o;
+    run_opts_init(&o);
+    const char *pos[1];
+    int npos;
+    if (cli_parse("render", argc, argv, spec, render_opt, &a, &o, pos, 1, &npos))
+        return 2;
+    if (a.help) {
+        printf("%s%s", render_help, run_opts_help);
+        return 0;
+    }
+    if (check_outputs(&a) || cli_check_profile(&o.prof))
+        return 2;
+    scene_t scene;
+    if (cli_load_scene(npos ? pos[0] : NULL, &o, &scene))
+        return 1;
+    diag_t d;
+    diag_init(&d, stderr);
+    gp_t *gp = NULL;
+    ws_buf buf;
+    ws_buf_init(&buf);
+    int rc = 0;
+    if (gp_create(&gp, &scene, &o.prof, &d) || gp_run(gp, &buf, NULL, &d)) {
+        diag_print(&d, stderr);
+        rc = 1;
+    }
+    if (!rc && a.stream && ws_write_file(a.stream, buf.w, buf.n, &d)) {
+        diag_print(&d, stderr);
+        rc = 1;
+    }
+    if (!rc)
+        rc = run_vp(&a, &o.prof, buf.w, buf.n, npos ? pos[0] : "<builtin>");
+    ws_buf_free(&buf);
+    gp_destroy(gp);
+    scene_free(&scene);
+    return rc;
+}
+
+int cmd_vp(int argc, char **argv)
+{
+    static const char *const spec[] = {"output=", "png=", "view=", "json", "quiet", "q", "help",
+                                       NULL};
+    render_args a = {.cmd = "vp", .progress = cli_isatty_stderr()};
+    run_opts o;
+    run_opts_init(&o);
+    const char *pos[1];
+    int npos;
+    if (cli_parse("vp", argc, argv, spec, render_opt, &a, &o, pos, 1, &npos))
+        return 2;
+    if (a.help) {
+        printf("%s", vp_help);
+        return 0;
+    }
+    if (npos != 1) {
+        fprintf(stderr, "albatros vp: give the STREAM file (see --help)\n");
+        return 2;
+    }
+    if (check_outputs(&a) || cli_check_profile(&o.prof))
+        return 2;
+    uint32_t *w;
+    size_t n;
+    diag_t d;
+    diag_init(&d, NULL);
+    if (ws_read_file(pos[0], &w, &n, &d)) {
+        diag_print(&d, stderr);
+        return 1;
+    }
+    int rc = run_vp(&a, &o.prof, w, n, pos[0]);
+    free(w);
+    return rc;
+}
+
+static const char reference_help[] =
+    "usage: albatros reference [SCENE] [-o FRAME.exr] [--png FRAME.png] [--view NAME:FILE]\n"
+    "                          [options]\n\n"
+    "Render SCENE with the exact double-precision reference (docs/reference.md): the\n"
+    "ground truth the VP is measured against (albatros compare).  Same outputs as\n"
+    "render; vp.level is 255 (the reference does not subdivide).\n\n";
+
+int cmd_reference(int argc, char **argv)
+{
+    static const char *const spec[] = {"output=", "png=", "view=", "json", "quiet", "q", "help",
+                                       NULL};
+    render_args a = {.cmd = "reference", .progress = cli_isatty_stderr()};
+    run_opts o;
+    run_opts_init(&o);
+    const char *pos[1];
+    int npos;
+    if (cli_parse("reference", argc, argv, spec, render_opt, &a, &o, pos, 1, &npos))
+        return 2;
+    if (a.help) {
+        printf("%s%s", reference_help, run_opts_help);
+        return 0;
+    }
+    if (check_outputs(&a) || cli_check_profile(&o.prof))
+        return 2;
+    scene_t scene;
+    if (cli_load_scene(npos ? pos[0] : NULL, &o, &scene))
+        return 1;
+    sink_ctx s = {&a, profile_levels(&o.prof)};
+    a.nframes = scene.nframes;
+    int rc = 0;
+    if (a.json)
+        printf("{\"profile\": \"%s\", \"frames\": [\n", o.prof.name);
+    for (unsigned f = 0; f < scene.nframes && !rc; f++) {
+        frame_t fr;
+        if (ref_render(&scene, &o.prof, f, &fr)) {
+            fprintf(stderr, "albatros reference: out of memory\n");
+            rc = 1;
+            break;
+        }
+        rc = write_outputs(&s, &fr, NULL) ? 1 : 0;
+        frame_free(&fr);
+    }
+    if (a.json)
+        printf("\n]}\n");
+    scene_free(&scene);
+    return rc;
+}

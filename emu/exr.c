@@ -1,0 +1,691 @@
+/* exr.c — frames to and from OpenEXR files through OpenEXRCore's C API (the
+ * channels and attributes are listed in exr.h).  We own the file descriptor
+ * and do the I/O ourselves so that errors carry errno and nothing is printed. */
+#include "exr.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <half.h>
+#include <openexr.h>
+
+/* Our files have one part; OpenEXRCore numbers it 0. */
+#define PART 0
+
+#define ATTR_COLOUR "albatros.colour_bits"
+#define ATTR_DEPTH  "albatros.depth_bits"
+#define ATTR_AA     "albatros.aa_levels"
+#define ATTR_FRAME  "albatros.frame"
+#define ATTR_NEAR   "albatros.near"
+
+enum {
+    CH_R, CH_G, CH_B, CH_A, CH_Z, CH_FACE, CH_LEVEL, CH_DEPTH,
+    CH_VR, CH_VG, CH_VB, CH_COVERAGE, CH_CYCLES, CH_COUNT
+};
+
+typedef struct {
+    const char *name;
+    exr_pixel_type_t type;
+} chan_def;
+
+static const chan_def chans[CH_COUNT] = {
+    [CH_R] = {"R", EXR_PIXEL_HALF},
+    [CH_G] = {"G", EXR_PIXEL_HALF},
+    [CH_B] = {"B", EXR_PIXEL_HALF},
+    [CH_A] = {"A", EXR_PIXEL_HALF},
+    [CH_Z] = {"Z", EXR_PIXEL_FLOAT},
+    [CH_FACE] = {"face.id", EXR_PIXEL_UINT},
+    [CH_LEVEL] = {"vp.level", EXR_PIXEL_UINT},
+    [CH_DEPTH] = {"vp.depth", EXR_PIXEL_UINT},
+    [CH_VR] = {"vp.R", EXR_PIXEL_UINT},
+    [CH_VG] = {"vp.G", EXR_PIXEL_UINT},
+    [CH_VB] = {"vp.B", EXR_PIXEL_UINT},
+    [CH_COVERAGE] = {"vp.coverage", EXR_PIXEL_UINT},
+    [CH_CYCLES] = {"vp.cycles", EXR_PIXEL_UINT},
+};
+
+static int chan_kind(const char *name, size_t len)
+{
+    for (int k = 0; k < CH_COUNT; k++)
+        if (strlen(chans[k].name) == len && memcmp(chans[k].name, name, len) == 0)
+            return k;
+    return -1;
+}
+
+static size_t chan_bytes(int k)
+{
+    return chans[k].type == EXR_PIXEL_HALF ? 2 : 4;
+}
+
+/* ---- I/O callbacks: pread/pwrite on our descriptor ---------------------- */
+
+typedef struct {
+    int fd;
+    int err;    /* errno of the first failed read or write; 0 if none */
+} exr_io;
+
+static int64_t io_read(exr_const_context_t c, void *user, void *buf, uint64_t size,
+                       uint64_t offset, exr_stream_error_func_ptr_t report)
+{
+    exr_io *io = user;
+    unsigned char *p = buf;
+    uint64_t done = 0;
+    (void)c;
+    (void)report;
+    /* offsets come from the file: refuse those off_t cannot hold */
+    if (offset > (uint64_t)INT64_MAX - size)
+        return -1;
+    while (done < size) {
+        ssize_t n = pread(io->fd, p + done, (size_t)(size - done), (off_t)(offset + done));
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            if (io->err == 0)
+                io->err = errno;
+            return -1;
+        }
+        if (n == 0)
+            break;   /* end of file: a short read, which the library reports */
+        done += (uint64_t)n;
+    }
+    return (int64_t)done;
+}
+
+static int64_t io_size(exr_const_context_t c, void *user)
+{
+    exr_io *io = user;
+    struct stat st;
+    (void)c;
+    /* the library checks offsets and sizes in the header against this */
+    return fstat(io->fd, &st) == 0 ? (int64_t)st.st_size : -1;
+}
+
+static int64_t io_write(exr_const_context_t c, void *user, const void *buf, uint64_t size,
+                        uint64_t offset, exr_stream_error_func_ptr_t report)
+{
+    exr_io *io = user;
+    const unsigned char *p = buf;
+    uint64_t done = 0;
+    (void)c;
+    (void)report;
+    while (done < size) {
+        ssize_t n = pwrite(io->fd, p + done, (size_t)(size - done), (off_t)(offset + done));
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0) {
+            if (io->err == 0)
+                io->err = n < 0 ? errno : ENOSPC;
+            return -1;
+        }
+        done += (uint64_t)n;
+    }
+    return (int64_t)done;
+}
+
+/* The library's default handler prints to stderr; library code must not. */
+static void quiet(exr_const_context_t c, exr_result_t code, const char *msg)
+{
+    (void)c;
+    (void)code;
+    (void)msg;
+}
+
+static exr_context_initializer_t io_init(exr_io *io)
+{
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = quiet;
+    init.user_data = io;
+    init.read_fn = io_read;
+    init.size_fn = io_size;
+    init.write_fn = io_write;
+    init.max_image_width = init.max_image_height = (int)EXR_MAX_SIDE;
+    /* fixed rather than the process-wide default, so output never varies */
+    init.zip_level = 6;
+    return init;
+}
+
+/* An OpenEXRCore failure: errno if our I/O failed, else the library's text. */
+static alb_err exr_fail(diag_t *d, const char *path, const exr_io *io, exr_result_t rv,
+                        const char *what)
+{
+    if (io->err != 0)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "%s: %s", what, strerror(io->err));
+    return diag_at(d, ALB_ERR_IO, path, 0, 0, "%s: %s (OpenEXR)", what,
+                   exr_get_default_error_message(rv));
+}
+
+/* ---- writing ------------------------------------------------------------- */
+
+static alb_err check_frame(const char *path, const frame_t *f, diag_t *d)
+{
+    if (f->width < 1 || f->height < 1 || f->width > EXR_MAX_SIDE || f->height > EXR_MAX_SIDE)
+        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
+                       "cannot write a %ux%u frame: sides must be 1..%u", f->width,
+                       f->height, EXR_MAX_SIDE);
+    if (f->colour_bits < 1 || f->colour_bits > 16 || f->depth_bits < 1 ||
+        f->depth_bits > 32 || f->aa_levels > 7)
+        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
+                       "cannot write a frame with colour_bits=%u depth_bits=%u aa=%u "
+                       "(need 1..16, 1..32, 0..7)",
+                       f->colour_bits, f->depth_bits, f->aa_levels);
+    if (!f->rgb || !f->depth || !f->face || !f->level || !f->coverage)
+        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0, "cannot write a frame without planes");
+    return ALB_OK;
+}
+
+static void channels_of(const frame_t *f, bool present[CH_COUNT])
+{
+    for (int k = 0; k < CH_COUNT; k++)
+        present[k] = true;
+    present[CH_A] = f->aa_levels > 0;
+    present[CH_CYCLES] = f->cycles != NULL;
+}
+
+static exr_result_t define_attrs(exr_context_t c, const frame_t *f)
+{
+    int32_t number;
+    /* an int attribute carries the uint32 frame number's bits unchanged */
+    memcpy(&number, &f->number, sizeof number);
+    exr_result_t rv = exr_attr_set_int(c, PART, ATTR_COLOUR, (int32_t)f->colour_bits);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_attr_set_int(c, PART, ATTR_DEPTH, (int32_t)f->depth_bits);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_attr_set_int(c, PART, ATTR_AA, (int32_t)f->aa_levels);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_attr_set_int(c, PART, ATTR_FRAME, number);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_attr_set_float(c, PART, ATTR_NEAR, f->near);
+    return rv;
+}
+
+static exr_result_t define_header(exr_context_t c, const frame_t *f, const bool *present)
+{
+    int part;
+    /* no part name: a single unnamed part is written as a plain
+     * (non-multipart) file that every OpenEXR reader accepts */
+    exr_result_t rv = exr_add_part(c, NULL, EXR_STORAGE_SCANLINE, &part);
+    if (rv == EXR_ERR_SUCCESS && part != PART)
+        rv = EXR_ERR_INCORRECT_PART;
+    /* data = display window = the screen, INCREASING_Y, ZIP (lossless) */
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_initialize_required_attr_simple(c, PART, (int32_t)f->width,
+                                                 (int32_t)f->height, EXR_COMPRESSION_ZIP);
+    for (int k = 0; k < CH_COUNT && rv == EXR_ERR_SUCCESS; k++) {
+        /* colour is perceptual; ids, depth and counts are not */
+        exr_perceptual_treatment_t pt = k <= CH_A ? EXR_PERCEPTUALLY_LOGARITHMIC
+                                                  : EXR_PERCEPTUALLY_LINEAR;
+        if (present[k])
+            rv = exr_add_channel(c, PART, chans[k].name, chans[k].type, pt, 1, 1);
+    }
+    if (rv == EXR_ERR_SUCCESS)
+        rv = define_attrs(c, f);
+    return rv;
+}
+
+static uint16_t to_half(double v)
+{
+    return imath_float_to_half((float)v);
+}
+
+/* Row y of channel k in its file type (HALF: 2 bytes, else 4) into dst. */
+static void fill_row(const frame_t *f, int k, unsigned y, unsigned char *dst)
+{
+    double cmax = ldexp(1.0, (int)f->colour_bits) - 1.0;
+    double samples = ldexp(1.0, 2 * (int)f->aa_levels);
+    size_t bytes = chan_bytes(k);
+    for (unsigned x = 0; x < f->width; x++) {
+        size_t i = (size_t)y * f->width + x;
+        uint16_t h = 0;
+        uint32_t u = 0;
+        float z = 0;
+        switch (k) {
+        case CH_R: case CH_G: case CH_B: h = to_half(f->rgb[3 * i + (size_t)(k - CH_R)] / cmax); break;
+        case CH_A: h = to_half(f->coverage[i] / samples); break;
+        case CH_Z: z = frame_z(f, f->depth[i]); break;
+        case CH_FACE: u = f->face[i]; break;
+        case CH_LEVEL: u = f->level[i]; break;
+        case CH_DEPTH: u = f->depth[i]; break;
+        case CH_VR: case CH_VG: case CH_VB: u = f->rgb[3 * i + (size_t)(k - CH_VR)]; break;
+        case CH_COVERAGE: u = f->coverage[i]; break;
+        case CH_CYCLES: u = f->cycles[i]; break;
+        default: break;
+        }
+        if (bytes == 2)
+            memcpy(dst + x * bytes, &h, bytes);
+        else if (k == CH_Z)
+            memcpy(dst + x * bytes, &z, bytes);
+        else
+            memcpy(dst + x * bytes, &u, bytes);
+    }
+}
+
+/* Our side of a pipeline channel: planar rows of `width` pixels, `bytes` each. */
+static void set_layout(exr_coding_channel_info_t *ch, int16_t bytes, exr_pixel_type_t type,
+                       unsigned width)
+{
+    ch->user_bytes_per_element = bytes;
+    ch->user_data_type = (uint16_t)type;
+    ch->user_pixel_stride = bytes;
+    ch->user_line_stride = (int32_t)bytes * (int32_t)width;
+}
+
+static exr_result_t encode_chunk(exr_context_t c, const frame_t *f, int y, unsigned char *buf,
+                                 size_t slot, exr_encode_pipeline_t *enc, bool *started)
+{
+    exr_chunk_info_t ci;
+    exr_result_t rv = exr_write_scanline_chunk_info(c, PART, y, &ci);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = *started ? exr_encoding_update(c, PART, &ci, enc)
+                      : exr_encoding_initialize(c, PART, &ci, enc);
+    if (rv != EXR_ERR_SUCCESS)
+        return rv;
+    *started = true;
+    for (int i = 0; i < enc->channel_count; i++) {
+        exr_coding_channel_info_t *ch = &enc->channels[i];
+        int k = chan_kind(ch->channel_name, strlen(ch->channel_name));
+        if (k < 0)
+            return EXR_ERR_INVALID_ARGUMENT;   /* we defined every channel */
+        unsigned char *dst = buf + slot * (size_t)k;
+        size_t bytes = chan_bytes(k);
+        for (int r = 0; r < ci.height; r++)
+            fill_row(f, k, (unsigned)(ci.start_y + r), dst + (size_t)r * bytes * f->width);
+        set_layout(ch, (int16_t)bytes, chans[k].type, f->width);
+        ch->encode_from_ptr = dst;
+    }
+    rv = exr_encoding_choose_default_routines(c, PART, enc);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_encoding_run(c, PART, enc);
+    return rv;
+}
+
+static alb_err write_chunks(exr_context_t c, const frame_t *f, const char *path,
+                            const exr_io *io, diag_t *d)
+{
+    int32_t lines = 0;
+    exr_result_t rv = exr_get_scanlines_per_chunk(c, PART, &lines);
+    if (rv != EXR_ERR_SUCCESS || lines < 1)
+        return exr_fail(d, path, io, rv, "cannot lay out OpenEXR chunks");
+    size_t slot = (size_t)f->width * (size_t)lines * 4;
+    unsigned char *buf = malloc(slot * CH_COUNT);
+    if (!buf)
+        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory writing OpenEXR");
+    exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+    bool started = false;
+    alb_err e = ALB_OK;
+    for (unsigned y = 0; y < f->height && e == ALB_OK; y += (unsigned)lines) {
+        rv = encode_chunk(c, f, (int)y, buf, slot, &enc, &started);
+        if (rv != EXR_ERR_SUCCESS) {
+            char what[64];
+            snprintf(what, sizeof what, "cannot write lines from %u", y);
+            e = exr_fail(d, path, io, rv, what);
+        }
+    }
+    if (started) {
+        rv = exr_encoding_destroy(c, &enc);
+        if (rv != EXR_ERR_SUCCESS && e == ALB_OK)
+            e = exr_fail(d, path, io, rv, "cannot finish encoding");
+    }
+    free(buf);
+    return e;
+}
+
+static alb_err write_ctx(exr_context_t c, const frame_t *f, const char *path,
+                         const exr_io *io, diag_t *d)
+{
+    bool present[CH_COUNT];
+    channels_of(f, present);
+    exr_result_t rv = define_header(c, f, present);
+    if (rv != EXR_ERR_SUCCESS)
+        return exr_fail(d, path, io, rv, "cannot define the OpenEXR header");
+    rv = exr_write_header(c);
+    if (rv != EXR_ERR_SUCCESS)
+        return exr_fail(d, path, io, rv, "cannot write the OpenEXR header");
+    return write_chunks(c, f, path, io, d);
+}
+
+alb_err exr_write_frame(const char *path, const frame_t *f, diag_t *d)
+{
+    alb_err e = check_frame(path, f, d);
+    if (e != ALB_OK)
+        return e;
+    exr_io io = {open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666), 0};
+    if (io.fd < 0)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
+    exr_context_initializer_t init = io_init(&io);
+    exr_context_t c = NULL;
+    exr_result_t rv = exr_start_write(&c, path, EXR_WRITE_FILE_DIRECTLY, &init);
+    if (rv != EXR_ERR_SUCCESS)
+        e = exr_fail(d, path, &io, rv, "cannot start an OpenEXR file");
+    else
+        e = write_ctx(c, f, path, &io, d);
+    /* exr_finish writes the chunk offset table: its failure is ours too */
+    rv = exr_finish(&c);
+    if (rv != EXR_ERR_SUCCESS && e == ALB_OK)
+        e = exr_fail(d, path, &io, rv, "cannot finish the OpenEXR file");
+    if (close(io.fd) != 0 && e == ALB_OK)
+        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot close: %s", strerror(errno));
+    if (e != ALB_OK)
+        unlink(path);   /* never leave a half-written frame behind */
+    return e;
+}
+
+/* ---- reading ------------------------------------------------------------- */
+
+static alb_err read_layout(exr_const_context_t c, const char *path, const exr_io *io,
+                           exr_attr_box2i_t *dw, diag_t *d)
+{
+    int parts = 0;
+    exr_storage_t st;
+    exr_result_t rv = exr_get_count(c, &parts);
+    if (rv == EXR_ERR_SUCCESS && parts < 1)
+        rv = EXR_ERR_FILE_BAD_HEADER;
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_get_storage(c, PART, &st);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_get_data_window(c, PART, dw);
+    if (rv != EXR_ERR_SUCCESS)
+        return exr_fail(d, path, io, rv, "cannot read the OpenEXR header");
+    if (st != EXR_STORAGE_SCANLINE)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0,
+                       "holds a tiled or deep image; frames are scanline images");
+    int64_t w = (int64_t)dw->max.x - dw->min.x + 1, h = (int64_t)dw->max.y - dw->min.y + 1;
+    if (w < 1 || h < 1 || w > EXR_MAX_SIDE || h > EXR_MAX_SIDE)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0,
+                       "data window is %lldx%lld; frames are 1..%u pixels a side",
+                       (long long)w, (long long)h, EXR_MAX_SIDE);
+    return ALB_OK;
+}
+
+static const char *type_name(exr_pixel_type_t t)
+{
+    return t == EXR_PIXEL_UINT ? "UINT" : t == EXR_PIXEL_HALF ? "HALF"
+         : t == EXR_PIXEL_FLOAT ? "FLOAT" : "an unknown type";
+}
+
+static bool type_ok(int k, exr_pixel_type_t t)
+{
+    if (k <= CH_B)   /* colour is converted: HALF or FLOAT will do */
+        return t == EXR_PIXEL_HALF || t == EXR_PIXEL_FLOAT;
+    if (k == CH_A || k == CH_Z)   /* never read back */
+        return true;
+    return t == chans[k].type;   /* exact data only as stored by us */
+}
+
+static alb_err read_channels(exr_const_context_t c, const char *path, const exr_io *io,
+                             bool present[CH_COUNT], diag_t *d)
+{
+    const exr_attr_chlist_t *cl = NULL;
+    exr_result_t rv = exr_get_channels(c, PART, &cl);
+    if (rv != EXR_ERR_SUCCESS || !cl)
+        return exr_fail(d, path, io, rv, "cannot read the channel list");
+    for (int k = 0; k < CH_COUNT; k++)
+        present[k] = false;
+    for (int i = 0; i < cl->num_channels; i++) {
+        const exr_attr_chlist_entry_t *e = &cl->entries[i];
+        int k = chan_kind(e->name.str, (size_t)e->name.length);
+        if (k < 0)
+            continue;   /* another tool's channel: not ours to judge */
+        if (e->x_sampling != 1 || e->y_sampling != 1)
+            return diag_at(d, ALB_ERR_IO, path, 0, 0,
+                           "channel %s is subsampled (%d x %d); frames have one sample "
+                           "per pixel", chans[k].name, (int)e->x_sampling, (int)e->y_sampling);
+        if (!type_ok(k, e->pixel_type))
+            return diag_at(d, ALB_ERR_IO, path, 0, 0, "channel %s holds %s; expected %s",
+                           chans[k].name, type_name(e->pixel_type), type_name(chans[k].type));
+        present[k] = true;
+    }
+    if (!present[CH_R] || !present[CH_G] || !present[CH_B])
+        return diag_at(d, ALB_ERR_IO, path, 0, 0,
+                       "not a frame: it lacks channel %s",
+                       !present[CH_R] ? "R" : !present[CH_G] ? "G" : "B");
+    return ALB_OK;
+}
+
+static alb_err get_int(exr_const_context_t c, const char *path, const char *name,
+                       int64_t lo, int64_t hi, int32_t def, int32_t *out, diag_t *d)
+{
+    int32_t v;
+    exr_result_t rv = exr_attr_get_int(c, PART, name, &v);
+    if (rv == EXR_ERR_NO_ATTR_BY_NAME) {
+        *out = def;
+        return ALB_OK;
+    }
+    if (rv != EXR_ERR_SUCCESS)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "attribute %s: %s (OpenEXR)", name,
+                       exr_get_default_error_message(rv));
+    if (v < lo || v > hi)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "attribute %s = %d is outside %lld..%lld",
+                       name, (int)v, (long long)lo, (long long)hi);
+    *out = v;
+    return ALB_OK;
+}
+
+/* The frame's parameters from our attributes (defaults for other files). */
+static alb_err read_params(exr_const_context_t c, const char *path, frame_t *p, diag_t *d)
+{
+    int32_t cb, db, aa, number;
+    alb_err e = get_int(c, path, ATTR_COLOUR, 1, 16, 8, &cb, d);
+    if (e == ALB_OK)
+        e = get_int(c, path, ATTR_DEPTH, 1, 32, 24, &db, d);
+    if (e == ALB_OK)
+        e = get_int(c, path, ATTR_AA, 0, 7, 0, &aa, d);
+    if (e == ALB_OK)
+        e = get_int(c, path, ATTR_FRAME, INT32_MIN, INT32_MAX, 0, &number, d);
+    if (e != ALB_OK)
+        return e;
+    exr_result_t rv = exr_attr_get_float(c, PART, ATTR_NEAR, &p->near);
+    if (rv == EXR_ERR_NO_ATTR_BY_NAME)
+        p->near = 1.0f;
+    else if (rv != EXR_ERR_SUCCESS)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "attribute %s: %s (OpenEXR)", ATTR_NEAR,
+                       exr_get_default_error_message(rv));
+    p->colour_bits = (unsigned)cb;
+    p->depth_bits = (unsigned)db;
+    p->aa_levels = (unsigned)aa;
+    memcpy(&p->number, &number, sizeof number);
+    return ALB_OK;
+}
+
+/* Validate the chunk before decoding into buffers sized for `lines` rows. */
+static exr_result_t check_chunk(const exr_chunk_info_t *ci, const exr_decode_pipeline_t *dec,
+                                int y, int32_t lines, unsigned width)
+{
+    if (ci->start_y != y || ci->height < 1 || ci->height > lines || ci->width != (int32_t)width)
+        return EXR_ERR_CORRUPT_CHUNK;
+    for (int i = 0; i < dec->channel_count; i++)
+        if (dec->channels[i].height > ci->height || dec->channels[i].width != ci->width)
+            return EXR_ERR_CORRUPT_CHUNK;
+    return EXR_ERR_SUCCESS;
+}
+
+static exr_result_t decode_chunk(exr_const_context_t c, int y, int32_t lines,
+                                 unsigned char *buf, size_t slot, const bool *want,
+                                 unsigned width, exr_decode_pipeline_t *dec, bool *started,
+                                 exr_chunk_info_t *ci)
+{
+    exr_result_t rv = exr_read_scanline_chunk_info(c, PART, y, ci);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = *started ? exr_decoding_update(c, PART, ci, dec)
+                      : exr_decoding_initialize(c, PART, ci, dec);
+    if (rv != EXR_ERR_SUCCESS)
+        return rv;
+    *started = true;
+    rv = check_chunk(ci, dec, y, lines, width);
+    if (rv != EXR_ERR_SUCCESS)
+        return rv;
+    for (int i = 0; i < dec->channel_count; i++) {
+        exr_coding_channel_info_t *ch = &dec->channels[i];
+        int k = chan_kind(ch->channel_name, strlen(ch->channel_name));
+        if (k < 0 || !want[k]) {
+            ch->decode_to_ptr = NULL;   /* the library skips it */
+            continue;
+        }
+        /* everything arrives as 4 bytes: UINT stays, HALF becomes FLOAT */
+        set_layout(ch, 4, chans[k].type == EXR_PIXEL_UINT ? EXR_PIXEL_UINT : EXR_PIXEL_FLOAT,
+                   width);
+        ch->decode_to_ptr = buf + slot * (size_t)k;
+    }
+    rv = exr_decoding_choose_default_routines(c, PART, dec);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_decoding_run(c, PART, dec);
+    return rv;
+}
+
+/* Store one decoded value of channel k at pixel i; -1 if out of range. */
+static int store_value(frame_t *f, int k, size_t i, const unsigned char *src)
+{
+    uint32_t u;
+    float v;
+    uint32_t cmax = (1u << f->colour_bits) - 1u;
+    memcpy(&u, src, 4);
+    memcpy(&v, src, 4);
+    switch (k) {
+    case CH_R: case CH_G: case CH_B: {
+        /* only when vp.R/G/B are absent: round the normalised value back */
+        double s = (double)v * cmax;
+        s = !(s >= 0) ? 0 : s > cmax ? cmax : s;   /* NaN and negatives -> 0 */
+        f->rgb[3 * i + (size_t)(k - CH_R)] = (uint16_t)floor(s + 0.5);
+        return 0;
+    }
+    case CH_FACE: f->face[i] = u; return 0;
+    case CH_DEPTH: f->depth[i] = u; return 0;
+    case CH_CYCLES: f->cycles[i] = u; return 0;
+    case CH_LEVEL:
+        if (u > 0xFFu)
+            return -1;
+        f->level[i] = (uint8_t)u;
+        return 0;
+    case CH_VR: case CH_VG: case CH_VB:
+        if (u > cmax)
+            return -1;
+        f->rgb[3 * i + (size_t)(k - CH_VR)] = (uint16_t)u;
+        return 0;
+    case CH_COVERAGE:
+        if (u > (1u << (2 * f->aa_levels)))
+            return -1;
+        f->coverage[i] = (uint16_t)u;
+        return 0;
+    default:
+        return 0;
+    }
+}
+
+static alb_err store_rows(const char *path, frame_t *f, const unsigned char *buf, size_t slot,
+                          const bool *want, unsigned y0, unsigned rows, diag_t *d)
+{
+    for (int k = 0; k < CH_COUNT; k++) {
+        if (!want[k])
+            continue;
+        const unsigned char *src = buf + slot * (size_t)k;
+        for (unsigned r = 0; r < rows; r++)
+            for (unsigned x = 0; x < f->width; x++) {
+                size_t j = (size_t)r * f->width + x;
+                if (store_value(f, k, (size_t)(y0 + r) * f->width + x, src + 4 * j) != 0)
+                    return diag_at(d, ALB_ERR_IO, path, 0, 0,
+                                   "channel %s at pixel (%u, %u) is out of range for this "
+                                   "frame (colour_bits %u, aa %u)",
+                                   chans[k].name, x, y0 + r, f->colour_bits, f->aa_levels);
+            }
+    }
+    return ALB_OK;
+}
+
+static alb_err read_chunks(exr_const_context_t c, const char *path, const exr_io *io,
+                           const exr_attr_box2i_t *dw, const bool *want, frame_t *f,
+                           diag_t *d)
+{
+    int32_t lines = 0;
+    exr_result_t rv = exr_get_scanlines_per_chunk(c, PART, &lines);
+    if (rv != EXR_ERR_SUCCESS || lines < 1 || lines > 4096)
+        return exr_fail(d, path, io, rv ? rv : EXR_ERR_FILE_BAD_HEADER,
+                        "cannot lay out OpenEXR chunks");
+    size_t slot = (size_t)f->width * (size_t)lines * 4;
+    unsigned char *buf = malloc(slot * CH_COUNT);
+    if (!buf)
+        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory reading OpenEXR");
+    exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
+    bool started = false;
+    alb_err e = ALB_OK;
+    for (int64_t y = dw->min.y; y <= dw->max.y && e == ALB_OK; y += lines) {
+        exr_chunk_info_t ci;
+        rv = decode_chunk(c, (int)y, lines, buf, slot, want, f->width, &dec, &started, &ci);
+        if (rv != EXR_ERR_SUCCESS) {
+            char what[96];
+            snprintf(what, sizeof what, "cannot read lines from %lld (truncated or corrupt?)",
+                     (long long)(y - dw->min.y));
+            e = exr_fail(d, path, io, rv, what);
+        } else {
+            e = store_rows(path, f, buf, slot, want, (unsigned)(y - dw->min.y),
+                           (unsigned)ci.height, d);
+        }
+    }
+    if (started)
+        exr_decoding_destroy(c, &dec);   /* only frees; nothing to report */
+    free(buf);
+    return e;
+}
+
+static alb_err read_ctx(exr_const_context_t c, const char *path, const exr_io *io, frame_t *f,
+                        diag_t *d)
+{
+    exr_attr_box2i_t dw;
+    bool present[CH_COUNT], want[CH_COUNT];
+    frame_t p;
+    memset(&p, 0, sizeof p);
+    alb_err e = read_layout(c, path, io, &dw, d);
+    if (e == ALB_OK)
+        e = read_channels(c, path, io, present, d);
+    if (e == ALB_OK)
+        e = read_params(c, path, &p, d);
+    if (e != ALB_OK)
+        return e;
+    unsigned w = (unsigned)(dw.max.x - dw.min.x + 1), h = (unsigned)(dw.max.y - dw.min.y + 1);
+    if (frame_alloc(f, w, h, present[CH_CYCLES]) != 0)
+        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory for a %ux%u frame", w, h);
+    f->colour_bits = p.colour_bits;
+    f->depth_bits = p.depth_bits;
+    f->aa_levels = p.aa_levels;
+    f->near = p.near;
+    f->number = p.number;
+    /* what an absent channel means: no face anywhere */
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        f->face[i] = FRAME_NO_FACE;
+        f->level[i] = FRAME_NO_LEVEL;
+    }
+    for (int k = 0; k < CH_COUNT; k++)
+        want[k] = present[k] && chans[k].type == EXR_PIXEL_UINT;
+    for (int k = CH_R; k <= CH_B; k++)   /* colour only if the exact values are absent */
+        want[k] = !present[CH_VR + (k - CH_R)];
+    return read_chunks(c, path, io, &dw, want, f, d);
+}
+
+alb_err exr_read_frame(const char *path, frame_t *f, diag_t *d)
+{
+    memset(f, 0, sizeof *f);
+    exr_io io = {open(path, O_RDONLY | O_CLOEXEC), 0};
+    if (io.fd < 0)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
+    exr_context_initializer_t init = io_init(&io);
+    /* a truncated file must fail, not be patched up by guessing chunk offsets */
+    init.flags = EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
+    exr_context_t c = NULL;
+    alb_err e;
+    exr_result_t rv = exr_start_read(&c, path, &init);
+    if (rv != EXR_ERR_SUCCESS)
+        e = exr_fail(d, path, &io, rv, "not a readable OpenEXR file");
+    else
+        e = read_ctx(c, path, &io, f, d);
+    exr_finish(&c);   /* a read context has nothing to flush */
+    close(io.fd);     /* read-only: nothing can be lost */
+    if (e != ALB_OK)
+        frame_free(f);
+    return e;
+}

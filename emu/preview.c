@@ -1,0 +1,321 @@
+/* png.c — PNG previews of a frame's planes and diff images of two frames.
+ * Each view maps a plane to 8-bit RGB pixels; libpng's simplified writer
+ * stores them (it writes no tIME chunk, so equal frames give equal files). */
+#include "preview.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <png.h>
+
+static const char *const view_names[] = {"colour", "depth", "face", "level", "cycles", "coverage"};
+
+int preview_view_parse(const char *name, preview_view *view)
+{
+    for (size_t i = 0; i < sizeof view_names / sizeof view_names[0]; i++) {
+        if (strcmp(name, view_names[i]) == 0) {
+            *view = (preview_view)i;
+            return 0;
+        }
+    }
+    return -1;
+}
+
+const char *preview_view_name(preview_view view)
+{
+    if ((unsigned)view < sizeof view_names / sizeof view_names[0])
+        return view_names[view];
+    return "?";
+}
+
+/* ---- colour helpers ------------------------------------------------------ */
+
+static void put(uint8_t *px, unsigned r, unsigned g, unsigned b)
+{
+    px[0] = (uint8_t)r;
+    px[1] = (uint8_t)g;
+    px[2] = (uint8_t)b;
+}
+
+static unsigned round_unit(double t, unsigned scale)
+{
+    if (!(t > 0))
+        return 0;
+    return t >= 1 ? scale : (unsigned)floor(t * scale + 0.5);
+}
+
+/* Frame store value v of 0..2^cb-1 as 0..255, rounded to nearest. */
+static unsigned to8(uint32_t v, unsigned cb)
+{
+    uint64_t max = (UINT64_C(1) << cb) - 1;
+    return (unsigned)((2 * (uint64_t)v * 255 + max) / (2 * max));
+}
+
+/* Piecewise-linear colour ramp through n stops, t in [0, 1]. */
+static void ramp(const uint8_t (*stops)[3], unsigned n, double t, uint8_t *px)
+{
+    double pos = (t < 0 ? 0 : t > 1 ? 1 : t) * (n - 1);
+    unsigned i = (unsigned)pos;
+    if (i >= n - 1)
+        i = n - 2;
+    double frac = pos - i;
+    for (int c = 0; c < 3; c++)
+        px[c] = (uint8_t)floor(stops[i][c] + (stops[i + 1][c] - stops[i][c]) * frac + 0.5);
+}
+
+/* A fully saturated colour of hue 0..1535 (six sectors of 256) and value v. */
+static void hue(unsigned h, unsigned v, uint8_t *px)
+{
+    unsigned f = h % 256, up = v * f / 255, down = v * (255 - f) / 255;
+    switch (h / 256) {
+    case 0: put(px, v, up, 0); break;
+    case 1: put(px, down, v, 0); break;
+    case 2: put(px, 0, v, up); break;
+    case 3: put(px, 0, down, v); break;
+    case 4: put(px, up, 0, v); break;
+    default: put(px, v, 0, down); break;
+    }
+}
+
+/* Knuth's multiplicative hash spreads consecutive ids over the hue circle,
+ * the extra mixing decorrelates hue from brightness. */
+static void face_colour(uint32_t id, uint8_t *px)
+{
+    uint32_t h = id * UINT32_C(0x9E3779B1);
+    h ^= h >> 16;
+    h *= UINT32_C(0x85EBCA6B);
+    h ^= h >> 13;
+    /* values 160..255 stay clear of the black background */
+    hue(h % 1536, 160 + (h >> 24) % 96, px);
+}
+
+/* ---- views ------------------------------------------------------------- */
+
+static void view_colour(const frame_t *f, size_t i, uint8_t *px)
+{
+    const uint16_t *c = &f->rgb[3 * i];
+    put(px, to8(c[0], f->colour_bits), to8(c[1], f->colour_bits), to8(c[2], f->colour_bits));
+}
+
+typedef struct {
+    double lo, span;     /* log2 of the farthest covered depth, log2 range */
+    uint32_t max;        /* largest value in the frame (cycles) */
+    unsigned levels;     /* last subdivision level */
+} view_scale;
+
+static unsigned last_level(const frame_t *f)
+{
+    unsigned side = f->width > f->height ? f->width : f->height, n = 0;
+    while ((1u << n) < side && n < 31)   /* ceil(log2) for any size */
+        n++;
+    return n + f->aa_levels;
+}
+
+static view_scale scale_of(const frame_t *f)
+{
+    view_scale s = {0, 0, 0, last_level(f)};
+    uint32_t dmin = UINT32_MAX, dmax = 0;
+    for (size_t i = 0; i < (size_t)f->width * f->height; i++) {
+        uint32_t dv = f->depth[i];
+        if (dv != 0 && dv < dmin)
+            dmin = dv;
+        if (dv > dmax)
+            dmax = dv;
+        if (f->cycles && f->cycles[i] > s.max)
+            s.max = f->cycles[i];
+    }
+    if (dmax != 0) {
+        s.lo = log2(dmin);
+        s.span = log2(dmax) - s.lo;
+    }
+    return s;
+}
+
+static void view_depth(const frame_t *f, const view_scale *s, size_t i, uint8_t *px)
+{
+    uint32_t dv = f->depth[i];
+    if (dv == 0) {
+        put(px, 0, 0, 0);
+        return;
+    }
+    /* the depth store is near/Z: larger is nearer, so the maximum is white */
+    unsigned g = s->span > 0 ? 40 + round_unit((log2(dv) - s->lo) / s->span, 215) : 255;
+    put(px, g, g, g);
+}
+
+static void view_level(const frame_t *f, const view_scale *s, size_t i, uint8_t *px)
+{
+    static const uint8_t stops[][3] = {
+        {0, 0, 255}, {0, 255, 255}, {0, 255, 0}, {255, 255, 0}, {255, 0, 0}};
+    if (f->level[i] == FRAME_NO_LEVEL || f->face[i] == FRAME_NO_FACE) {
+        put(px, 0, 0, 0);
+        return;
+    }
+    double t = s->levels > 0 ? (double)f->level[i] / s->levels : 1.0;
+    ramp(stops, sizeof stops / sizeof stops[0], t, px);
+}
+
+static void view_cycles(const frame_t *f, const view_scale *s, size_t i, uint8_t *px)
+{
+    static const uint8_t stops[][3] = {{0, 0, 0}, {255, 0, 0}, {255, 255, 0}, {255, 255, 255}};
+    double t = s->max > 0 ? (double)f->cycles[i] / s->max : 0.0;
+    ramp(stops, sizeof stops / sizeof stops[0], t, px);
+}
+
+static void view_pixel(const frame_t *f, preview_view view, const view_scale *s, size_t i,
+                       uint8_t *px)
+{
+    unsigned g;
+    switch (view) {
+    case PREVIEW_COLOUR: view_colour(f, i, px); break;
+    case PREVIEW_DEPTH: view_depth(f, s, i, px); break;
+    case PREVIEW_LEVEL: view_level(f, s, i, px); break;
+    case PREVIEW_CYCLES: view_cycles(f, s, i, px); break;
+    case PREVIEW_FACE:
+        if (f->face[i] == FRAME_NO_FACE)
+            put(px, 0, 0, 0);
+        else
+            face_colour(f->face[i], px);
+        break;
+    case PREVIEW_COVERAGE:
+        g = round_unit(ldexp((double)f->coverage[i], -2 * (int)f->aa_levels), 255);
+        put(px, g, g, g);
+        break;
+    }
+}
+
+/* ---- writing ------------------------------------------------------------- */
+
+static alb_err check_frame(const char *path, const frame_t *f, diag_t *d)
+{
+    if (f->width < 1 || f->height < 1 || f->width > 65535 || f->height > 65535)
+        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
+                       "cannot draw a %ux%u frame: sides must be 1..65535", f->width, f->height);
+    if (f->colour_bits < 1 || f->colour_bits > 16 || f->aa_levels > 7)
+        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
+                       "cannot draw a frame with colour_bits=%u aa=%u (need 1..16, 0..7)",
+                       f->colour_bits, f->aa_levels);
+    if (!f->rgb || !f->depth || !f->face || !f->level || !f->coverage)
+        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0, "cannot draw a frame without planes");
+    return ALB_OK;
+}
+
+static uint8_t *alloc_rgb(unsigned w, unsigned h, const char *path, diag_t *d)
+{
+    uint8_t *px = malloc((size_t)w * h * 3);
+    if (!px)
+        diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory for a %ux%u image", w, h);
+    return px;
+}
+
+/* Store w x h RGB pixels, top row first, as an 8-bit RGB PNG. */
+static alb_err write_rgb(const char *path, unsigned w, unsigned h, const uint8_t *px,
+                         diag_t *d)
+{
+    /* we open the file ourselves so that a failure to create it never
+     * removes someone else's file, and a failure after it does */
+    FILE *fp = fopen(path, "wb");
+    if (!fp)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
+    png_image img;
+    memset(&img, 0, sizeof img);
+    img.version = PNG_IMAGE_VERSION;
+    img.width = w;
+    img.height = h;
+    img.format = PNG_FORMAT_RGB;
+    alb_err e = ALB_OK;
+    if (!png_image_write_to_stdio(&img, fp, 0, px, 0, NULL))
+        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot write PNG: %s (libpng)", img.message);
+    png_image_free(&img);
+    if (fclose(fp) != 0 && e == ALB_OK)
+        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot write: %s", strerror(errno));
+    if (e != ALB_OK)
+        remove(path);
+    return e;
+}
+
+alb_err preview_write(const char *path, const frame_t *f, preview_view view, diag_t *d)
+{
+    alb_err e = check_frame(path, f, d);
+    if (e != ALB_OK)
+        return e;
+    if ((unsigned)view > PREVIEW_COVERAGE)
+        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0, "unknown PNG view %d", (int)view);
+    if (view == PREVIEW_CYCLES && !f->cycles)
+        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
+                       "this frame has no cycle counts (render with --fidelity cycle or timed)");
+    uint8_t *px = alloc_rgb(f->width, f->height, path, d);
+    if (!px)
+        return ALB_ERR_NOMEM;
+    view_scale s = scale_of(f);
+    for (size_t i = 0; i < (size_t)f->width * f->height; i++)
+        view_pixel(f, view, &s, i, px + 3 * i);
+    e = write_rgb(path, f->width, f->height, px, d);
+    free(px);
+    return e;
+}
+
+/* Pixel i has the same colour in a and b, each channel compared as a
+ * fraction of its frame's full scale (exact: cross-multiplied). */
+static int same_colour(const frame_t *a, const frame_t *b, size_t i)
+{
+    uint64_t amax = (UINT64_C(1) << a->colour_bits) - 1;
+    uint64_t bmax = (UINT64_C(1) << b->colour_bits) - 1;
+    for (int c = 0; c < 3; c++)
+        if ((uint64_t)a->rgb[3 * i + (size_t)c] * bmax != (uint64_t)b->rgb[3 * i + (size_t)c] * amax)
+            return 0;
+    return 1;
+}
+
+/* Colour of one diff pixel; counts what it found. */
+static void diff_pixel(const frame_t *a, const frame_t *b, size_t i, uint8_t *px,
+                       unsigned *faces, unsigned *colours)
+{
+    int face_same = a->face[i] == b->face[i];
+    int colour_same = same_colour(a, b, i);
+    *faces += !face_same;
+    *colours += !colour_same;
+    if (!face_same) {
+        put(px, 255, 0, 0);
+    } else if (!colour_same) {
+        put(px, 255, 255, 0);
+    } else {
+        uint8_t c[3];
+        view_colour(a, i, c);
+        /* Rec. 601 luma, then a quarter of it, rounded */
+        unsigned y = (299u * c[0] + 587u * c[1] + 114u * c[2] + 500u) / 1000u;
+        unsigned g = (y + 2) / 4;
+        put(px, g, g, g);
+    }
+}
+
+alb_err preview_write_diff(const char *path, const frame_t *a, const frame_t *b,
+                       unsigned *face_diff, unsigned *colour_diff, diag_t *d)
+{
+    alb_err e = check_frame(path, a, d);
+    if (e == ALB_OK)
+        e = check_frame(path, b, d);
+    if (e != ALB_OK)
+        return e;
+    if (a->width != b->width || a->height != b->height)
+        return diag_at(d, ALB_ERR_MISMATCH, path, 0, 0,
+                       "cannot diff a %ux%u frame with a %ux%u one", a->width, a->height,
+                       b->width, b->height);
+    uint8_t *px = alloc_rgb(a->width, a->height, path, d);
+    if (!px)
+        return ALB_ERR_NOMEM;
+    unsigned faces = 0, colours = 0;
+    for (size_t i = 0; i < (size_t)a->width * a->height; i++)
+        diff_pixel(a, b, i, px + 3 * i, &faces, &colours);
+    e = write_rgb(path, a->width, a->height, px, d);
+    free(px);
+    if (face_diff)
+        *face_diff = faces;
+    if (colour_diff)
+        *colour_diff = colours;
+    return e;
+}

@@ -1,0 +1,45 @@
+/* ref.h — the exact reference renderer: double precision, straight from the
+ * scene (never from the word stream), same conventions as the VP (screen
+ * [-1,1]^2, samples at pixel centres, 1/Z depth, eq. 7 shading), no
+ * quantisation but the final rounding of colours.  Ground truth for the VP
+ * (docs/reference.md). */
+#ifndef ALBATROS_REF_H
+#define ALBATROS_REF_H
+
+#include "../common/profile.h"
+#include "../gp/scene.h"
+#include "../vp/frame.h"
+
+/* A face of one frame in observer space, as the reference sees it. */
+typedef struct {
+    uint32_t id;
+    const scene_object *obj;
+    const scene_face *face;
+    unsigned n;               /* edges */
+    vec3 edge[SCENE_MAX_FACE_VERTICES];   /* R_j x R_j+1: inside n.(x, y, 1) >= 0 */
+    vec3 plane_n;             /* plane N.P = d in observer space */
+    double plane_d;
+    double bbox[4];           /* screen x0 y0 x1 y1 that can hold the face */
+    mat3 to_object;           /* observer point -> object point: P_o = M (P - t) */
+    vec3 t;
+    vec3 light_obj;
+    double ambient;
+} ref_face;
+
+typedef struct {
+    ref_face *faces;
+    unsigned n;
+} ref_frame;
+
+/* The faces of frame `frame` that the observer can see the front of. */
+int ref_prepare(const scene_t *s, const profile_t *p, unsigned frame, ref_frame *rf);
+void ref_frame_free(ref_frame *rf);
+
+/* Render frame `frame` into out (allocated here at the profile's size). */
+int ref_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *out);
+
+/* Screen sample position of column c / row r of a w x h grid (pixel centres). */
+static inline double ref_sample_x(unsigned c, unsigned w) { return -1 + (2.0 * c + 1) / w; }
+static inline double ref_sample_y(unsigned r, unsigned h) { return 1 - (2.0 * r + 1) / h; }
+
+#endif

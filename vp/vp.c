@@ -1,0 +1,382 @@
+/* vp.c — the video processor's input parser, edge store, subdivision engine
+ * and output stage (docs/vp.md).  A face is the intersection of the
+ * half-planes of its edges; the screen is subdivided recursively into cells,
+ * each classified against every edge by comparing the edge's positions at the
+ * cell's borders with the cell's bounds — exact integers, so the middle of a
+ * cell is the mean of its borders and every sample is decided exactly. */
+#include "vp_internal.h"
+#include "../common/fix.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+alb_err vp_create(vp_t **out, const profile_t *prof, diag_t *d)
+{
+    char msg[256];
+    if (profile_check(prof, msg, sizeof msg))
+        return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "%s", msg);
+    vp_t *vp = calloc(1, sizeof *vp);
+    if (!vp)
+        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
+    vp->prof = *prof;
+    vp->lw = fix_log2(prof->width) + prof->aa_levels;
+    vp->lh = fix_log2(prof->height) + prof->aa_levels;
+    vp->sw = 1u << vp->lw;
+    vp->sh = 1u << vp->lh;
+    vp->p = vp->lw > vp->lh ? vp->lw : vp->lh;
+    size_t n = (size_t)vp->sw * vp->sh;
+    vp->s_depth = malloc(n * sizeof *vp->s_depth);
+    vp->s_face = malloc(n * sizeof *vp->s_face);
+    vp->s_level = malloc(n * sizeof *vp->s_level);
+    vp->s_rgb = malloc(3 * n * sizeof *vp->s_rgb);
+    if (!vp->s_depth || !vp->s_face || !vp->s_level || !vp->s_rgb) {
+        vp_destroy(vp);
+        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for a %ux%u sample store",
+                       vp->sw, vp->sh);
+    }
+    *out = vp;
+    return ALB_OK;
+}
+
+void vp_destroy(vp_t *vp)
+{
+    if (!vp)
+        return;
+    for (unsigned i = 0; i < WS_MAX_TEXTURES; i++)
+        free(vp->tex[i]);
+    free(vp->s_depth);
+    free(vp->s_face);
+    free(vp->s_level);
+    free(vp->s_rgb);
+    free(vp);
+}
+
+const vp_stats *vp_stats_get(const vp_t *vp) { return &vp->st; }
+
+int vp_frame_alloc(const vp_t *vp, frame_t *f, bool with_cycles)
+{
+    if (frame_alloc(f, vp->prof.width, vp->prof.height, with_cycles))
+        return -1;
+    f->colour_bits = vp->prof.colour_bits;
+    f->depth_bits = vp->prof.depth_bits;
+    f->aa_levels = vp->prof.aa_levels;
+    f->near = vp->cfg.near;
+    return 0;
+}
+
+alb_err vp_config(vp_t *vp, const ws_config *c, diag_t *d)
+{
+    if (c->edge_frac_bits != vp->prof.edge_frac_bits || c->coef_bits != vp->prof.coef_bits)
+        return diag_at(d, ALB_ERR_CONFIG, "", 0, 0,
+                       "the stream's formats (edge_frac_bits=%u coef_bits=%u) differ from the "
+                       "profile's (%u, %u): use --set edge_frac_bits=%u --set coef_bits=%u",
+                       c->edge_frac_bits, c->coef_bits, vp->prof.edge_frac_bits,
+                       vp->prof.coef_bits, c->edge_frac_bits, c->coef_bits);
+    vp->cfg = *c;
+    vp->configured = true;
+    return ALB_OK;
+}
+
+alb_err vp_texture(vp_t *vp, const ws_texture *t, diag_t *d)
+{
+    size_t n = (size_t)1 << (2 * t->log2size);
+    uint32_t *mem = malloc(n * sizeof *mem);
+    if (!mem)
+        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for texture %u", t->id);
+    memcpy(mem, t->texels, n * sizeof *mem);
+    free(vp->tex[t->id]);
+    vp->tex[t->id] = mem;
+    vp->tex_log2[t->id] = t->log2size;
+    return ALB_OK;
+}
+
+void vp_frame_begin(vp_t *vp, const ws_frame *f)
+{
+    vp->frame = *f;
+    memset(&vp->st, 0, sizeof vp->st);
+    for (int i = 0; i < 3; i++) {
+        vp->bg[i] = vp_scale_colour8(vp, f->background >> (16 - 8 * i) & 0xFF);
+        vp->fog_rgb[i] = vp_scale_colour8(vp, f->fog_rgb >> (16 - 8 * i) & 0xFF);
+    }
+    size_t n = (size_t)vp->sw * vp->sh;
+    memset(vp->s_depth, 0, n * sizeof *vp->s_depth);
+    memset(vp->s_face, 0xFF, n * sizeof *vp->s_face);
+    memset(vp->s_level, FRAME_NO_LEVEL, n);
+    for (size_t i = 0; i < n; i++)
+        memcpy(vp->s_rgb + 3 * i, vp->bg, sizeof vp->bg);
+}
+
+/* ---- set-up of edges and forms (docs/vp.md §2, §3) ---- */
+
+void vp_edge_setup(const vp_t *vp, const ws_edge *e, vp_edge_fn *fn)
+{
+    /* With the intercepts q1, q2 (3.F after the +3 shift) a vertical edge is
+     * at x_e(y) = X1 + (X2 - X1)(y + 1)/2.  Scaled by S_H 2^F, its position
+     * at the border of row r is E(r) = q1 S_H + (q2 - q1)(S_H - r), and the
+     * border of column c is at B(c) = 2^(F+1+lh-lw) (S_W + c); G = B - E >= 0
+     * on the face's side when R = 0.  Horizontal edges likewise with the roles
+     * of rows and columns exchanged (y grows upward, rows downward). */
+    int64_t q1 = e->x1, q2 = e->x2, sw = vp->sw, sh = vp->sh;
+    unsigned f = vp->cfg.edge_frac_bits;
+    int64_t alpha, beta, gamma;
+    if (e->u) {
+        int64_t k = (int64_t)1 << (f + 1 + vp->lh - vp->lw);
+        alpha = k;
+        beta = q2 - q1;
+        gamma = k * sw - q2 * sh;
+    } else {
+        int64_t k = (int64_t)1 << (f + 1 + vp->lw - vp->lh);
+        alpha = -(q2 - q1);
+        beta = -k;
+        gamma = 2 * k * sh - q1 * sw;
+    }
+    /* doubled coordinates: G2(C, R) = alpha C + beta R + 2 gamma = 2 G */
+    if (e->r == 0) {         /* inside: G >= 0 — a sample on the line is in */
+        fn->a = alpha, fn->b = beta, fn->c = 2 * gamma;
+    } else {                 /* inside: G < 0, i.e. -G2 - 1 >= 0 — on the line is out */
+        fn->a = -alpha, fn->b = -beta, fn->c = -2 * gamma - 1;
+    }
+}
+
+void vp_form_setup(const vp_t *vp, const ws_form *f, vp_form_fn *fn)
+{
+    /* Sample (c, r) is at X = (2c + 1 - S_W) 2^(P - lw), Y = (S_H - 2r - 1)
+     * 2^(P - lh) in units of 2^-P; N = mA X + mB Y + mC 2^P exactly. */
+    int64_t xs = (int64_t)1 << (vp->p - vp->lw), ys = (int64_t)1 << (vp->p - vp->lh);
+    fn->step_c = 2 * (int64_t)f->m[0] * xs;
+    fn->step_r = -2 * (int64_t)f->m[1] * ys;
+    fn->origin = (int64_t)f->m[0] * (1 - (int64_t)vp->sw) * xs +
+                 (int64_t)f->m[1] * ((int64_t)vp->sh - 1) * ys +
+                 (int64_t)f->m[2] * ((int64_t)1 << vp->p);
+    fn->exp = f->exp;
+}
+
+/* ---- the subdivision engine ---- */
+
+typedef struct {
+    uint32_t c0, r0;         /* top-left sample */
+    uint8_t wl, hl;          /* log2 of width and height in samples */
+    uint8_t level;
+    uint64_t active;         /* edges not yet known to hold the cell inside */
+} cell;
+
+static void write_sample(vp_t *vp, const vp_face_setup *fs, uint32_t c, uint32_t r,
+                         unsigned level)
+{
+    size_t idx = (size_t)r * vp->sw + c;
+    vp->st.samples_covered++;
+    int64_t nz = fs->depth.origin + (int64_t)c * fs->depth.step_c + (int64_t)r * fs->depth.step_r;
+    uint32_t dv = vp_depth_value(vp, nz, fs->depth.exp);
+    /* a later face wins only if strictly nearer: equal depths keep the
+     * earlier face (docs/vp.md §4); 0 is "no surface" (behind or too far) */
+    if (dv == 0 || dv <= vp->s_depth[idx])
+        return;
+    vp->st.samples_written++;
+    vp->s_depth[idx] = dv;
+    vp->s_face[idx] = fs->id;
+    vp->s_level[idx] = (uint8_t)level;
+    vp_shade_sample(vp, fs, nz, c, r, vp->s_rgb + 3 * idx);
+}
+
+static void fill_cell(vp_t *vp, const vp_face_setup *fs, const cell *k)
+{
+    uint32_t cw = 1u << k->wl, ch = 1u << k->hl;
+    for (uint32_t r = k->r0; r < k->r0 + ch; r++)
+        for (uint32_t c = k->c0; c < k->c0 + cw; c++)
+            write_sample(vp, fs, c, r, k->level);
+}
+
+/* Classify cell k against its active edges: -1 outside, 1 inside (every
+ * edge holds it wholly), 0 crossing; k->active loses the edges that hold it. */
+static int classify(const vp_edge_fn *e, cell *k)
+{
+    int64_t c0 = 2 * (int64_t)k->c0, c1 = 2 * ((int64_t)k->c0 + (1 << k->wl));
+    int64_t r0 = 2 * (int64_t)k->r0, r1 = 2 * ((int64_t)k->r0 + (1 << k->hl));
+    uint64_t act = k->active;
+    while (act) {
+        unsigned i = (unsigned)__builtin_ctzll(act);
+        act &= act - 1;
+        const vp_edge_fn *f = &e[i];
+        /* h is linear: its extremes over the cell are at opposite corners */
+        int64_t hmin = f->a * (f->a > 0 ? c0 : c1) + f->b * (f->b > 0 ? r0 : r1) + f->c;
+        int64_t hmax = f->a * (f->a > 0 ? c1 : c0) + f->b * (f->b > 0 ? r1 : r0) + f->c;
+        if (hmax < 0)
+            return -1;
+        if (hmin >= 0)
+            k->active &= ~(1ull << i);
+    }
+    return k->active ? 0 : 1;
+}
+
+static bool sample_inside(const vp_edge_fn *e, uint64_t active, uint32_t c, uint32_t r)
+{
+    int64_t cc = 2 * (int64_t)c + 1, rr = 2 * (int64_t)r + 1;
+    while (active) {
+        unsigned i = (unsigned)__builtin_ctzll(active);
+        active &= active - 1;
+        if (e[i].a * cc + e[i].b * rr + e[i].c < 0)
+            return false;
+    }
+    return true;
+}
+
+static void subdivide(vp_t *vp, const vp_face_setup *fs, const vp_edge_fn *e, unsigned n)
+{
+    cell stack[3 * VP_MAX_LEVELS + 4];
+    unsigned top = 0;
+    stack[top++] = (cell){0, 0, (uint8_t)vp->lw, (uint8_t)vp->lh, 0,
+                          n == 64 ? ~0ull : (1ull << n) - 1};
+    while (top) {
+        cell k = stack[--top];
+        vp->st.cells[k.level]++;
+        if (k.wl == 0 && k.hl == 0) {
+            /* a single sample: decided at its centre */
+            vp->st.samples_tested++;
+            if (sample_inside(e, k.active, k.c0, k.r0))
+                write_sample(vp, fs, k.c0, k.r0, k.level);
+            continue;
+        }
+        int cls = classify(e, &k);
+        if (cls < 0) {
+            vp->st.cells_outside++;
+            continue;
+        }
+        if (cls > 0) {
+            vp->st.cells_inside++;
+            fill_cell(vp, fs, &k);
+            continue;
+        }
+        vp->st.cells_split++;
+        /* children, visited top-left, top-right, bottom-left, bottom-right;
+         * a side already one sample long is not split */
+        uint8_t wl = k.wl ? k.wl - 1 : 0, hl = k.hl ? k.hl - 1 : 0;
+        cell kids[4];
+        unsigned nk = 0;
+        for (unsigned dy = 0; dy < (k.hl ? 2u : 1u); dy++)
+            for (unsigned dx = 0; dx < (k.wl ? 2u : 1u); dx++)
+                kids[nk++] = (cell){k.c0 + (dx << wl), k.r0 + (dy << hl), wl, hl,
+                                    (uint8_t)(k.level + 1), k.active};
+        while (nk)
+            stack[top++] = kids[--nk];
+    }
+}
+
+static alb_err face_setup(vp_t *vp, const ws_face *f, vp_face_setup *fs, diag_t *d)
+{
+    memset(fs, 0, sizeof *fs);
+    fs->id = f->id;
+    fs->flags = f->flags;
+    fs->rgb[0] = (uint8_t)(f->rgb >> 16), fs->rgb[1] = (uint8_t)(f->rgb >> 8),
+    fs->rgb[2] = (uint8_t)f->rgb;
+    vp_form_setup(vp, &f->depth, &fs->depth);
+    if (f->flags & WS_FACE_SHADE)
+        vp_form_setup(vp, &f->shade, &fs->shade);
+    if (f->flags & WS_FACE_TEXTURE) {
+        if (!vp->tex[f->texture])
+            return diag_at(d, ALB_ERR_STREAM, "", 0, 0,
+                           "face %u uses texture %u, which no TEXTURE packet loaded", f->id,
+                           f->texture);
+        vp_form_setup(vp, &f->tex_u, &fs->tex_u);
+        vp_form_setup(vp, &f->tex_v, &fs->tex_v);
+        fs->texels = vp->tex[f->texture];
+        fs->tex_log2 = vp->tex_log2[f->texture];
+    }
+    return ALB_OK;
+}
+
+alb_err vp_face(vp_t *vp, const ws_face *f, diag_t *d)
+{
+    vp_face_setup fs;
+    vp_edge_fn e[WS_MAX_EDGES];
+    alb_err err = face_setup(vp, f, &fs, d);
+    if (err)
+        return err;
+    for (unsigned i = 0; i < f->n_edges; i++)
+        vp_edge_setup(vp, &f->edge[i], &e[i]);
+    vp->st.faces++;
+    vp->st.edges += f->n_edges;
+    subdivide(vp, &fs, e, f->n_edges);
+    return ALB_OK;
+}
+
+/* ---- output stage ---- */
+
+void vp_frame_end(vp_t *vp, frame_t *out)
+{
+    unsigned aa = vp->prof.aa_levels, n = 1u << aa;
+    out->number = vp->frame.number;
+    out->near = vp->cfg.near;
+    for (unsigned y = 0; y < vp->prof.height; y++)
+        for (unsigned x = 0; x < vp->prof.width; x++) {
+            /* the pixel's nearest sample gives depth, face and level (ties:
+             * the first in raster order); colour is the mean of its samples,
+             * rounded half up */
+            uint32_t sum[3] = {0, 0, 0}, best = 0;
+            size_t best_idx = (size_t)(y << aa) * vp->sw + (x << aa);
+            unsigned covered = 0;
+            for (unsigned sy = 0; sy < n; sy++)
+                for (unsigned sx = 0; sx < n; sx++) {
+                    size_t i = (size_t)((y << aa) + sy) * vp->sw + (x << aa) + sx;
+                    for (int ch = 0; ch < 3; ch++)
+                        sum[ch] += vp->s_rgb[3 * i + ch];
+                    covered += vp->s_face[i] != FRAME_NO_FACE;
+                    if (vp->s_depth[i] > best) {
+                        best = vp->s_depth[i];
+                        best_idx = i;
+                    }
+                }
+            size_t p = (size_t)y * vp->prof.width + x;
+            for (int ch = 0; ch < 3; ch++)
+                out->rgb[3 * p + ch] = (uint16_t)((sum[ch] + (n * n / 2)) >> (2 * aa));
+            out->depth[p] = vp->s_depth[best_idx];
+            out->face[p] = vp->s_face[best_idx];
+            out->level[p] = vp->s_level[best_idx];
+            out->coverage[p] = (uint16_t)covered;
+        }
+}
+
+alb_err vp_run_stream(vp_t *vp, const uint32_t *w, size_t n, const char *name,
+                      vp_frame_sink sink, void *ctx, diag_t *d)
+{
+    ws_reader r;
+    ws_event *ev = malloc(sizeof *ev);
+    frame_t frame;
+    memset(&frame, 0, sizeof frame);
+    if (!ev)
+        return diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
+    ws_reader_init(&r, w, n, name);
+    alb_err e = ALB_OK;
+    while (!e && !r.ended) {
+        if ((e = ws_next(&r, ev, d)))
+            break;
+        switch (ev->kind) {
+        case WS_EV_CONFIG:
+            if (!(e = vp_config(vp, &ev->u.config, d)) && vp_frame_alloc(vp, &frame, false))
+                e = diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory for a frame");
+            break;
+        case WS_EV_TEXTURE:
+            e = vp_texture(vp, &ev->u.texture, d);
+            break;
+        case WS_EV_FRAME:
+            vp_frame_begin(vp, &ev->u.frame);
+            break;
+        case WS_EV_FACE:
+            if ((e = vp_face(vp, &ev->u.face, d))) {
+                char msg[sizeof d->msg];
+                memcpy(msg, d->msg, sizeof msg);
+                diag_off(d, e, name, (long long)ev->first * 4, "word %zu: %s", ev->first, msg);
+            }
+            break;
+        case WS_EV_FRAME_END:
+            vp_frame_end(vp, &frame);
+            if (sink && sink(ctx, &frame, &vp->st))
+                e = ALB_ERR_IO;
+            break;
+        case WS_EV_END:
+            break;
+        }
+    }
+    frame_free(&frame);
+    free(ev);
+    return e;
+}

@@ -1,0 +1,74 @@
+/* vp_internal.h — the VP's state and units, shared by its files and tests. */
+#ifndef ALBATROS_VP_INTERNAL_H
+#define ALBATROS_VP_INTERNAL_H
+
+#include "vp.h"
+
+#include <stdbool.h>
+
+/* An edge as the subdivision engine uses it: h(C, R) = a C + b R + c in
+ * doubled sample coordinates (C = 2 x column, R = 2 x row, row 0 at the top;
+ * a cell border at column k is C = 2k, a sample centre C = 2k + 1).  A point
+ * is inside iff h >= 0; the tie rule is folded into c (docs/vp.md §2). */
+typedef struct {
+    int64_t a, b, c;
+} vp_edge_fn;
+
+/* A linear form evaluated at samples: N(X, Y) = mA X + mB Y + mC 2^P, with
+ * X, Y the sample position in units of 2^-P of the screen (docs/vp.md §3). */
+typedef struct {
+    int64_t step_c;      /* N difference between neighbouring columns */
+    int64_t step_r;      /* ... rows (downward) */
+    int64_t origin;      /* N at sample (0, 0) */
+    int exp;             /* value = N * 2^(exp - P) */
+} vp_form_fn;
+
+/* Per-face shading set-up. */
+typedef struct {
+    uint32_t id;
+    unsigned flags;
+    uint8_t rgb[3];
+    vp_form_fn depth, shade, tex_u, tex_v;
+    const uint32_t *texels;
+    unsigned tex_log2;
+} vp_face_setup;
+
+struct vp {
+    profile_t prof;
+    unsigned sw, sh;         /* sample grid */
+    unsigned lw, lh;         /* their log2 */
+    unsigned p;              /* evaluation scale: max(lw, lh) = levels */
+    ws_config cfg;
+    bool configured;
+    uint32_t *s_depth;       /* sample store */
+    uint32_t *s_face;
+    uint8_t *s_level;
+    uint16_t *s_rgb;
+    uint32_t *tex[WS_MAX_TEXTURES];
+    uint8_t tex_log2[WS_MAX_TEXTURES];
+    ws_frame frame;
+    uint16_t bg[3];          /* background in frame-store units */
+    uint16_t fog_rgb[3];
+    vp_stats st;
+};
+
+/* Edge set-up (vp.c). */
+void vp_edge_setup(const vp_t *vp, const ws_edge *e, vp_edge_fn *fn);
+void vp_form_setup(const vp_t *vp, const ws_form *f, vp_form_fn *fn);
+
+/* Shading units (shade.c). */
+uint32_t vp_depth_value(const vp_t *vp, int64_t n, int exp);
+void vp_shade_sample(const vp_t *vp, const vp_face_setup *fs, int64_t nz, int64_t col,
+                     int64_t row, uint16_t rgb[3]);
+uint16_t vp_scale_colour8(const vp_t *vp, unsigned c8);
+
+/* The reciprocal unit: 1/n ~ rm * 2^-(2 RB - 1) * 2^-shift for n > 0. */
+typedef struct {
+    int64_t rm;
+    int shift;
+} vp_recip;
+vp_recip vp_reciprocal(int64_t n, unsigned recip_bits);
+/* floor(num / den * 2^(e_num - e_den + frac)) through the reciprocal. */
+int64_t vp_ratio(int64_t num, int e_num, vp_recip r, int e_den, unsigned recip_bits, int frac);
+
+#endif
