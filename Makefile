@@ -22,7 +22,7 @@ LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm $(EXTRA_LDLIBS)
 COMMON_SRC := common/diag.c common/profile.c common/words.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
 VP_SRC     := vp/vp.c vp/shade.c vp/frame.c
-TOOLS_SRC  := tools/ref.c
+TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c
 SINK_SRC   := emu/exr.c emu/preview.c
 EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cmd_render.c emu/cmd_compare.c \
               emu/cli.c

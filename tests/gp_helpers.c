@@ -65,3 +65,80 @@ void gp_run_free(gp_run_result *r)
     free(r->faces);
     r->faces = NULL;
 }
+
+typedef struct {
+    frame_t *out;
+    vp_stats *st;
+    bool got;
+} first_frame;
+
+static int keep_first(void *ctx, const frame_t *f, const vp_stats *st)
+{
+    first_frame *ff = ctx;
+    if (ff->got)
+        return 0;
+    if (frame_alloc(ff->out, f->width, f->height, false))
+        return -1;
+    frame_t *o = ff->out;
+    size_t n = (size_t)f->width * f->height;
+    memcpy(o->rgb, f->rgb, 3 * n * sizeof *o->rgb);
+    memcpy(o->depth, f->depth, n * sizeof *o->depth);
+    memcpy(o->face, f->face, n * sizeof *o->face);
+    memcpy(o->level, f->level, n * sizeof *o->level);
+    memcpy(o->coverage, f->coverage, n * sizeof *o->coverage);
+    o->colour_bits = f->colour_bits;
+    o->depth_bits = f->depth_bits;
+    o->aa_levels = f->aa_levels;
+    o->near = f->near;
+    o->number = f->number;
+    if (ff->st)
+        *ff->st = *st;
+    ff->got = true;
+    return 0;
+}
+
+int render_text(const char *text, const char *profile_name, const char *sets, frame_t *out,
+                vp_stats *st, profile_t *prof_out, char *err, size_t errlen)
+{
+    profile_t p;
+    if (profile_lookup(profile_name ? profile_name : "a512", &p)) {
+        snprintf(err, errlen, "no profile %s", profile_name);
+        return -1;
+    }
+    if (sets) {
+        char buf[512];
+        snprintf(buf, sizeof buf, "%s", sets);
+        for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
+            if (profile_set(&p, tok, err, errlen))
+                return -1;
+    }
+    if (prof_out)
+        *prof_out = p;
+    scene_t s;
+    diag_t d;
+    diag_init(&d, NULL);
+    if (scene_parse(text, strlen(text), "test.scene", &s, &d) ||
+        scene_resolve_screenspace(&s, p.width, p.height, &d)) {
+        snprintf(err, errlen, "%u:%u: %s", d.line, d.col, d.msg);
+        return -1;
+    }
+    gp_t *gp = NULL;
+    vp_t *vp = NULL;
+    ws_buf b;
+    ws_buf_init(&b);
+    first_frame ff = {out, st, false};
+    alb_err e = gp_create(&gp, &s, &p, &d);
+    if (!e)
+        e = gp_run(gp, &b, NULL, &d);
+    if (!e)
+        e = vp_create(&vp, &p, &d);
+    if (!e)
+        e = vp_run_stream(vp, b.w, b.n, "test", keep_first, &ff, &d);
+    if (e)
+        snprintf(err, errlen, "%s", d.msg);
+    vp_destroy(vp);
+    gp_destroy(gp);
+    ws_buf_free(&b);
+    scene_free(&s);
+    return e || !ff.got ? -1 : 0;
+}

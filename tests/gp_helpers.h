@@ -20,4 +20,14 @@ typedef struct {
 int gp_run_text(const char *text, const char *sets, gp_run_result *r);
 void gp_run_free(gp_run_result *r);
 
+#include "../vp/vp.h"
+
+/* Parse scene text (screen-space scenes resolved for the profile), run GP and
+ * VP with profile "a512" or `profile_name`, plus the `sets`; frame 0 goes to
+ * *out (free with frame_free) and the VP statistics to *st (may be NULL).
+ * Also returns the profile used in *prof_out if not NULL.  0 on success;
+ * otherwise err holds the reason. */
+int render_text(const char *text, const char *profile_name, const char *sets, frame_t *out,
+                vp_stats *st, profile_t *prof_out, char *err, size_t errlen);
+
 #endif

@@ -25,7 +25,7 @@ uint32_t vp_depth_value(const vp_t *vp, int64_t n, int exp)
 vp_recip vp_reciprocal(int64_t n, unsigned rb)
 {
     /* Normalise n to rb bits (truncating the rest), then one integer
-     * division: rm = floor(2^(2rb-1) / dm), in (2^(rb-1), 2^rb]. */
+     * division: rm = floor(2^(2rb-1) / dm), in [2^(rb-1), 2^rb]. */
     unsigned nb = fix_bitlen((uint64_t)n);
     int64_t dm = nb > rb ? n >> (nb - rb) : n << (rb - nb);
     vp_recip r = {((int64_t)1 << (2 * rb - 1)) / dm, (int)nb - (int)rb};

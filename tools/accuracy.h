@@ -1,0 +1,31 @@
+/* accuracy.h — the VP measured against the exact reference on one frame:
+ * which pixels differ in face, and whether each lies farther than the
+ * documented quantisation bounds from every edge and depth tie (a "clear"
+ * pixel, where the VP must agree exactly).  docs/reference.md. */
+#ifndef ALBATROS_ACCURACY_H
+#define ALBATROS_ACCURACY_H
+
+#include "../common/profile.h"
+#include "../gp/scene.h"
+#include "../vp/frame.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct {
+    size_t pixels;
+    size_t face_diff;         /* pixels whose face differs from the reference */
+    size_t clear;             /* pixels outside every quantisation bound */
+    size_t clear_diff;        /* clear pixels whose face differs: must be 0 */
+    size_t first_clear_diff;  /* index of the first such pixel */
+} accuracy;
+
+/* Compare vp (frame `frame` rendered from `stream`) with the reference of the
+ * scene.  aa_levels must be 0.  Returns -1 if out of memory. */
+int accuracy_measure(const scene_t *s, const profile_t *p, unsigned frame, const uint32_t *stream,
+                     size_t nwords, const frame_t *vp, const frame_t *ref, accuracy *out);
+
+/* Run GP, VP and reference on scene text; sums into *acc.  err on failure. */
+int accuracy_of_text(const char *text, const profile_t *p, accuracy *acc, char *err, size_t len);
+
+#endif

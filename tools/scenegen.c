@@ -1,0 +1,134 @@
+/* scenegen.c — seeded random scenes: convex polygons (cyclic, so convex by
+ * construction) at random places, sizes and orientations in front of an
+ * observer at the origin, overlapping and interpenetrating, some crossing
+ * Z = 0 and some seen from the back. */
+#include "scenegen.h"
+#include "../common/vec3.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    char *s;
+    size_t n, cap;
+    int oom;
+} text_buf;
+
+static void __attribute__((format(printf, 2, 3))) put(text_buf *b, const char *fmt, ...)
+{
+    va_list ap;
+    for (;;) {
+        size_t room = b->cap - b->n;
+        va_start(ap, fmt);
+        int k = b->s ? vsnprintf(b->s + b->n, room, fmt, ap) : -1;
+        va_end(ap);
+        if (k >= 0 && (size_t)k < room) {
+            b->n += (size_t)k;
+            return;
+        }
+        size_t cap = b->cap ? 2 * b->cap : 4096;
+        char *s = realloc(b->s, cap);
+        if (!s) {
+            b->oom = 1;
+            return;
+        }
+        b->s = s;
+        b->cap = cap;
+    }
+}
+
+static uint64_t next(uint64_t *s)
+{
+    *s ^= *s >> 12;
+    *s ^= *s << 25;
+    *s ^= *s >> 27;
+    return *s * 0x2545F4914F6CDD1DULL;
+}
+
+static double uniform(uint64_t *s, double lo, double hi)
+{
+    return lo + (hi - lo) * (double)(next(s) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+scenegen_params scenegen_defaults(void)
+{
+    scenegen_params p = {12, 0.1, 0.1, 6, 0.3};
+    return p;
+}
+
+/* One convex polygon: vertices on a circle at sorted random angles, in a
+ * plane with a random normal, counter-clockwise seen from the observer
+ * unless `back`. */
+static bool polygon(text_buf *b, uint64_t *s, const scenegen_params *p, unsigned id, bool behind,
+                    bool back)
+{
+    unsigned n = 3 + (unsigned)(next(s) % (unsigned)(p->max_vertices - 2));
+    double z = uniform(s, 2, 20);
+    vec3 c = v3(uniform(s, -0.8, 0.8) * z, uniform(s, -0.8, 0.8) * z, z);
+    double r = z * p->size * uniform(s, 0.3, 1.7);
+    if (behind) {
+        c.z = uniform(s, 0.2, 1.5);
+        r = uniform(s, 2.5, 6);
+    }
+    /* plane basis: a normal tilted at most 70 degrees from the view axis */
+    double th = uniform(s, 0, 70) * VEC3_PI / 180, ph = uniform(s, 0, 2 * VEC3_PI);
+    vec3 nrm = v3(sin(th) * cos(ph), sin(th) * sin(ph), -cos(th));
+    vec3 u = v3_cross(nrm, v3(0, 1, 0));
+    u = v3_scale(u, 1 / v3_len(u));
+    vec3 w = v3_cross(nrm, u);
+    double ang[8];
+    for (unsigned k = 0; k < n; k++)
+        ang[k] = uniform(s, 0, 2 * VEC3_PI);
+    for (unsigned i = 1; i < n; i++)
+        for (unsigned j = i; j > 0 && ang[j - 1] > ang[j]; j--) {
+            double t = ang[j];
+            ang[j] = ang[j - 1];
+            ang[j - 1] = t;
+        }
+    vec3 v[8];
+    for (unsigned k = 0; k < n; k++)
+        v[k] = v3_add(c, v3_add(v3_scale(u, r * cos(ang[k])), v3_scale(w, r * sin(ang[k]))));
+    /* reject near-duplicate angles, which make slivers of zero area */
+    for (unsigned k = 0; k < n; k++)
+        if (v3_len(v3_sub(v[k], v[(k + 1) % n])) < 1e-2 * r)
+            return false;
+    /* orientation: counter-clockwise on the screen (front) iff the sum of
+     * (R_k x R_k+1) . centroid is positive (docs/gp.md) */
+    double side = 0;
+    for (unsigned k = 0; k < n; k++)
+        side += v3_dot(v3_cross(v[k], v[(k + 1) % n]), c);
+    bool flip = (side < 0) != back;
+    put(b, "object f%u\n", id);
+    for (unsigned k = 0; k < n; k++) {
+        const vec3 *q = &v[flip ? n - 1 - k : k];
+        put(b, " v %.9g %.9g %.9g i %.3f\n", q->x, q->y, q->z, uniform(s, 0.2, 1));
+    }
+    put(b, " f");
+    for (unsigned k = 0; k < n; k++)
+        put(b, " %u", k + 1);
+    put(b, " colour %u %u %u\nend\n", (unsigned)(next(s) % 256), (unsigned)(next(s) % 256),
+        (unsigned)(next(s) % 256));
+    return true;
+}
+
+char *scenegen_random(uint64_t seed, const scenegen_params *p)
+{
+    uint64_t s = seed * 0x9E3779B97F4A7C15ULL + 1;
+    text_buf b = {0};
+    put(&b, "albatros-scene 1\n# random scene, seed %llu\nnear 0.5\nbackground 0 0 0\n"
+            "observer fov %.3f\n", (unsigned long long)seed, uniform(&s, 50, 90));
+    for (unsigned i = 0; i < p->faces; i++) {
+        bool behind = uniform(&s, 0, 1) < p->behind, back = uniform(&s, 0, 1) < p->backfacing;
+        while (!polygon(&b, &s, p, i, behind, back))
+            ;   /* a draw with near-coincident vertices: draw again */
+    }
+    if (b.oom) {
+        free(b.s);
+        return NULL;
+    }
+    return b.s;
+}

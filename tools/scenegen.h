@@ -1,0 +1,21 @@
+/* scenegen.h — seeded scene generators: random scenes for the VP-against-
+ * reference tests and measurements (docs/reference.md).  Each returns scene
+ * text (docs/scene-format.md) in a malloc'd string, NULL if out of memory. */
+#ifndef ALBATROS_SCENEGEN_H
+#define ALBATROS_SCENEGEN_H
+
+#include <stdint.h>
+
+typedef struct {
+    unsigned faces;          /* how many */
+    double behind;           /* fraction of faces with a vertex behind the observer */
+    double backfacing;       /* fraction wound away from the observer */
+    double max_vertices;     /* polygons have 3 .. this many vertices (<= 8) */
+    double size;             /* mean radius as a fraction of the distance */
+} scenegen_params;
+
+/* Defaults: 12 faces, 10% crossing Z = 0, 10% back-facing, up to 6 vertices. */
+scenegen_params scenegen_defaults(void);
+char *scenegen_random(uint64_t seed, const scenegen_params *p);
+
+#endif
