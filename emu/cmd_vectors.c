@@ -5,6 +5,9 @@
  * outputs on purpose. */
 #include "cli.h"
 #include "commands.h"
+#include "exr.h"
+#include "preview.h"
+#include "../vp/vp.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -50,8 +53,9 @@ static int no_own_options(void *ctx, const char *name, const char *value)
     return -1;
 }
 
-/* Run the vector's GP; its stream goes to out.  Non-zero after a message. */
-static int run_vector(const vector *v, ws_buf *out)
+/* Run the vector's GP; its stream goes to out, its profile to *prof.
+ * Non-zero after a message. */
+static int run_vector(const vector *v, ws_buf *out, profile_t *prof)
 {
     char path[600], opts[4096] = "";
     run_opts o;
@@ -72,6 +76,7 @@ static int run_vector(const vector *v, ws_buf *out)
     }
     if (cli_check_profile(&o.prof))
         return -1;
+    *prof = o.prof;
     if (scene_path(v, path, sizeof path)) {
         fprintf(stderr, "%s: no scene.scene or scene.obj\n", v->dir);
         return -1;
@@ -125,15 +130,150 @@ static int compare_streams(const char *name, const uint32_t *want, size_t nw, co
     return 1;
 }
 
+/* ---- frames ---- */
+
+typedef struct {
+    const vector *v;
+    bool bless;
+    const char *diff_dir;
+    unsigned frames;
+    int failed;
+} frames_ctx;
+
+static void frame_path(const vector *v, unsigned k, char *out, size_t len)
+{
+    snprintf(out, len, "%s/expected.%04u.exr", v->dir, k);
+}
+
+/* The first pixel and channel where two frames differ; false if none. */
+static bool first_pixel_diff(const frame_t *w, const frame_t *g, size_t *at, char *what,
+                             size_t len, size_t *count)
+{
+    size_t n = (size_t)w->width * w->height;
+    bool found = false;
+    *count = 0;
+    for (size_t i = 0; i < n; i++) {
+        const char *ch = NULL;
+        unsigned long long a = 0, b = 0;
+        if (w->face[i] != g->face[i])
+            ch = "face.id", a = w->face[i], b = g->face[i];
+        for (int c = 0; c < 3 && !ch; c++)
+            if (w->rgb[3 * i + c] != g->rgb[3 * i + c])
+                ch = c == 0 ? "vp.R" : c == 1 ? "vp.G" : "vp.B", a = w->rgb[3 * i + c],
+                b = g->rgb[3 * i + c];
+        if (!ch && w->depth[i] != g->depth[i])
+            ch = "vp.depth", a = w->depth[i], b = g->depth[i];
+        if (!ch && w->level[i] != g->level[i])
+            ch = "vp.level", a = w->level[i], b = g->level[i];
+        if (!ch && w->coverage[i] != g->coverage[i])
+            ch = "vp.coverage", a = w->coverage[i], b = g->coverage[i];
+        if (!ch)
+            continue;
+        ++*count;
+        if (!found) {
+            found = true;
+            *at = i;
+            snprintf(what, len, "%s expected %llu, got %llu", ch, a, b);
+        }
+    }
+    return found;
+}
+
+static int check_frame(frames_ctx *c, const frame_t *f, const char *path)
+{
+    frame_t want;
+    diag_t d;
+    diag_init(&d, NULL);
+    if (exr_read_frame(path, &want, &d)) {
+        diag_print(&d, stderr);
+        return 1;
+    }
+    int rc = 0;
+    size_t at = 0, count;
+    char what[160];
+    if (want.width != f->width || want.height != f->height) {
+        fprintf(stderr, "FAIL %s: frame %u is %ux%u, expected %ux%u\n", c->v->name, f->number,
+                f->width, f->height, want.width, want.height);
+        rc = 1;
+    } else if (first_pixel_diff(&want, f, &at, what, sizeof what, &count)) {
+        char diff[700];
+        snprintf(diff, sizeof diff, "%s/%s.%04u.png", c->diff_dir, c->v->name, f->number);
+        mkdir(c->diff_dir, 0777);
+        bool wrote = preview_write_diff(diff, &want, f, NULL, NULL, &d) == ALB_OK;
+        fprintf(stderr, "FAIL %s: frame %u differs at pixel (%zu, %zu): %s\n"
+                        "  %zu pixels differ%s%s\n", c->v->name, f->number, at % f->width,
+                at / f->width, what, count, wrote ? "; diff image " : "", wrote ? diff : "");
+        rc = 1;
+    }
+    frame_free(&want);
+    return rc;
+}
+
+static int frame_sink(void *ctx, const frame_t *f, const vp_stats *st)
+{
+    (void)st;
+    frames_ctx *c = ctx;
+    char path[600];
+    frame_path(c->v, c->frames++, path, sizeof path);
+    if (c->bless) {
+        diag_t d;
+        diag_init(&d, NULL);
+        if (exr_write_frame(path, f, &d)) {
+            diag_print(&d, stderr);
+            c->failed = 1;
+        }
+    } else if (!exists(path)) {
+        fprintf(stderr, "FAIL %s: no %s (run 'make bless' to create it)\n", c->v->name, path);
+        c->failed = 1;
+    } else {
+        c->failed |= check_frame(c, f, path);
+    }
+    return 0;
+}
+
+/* Render the stream through the VP; check (or bless) every frame. */
+static int vector_frames(const vector *v, const profile_t *prof, const ws_buf *stream, bool bless,
+                         const char *diff_dir)
+{
+    frames_ctx c = {v, bless, diff_dir, 0, 0};
+    diag_t d;
+    diag_init(&d, NULL);
+    vp_t *vp = NULL;
+    alb_err e = vp_create(&vp, prof, &d);
+    if (!e)
+        e = vp_run_stream(vp, stream->w, stream->n, v->name, frame_sink, &c, &d);
+    vp_destroy(vp);
+    if (e) {
+        diag_print(&d, stderr);
+        return 1;
+    }
+    /* no expected frame may be left over from a longer run */
+    char path[600];
+    for (unsigned k = c.frames;; k++) {
+        frame_path(v, k, path, sizeof path);
+        if (!exists(path))
+            break;
+        if (bless) {
+            remove(path);
+        } else {
+            fprintf(stderr, "FAIL %s: %s expected, but the run has %u frames\n", v->name, path,
+                    c.frames);
+            c.failed = 1;
+        }
+    }
+    return c.failed;
+}
+
 /* 0 pass, 1 fail, 2 known failure. */
-static int check_vector(const vector *v)
+static int check_vector(const vector *v, const char *diff_dir)
 {
     ws_buf got;
     ws_buf_init(&got);
+    profile_t prof;
     char path[600], known[512] = "";
     snprintf(path, sizeof path, "%s/KNOWN-FAILURE", v->dir);
     bool is_known = exists(path) && read_text(path, known, sizeof known) == 0;
-    int rc = run_vector(v, &got);
+    int rc = run_vector(v, &got, &prof);
     if (!rc) {
         uint32_t *want;
         size_t nw;
@@ -148,6 +288,9 @@ static int check_vector(const vector *v)
             rc = compare_streams(v->name, want, nw, got.w, got.n);
             free(want);
         }
+        /* the frames are checked from the stream just made, so a GP
+         * difference does not hide a VP one */
+        rc |= vector_frames(v, &prof, &got, false, diff_dir);
     } else {
         fprintf(stderr, "FAIL %s: could not run\n", v->name);
         rc = 1;
@@ -170,7 +313,8 @@ static int bless_vector(const vector *v)
 {
     ws_buf got;
     ws_buf_init(&got);
-    if (run_vector(v, &got)) {
+    profile_t prof;
+    if (run_vector(v, &got, &prof) || vector_frames(v, &prof, &got, true, NULL)) {
         ws_buf_free(&got);
         return 1;
     }
@@ -242,10 +386,19 @@ static vector *list_vectors(const char *dir, size_t *count)
 
 int cmd_vectors(int argc, char **argv)
 {
+    const char *diff_dir = "vector-diffs";
+    if (argc >= 3 && strcmp(argv[1], "--diff-dir") == 0) {
+        diff_dir = argv[2];
+        argv[2] = argv[0];
+        argc -= 2;
+        argv += 2;
+    }
     if (argc < 2 || (strcmp(argv[0], "check") && strcmp(argv[0], "bless"))) {
-        printf("usage: albatros vectors check|bless DIR [NAME...]\n\n"
-               "check: run every golden vector in DIR (or the NAMEd ones) and compare its\n"
-               "       outputs bit for bit; the first difference is named; exit 1 on any.\n"
+        printf("usage: albatros vectors check|bless [--diff-dir DIR] VECTORS [NAME...]\n\n"
+               "check: run every golden vector in VECTORS (or the NAMEd ones) and compare its\n"
+               "       word stream and frames bit for bit; the first difference is named\n"
+               "       (word and field, pixel and channel), a diff image goes to DIR\n"
+               "       (default ./vector-diffs); exit 1 on any.\n"
                "bless: regenerate the expected outputs (a deliberate act: say why in the\n"
                "       commit message).\n");
         return argc >= 1 && strcmp(argv[0], "--help") == 0 ? 0 : 2;
@@ -265,7 +418,7 @@ int cmd_vectors(int argc, char **argv)
         if (!want)
             continue;
         selected++;
-        int rc = bless ? bless_vector(&v[i]) : check_vector(&v[i]);
+        int rc = bless ? bless_vector(&v[i]) : check_vector(&v[i], diff_dir);
         if (rc == 0)
             passed++;
         else if (rc == 2)

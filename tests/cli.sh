@@ -71,6 +71,12 @@ expect 0 "created tri" "$bin" vectors bless "$tmp/v"
 expect 0 "1 passed, 0 failed" "$bin" vectors check "$tmp/v"
 printf '\x01' | dd of="$tmp/v/tri/expected.stream" bs=1 seek=48 conv=notrunc 2>/dev/null
 expect 1 "expected .* depth[.]A=" "$bin" vectors check "$tmp/v"
+# a changed colour: the stream and the frame differ; the pixel and channel are named
+"$bin" vectors bless "$tmp/v" >/dev/null
+sed -i 's/^ f 1 2 3$/ f 1 2 3 colour 10 20 30/' "$tmp/v/tri/scene.scene"
+expect 1 "frame 0 differs at pixel \([0-9]+, [0-9]+\): vp.R expected 200, got 10" \
+    "$bin" vectors check --diff-dir "$tmp/diffs" "$tmp/v"
+[[ -s $tmp/diffs/tri.0000.png ]] && ok || bad "no diff image"
 echo "flipped on purpose" > "$tmp/v/tri/KNOWN-FAILURE"
 expect 0 "known failure tri" "$bin" vectors check "$tmp/v"
 expect 1 "no vector named 'zzz'" "$bin" vectors check "$tmp/v" zzz
