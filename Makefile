@@ -105,7 +105,7 @@ asan:
 
 demo: $(ALBATROS)
 	@mkdir -p out
-	$(ALBATROS) gp -o out/builtin.stream --hex out/builtin.hex
+	$(ALBATROS) render -o out/builtin.exr --png out/builtin.png --stream out/builtin.stream
 
 clean:
 	rm -rf $(BUILD) build-asan out

@@ -232,6 +232,14 @@ int cli_check_profile(const profile_t *p)
         fprintf(stderr, "albatros: profile %s: %s\n", p->name, msg);
         return 1;
     }
+    /* the screen spans 2 units of the intercept format: 2^(levels-1)
+     * samples per unit, so F - levels + 1 bits fall below a sample */
+    int below = (int)p->edge_frac_bits - (int)profile_levels(p) + 1;
+    if (below < 2)
+        fprintf(stderr, "albatros: warning: edge_frac_bits=%u leaves %d bit%s below the sample "
+                        "grid: edges snap to %s of a sample; use edge_frac_bits >= %u\n",
+                p->edge_frac_bits, below, below == 1 ? "" : "s",
+                below >= 1 ? "halves" : "multiples", profile_levels(p) + 1);
     return 0;
 }
 

@@ -8,6 +8,7 @@
 #include "../tools/ref.h"
 #include "../vp/vp.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -80,10 +81,12 @@ static void stats_json(FILE *f, const frame_t *fr, const vp_stats *st, unsigned 
     for (unsigned l = 0; l <= levels; l++)
         fprintf(f, "%s%llu", l ? ", " : "", (unsigned long long)st->cells[l]);
     fprintf(f, "], \"cells_inside\": %llu, \"cells_outside\": %llu, \"cells_split\": %llu, "
-               "\"samples_tested\": %llu, \"samples_covered\": %llu, \"samples_written\": %llu}",
+               "\"samples_tested\": %llu, \"samples_covered\": %llu, \"samples_written\": %llu, "
+               "\"depth_saturated\": %llu, \"depth_underflow\": %llu}",
             (unsigned long long)st->cells_inside, (unsigned long long)st->cells_outside,
             (unsigned long long)st->cells_split, (unsigned long long)st->samples_tested,
-            (unsigned long long)st->samples_covered, (unsigned long long)st->samples_written);
+            (unsigned long long)st->samples_covered, (unsigned long long)st->samples_written,
+            (unsigned long long)st->depth_saturated, (unsigned long long)st->depth_underflow);
 }
 
 static uint64_t total_cells(const vp_stats *st)
@@ -99,6 +102,21 @@ typedef struct {
     unsigned levels;
 } sink_ctx;
 
+/* Bit widths a frame needed beyond the profile's (docs/vp.md §4). */
+static void width_warnings(const frame_t *f, const vp_stats *st)
+{
+    if (st->depth_saturated)
+        fprintf(stderr, "albatros: warning: frame %u: %llu samples are nearer than near=%g: the "
+                        "depth store saturates and they tie (first face wins); lower 'near' in "
+                        "the scene\n", f->number, (unsigned long long)st->depth_saturated,
+                (double)f->near);
+    if (st->depth_underflow)
+        fprintf(stderr, "albatros: warning: frame %u: %llu samples are farther than near x "
+                        "2^depth_bits = %g and are not drawn; raise 'near' or depth_bits\n",
+                f->number, (unsigned long long)st->depth_underflow,
+                (double)f->near * ldexp(1, (int)f->depth_bits));
+}
+
 static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st)
 {
     sink_ctx *s = ctx;
@@ -106,6 +124,8 @@ static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st)
     char path[1024];
     diag_t d;
     diag_init(&d, NULL);
+    if (st)
+        width_warnings(f, st);
     if (a->output) {
         numbered(path, sizeof path, a->output, f->number, a->nframes);
         if (exr_write_frame(path, f, &d)) {
@@ -239,9 +259,13 @@ int cmd_render(int argc, char **argv)
     ws_buf buf;
     ws_buf_init(&buf);
     int rc = 0;
-    if (gp_create(&gp, &scene, &o.prof, &d) || gp_run(gp, &buf, NULL, &d)) {
+    gp_stats gst;
+    if (gp_create(&gp, &scene, &o.prof, &d) || gp_run(gp, &buf, &gst, &d)) {
         diag_print(&d, stderr);
         rc = 1;
+    } else if (gst.coef_saturated) {
+        fprintf(stderr, "albatros: warning: %u linear forms exceeded the exponent range "
+                        "(a face nearly edge-on to the observer?)\n", gst.coef_saturated);
     }
     if (!rc && a.stream && ws_write_file(a.stream, buf.w, buf.n, &d)) {
         diag_print(&d, stderr);

@@ -167,6 +167,8 @@ static void write_sample(vp_t *vp, const vp_face_setup *fs, uint32_t c, uint32_t
     vp->st.samples_covered++;
     int64_t nz = fs->depth.origin + (int64_t)c * fs->depth.step_c + (int64_t)r * fs->depth.step_r;
     uint32_t dv = vp_depth_value(vp, nz, fs->depth.exp);
+    vp->st.depth_underflow += dv == 0 && nz > 0;
+    vp->st.depth_saturated += dv == (uint32_t)(((uint64_t)1 << vp->prof.depth_bits) - 1);
     /* a later face wins only if strictly nearer: equal depths keep the
      * earlier face (docs/vp.md §4); 0 is "no surface" (behind or too far) */
     if (dv == 0 || dv <= vp->s_depth[idx])

@@ -24,6 +24,8 @@ typedef struct {
     uint64_t samples_tested;         /* single samples tested at their centre */
     uint64_t samples_covered;        /* samples inside a face (before depth) */
     uint64_t samples_written;        /* samples that won the depth test */
+    uint64_t depth_saturated;        /* covered samples nearer than `near` (store at max) */
+    uint64_t depth_underflow;        /* covered samples too far for the store (d = 0) */
     uint64_t faces;                  /* FACE packets drawn */
     uint64_t edges;                  /* edges of those faces */
 } vp_stats;
