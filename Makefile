@@ -36,7 +36,9 @@ TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 ALBATROS := $(BUILD)/albatros
 UNIT     := $(BUILD)/tests/unit
 
-.PHONY: all test unit vectors bless asan bench demo setup deps clean help check-fresh
+COST     := $(BUILD)/tools/cost
+
+.PHONY: all test unit vectors bless asan bench demo setup deps clean help
 all: $(ALBATROS) $(UNIT)
 
 help:
@@ -47,6 +49,7 @@ help:
 	@echo "make vectors    check the golden vectors only"
 	@echo "make bless      regenerate the golden vectors' expected outputs"
 	@echo "make asan       build and test under AddressSanitizer + UBSan"
+	@echo "make bench      print speed and work figures (docs/performance.md)"
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
@@ -81,6 +84,9 @@ $(BUILD)/gen/builtin_scene.c: gp/builtin.scene $(BUILD)/tools/embed
 $(ALBATROS): $(EMU_OBJ) $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
+$(COST): $(BUILD)/tools/cost.o $(LIB_OBJ)
+	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
+
 $(UNIT): $(TEST_OBJ) $(LIB_OBJ)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
@@ -102,6 +108,10 @@ asan:
 	$(MAKE) BUILD=build-asan OPT=-O1 \
 	  EXTRA_CFLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
 	  EXTRA_LDLIBS="-fsanitize=address,undefined" test
+
+# figures, not tests: docs/performance.md quotes them
+bench: $(COST)
+	$(COST)
 
 demo: $(ALBATROS)
 	@mkdir -p out
