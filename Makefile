@@ -38,7 +38,7 @@ UNIT     := $(BUILD)/tests/unit
 
 COST     := $(BUILD)/tools/cost
 
-.PHONY: all test unit vectors bless asan bench demo setup deps clean help
+.PHONY: all test unit vectors bless asan bench demo setup deps clean help crosscheck
 all: $(ALBATROS) $(UNIT)
 
 help:
@@ -50,6 +50,7 @@ help:
 	@echo "make bless      regenerate the golden vectors' expected outputs"
 	@echo "make asan       build and test under AddressSanitizer + UBSan"
 	@echo "make bench      print speed and work figures (docs/performance.md)"
+	@echo "make crosscheck the golden vectors from gcc -O0 and clang -O3 builds"
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
@@ -109,6 +110,14 @@ asan:
 	  EXTRA_CFLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
 	  EXTRA_LDLIBS="-fsanitize=address,undefined" test
 
+# bit-exact across compilers and optimisation: every golden vector (streams
+# and frames) from gcc -O0 and clang -O3 builds
+crosscheck:
+	$(MAKE) BUILD=build-gcc-O0 OPT=-O0 build-gcc-O0/albatros
+	$(MAKE) BUILD=build-clang-O3 CC=clang OPT=-O3 build-clang-O3/albatros
+	build-gcc-O0/albatros vectors check test-vectors
+	build-clang-O3/albatros vectors check test-vectors
+
 # figures, not tests: docs/performance.md quotes them
 bench: $(COST)
 	$(COST)
@@ -118,6 +127,6 @@ demo: $(ALBATROS)
 	$(ALBATROS) render -o out/builtin.exr --png out/builtin.png --stream out/builtin.stream
 
 clean:
-	rm -rf $(BUILD) build-asan out
+	rm -rf $(BUILD) build-asan build-gcc-O0 build-clang-O3 build-clang out vector-diffs
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
