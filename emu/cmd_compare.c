@@ -76,10 +76,9 @@ int cmd_compare(int argc, char **argv)
                isinf(r.psnr) ? 999.0 : r.psnr);
     else
         printf("%zu pixels: %zu with a different face (%.4f%%), %zu with a different colour; "
-               "colour error max %u, mean %.4f, PSNR %s%.2f dB\n",
+               "colour error max %u, mean %.4f, PSNR %.2f dB\n",
                r.pixels, r.face_diff, 100.0 * (double)r.face_diff / (double)r.pixels,
-               r.colour_diff, r.max_error, r.mean_error, isinf(r.psnr) ? "inf " : "",
-               isinf(r.psnr) ? 0.0 : r.psnr);
+               r.colour_diff, r.max_error, r.mean_error, r.psnr);
     rc = (r.face_diff || r.colour_diff || r.coverage_diff) ? 1 : 0;
 done:
     frame_free(&f[0]);

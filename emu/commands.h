@@ -16,6 +16,7 @@ int cmd_vp(int argc, char **argv);
 int cmd_reference(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_accuracy(int argc, char **argv);
+int cmd_scene(int argc, char **argv);
 
 
 

@@ -17,6 +17,7 @@ static const command commands[] = {
     {"reference", cmd_reference, "render a scene with the exact double-precision reference"},
     {"compare", cmd_compare, "compare two frames: face mismatches, colour error, diff image"},
     {"accuracy", cmd_accuracy, "measure the VP against the exact reference on scenes"},
+    {"scene", cmd_scene, "write a generated scene (random polygons, slivers)"},
     {"dump", cmd_dump, "check a word stream and print it with field names"},
     {"vectors", cmd_vectors, "check (or bless) the golden vectors"},
     {"profiles", cmd_profiles, "list the family's profiles and their fields"},

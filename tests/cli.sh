@@ -24,7 +24,7 @@ expect 0 'usage: albatros SUBCOMMAND' "$bin" --help
 expect 0 '^albatros [0-9]+\.[0-9]+\.[0-9]+$' "$bin" --version
 expect 2 "unknown subcommand 'frobnicate'" "$bin" frobnicate
 expect 2 'usage' "$bin"
-for sub in gp dump vectors; do
+for sub in gp dump vectors render vp reference compare accuracy scene; do
     expect 0 "usage: albatros $sub" "$bin" $sub --help
 done
 expect 0 'profile=a1024' "$bin" profiles
@@ -80,6 +80,29 @@ expect 1 "frame 0 differs at pixel \([0-9]+, [0-9]+\): vp.R expected 200, got 10
 echo "flipped on purpose" > "$tmp/v/tri/KNOWN-FAILURE"
 expect 0 "known failure tri" "$bin" vectors check "$tmp/v"
 expect 1 "no vector named 'zzz'" "$bin" vectors check "$tmp/v" zzz
+
+# render, vp replay, reference, compare
+printf 'albatros-scene 1\nobserver fov 90\nobject t\n v -1 -1 5\n v 1 -1 5\n v 0 1 5\n f 1 2 3\nend\n' > "$tmp/t.scene"
+expect 0 'frame 0: 1 faces' "$bin" render "$tmp/t.scene" --profile a256 -o "$tmp/t.exr" --png "$tmp/t.png" --stream "$tmp/t.stream"
+exrheader "$tmp/t.exr" > "$tmp/t.hdr" 2>&1 && grep -q 'face.id, 32-bit unsigned integer' "$tmp/t.hdr" \
+    && grep -q 'compression (type compression): zip' "$tmp/t.hdr" && ok || bad "exrheader: $(cat "$tmp/t.hdr")"
+expect 0 'frame 0: 1 faces' "$bin" vp "$tmp/t.stream" --profile a256 -o "$tmp/v.exr"
+"$bin" render "$tmp/t.scene" -q -o "$tmp/b512.exr" && ok || bad "render a512"
+expect 0 'with a different face \(0.0000%\)' "$bin" compare "$tmp/t.exr" "$tmp/v.exr"
+cmp -s "$tmp/t.exr" "$tmp/v.exr" && ok || bad "vp replay differs from render"
+expect 1 "t.stream: offset 0: error: word 0: the stream's formats .* differ from the profile's" "$bin" vp "$tmp/t.stream" --profile a512 --json
+expect 0 'reference frame 0' "$bin" reference "$tmp/t.scene" --profile a256 -o "$tmp/r.exr"
+expect 0 '0 with a different colour; colour error max 0, mean 0.0000, PSNR inf dB' "$bin" compare "$tmp/t.exr" "$tmp/r.exr"
+"$bin" render --profile a256 -q -o "$tmp/bv.exr" && "$bin" reference --profile a256 -q -o "$tmp/br.exr" && ok || bad "builtin render/reference"
+expect 1 'pixels: [0-9]+ with a different face' "$bin" compare "$tmp/bv.0000.exr" "$tmp/br.0000.exr" --diff "$tmp/d.png"
+[[ -s $tmp/d.png ]] && ok || bad "no diff png"
+expect 2 'is 256x256 .*is 512x512' "$bin" compare "$tmp/t.exr" "$tmp/b512.exr"
+expect 2 'cannot' "$bin" compare "$tmp/t.exr" "$tmp/none.exr"
+expect 2 "nothing to write" "$bin" render
+expect 2 "views are colour" "$bin" render --view bogus:x.png
+expect 0 '0 of them different' "$bin" accuracy "$tmp/t.scene" --profile a256
+"$bin" scene random --faces 5 --seed 3 -o "$tmp/r.scene" && "$bin" scene random --faces 5 --seed 3 | cmp -s - "$tmp/r.scene" && ok || bad "scene random not deterministic"
+expect 0 '0 of them different' "$bin" accuracy --random 3 --profile a256
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

@@ -132,3 +132,32 @@ char *scenegen_random(uint64_t seed, const scenegen_params *p)
     }
     return b.s;
 }
+
+char *scenegen_slivers(uint64_t seed, unsigned per_angle)
+{
+    static const double angles[] = {10, 5, 2, 1, 0.5, 0.2, 0.1, 0.05, 0.02, 0.01};
+    uint64_t s = seed * 0x9E3779B97F4A7C15ULL + 1;
+    text_buf b = {0};
+    unsigned k = 0;
+    put(&b, "albatros-scene 1\n# slivers, seed %llu\nobserver fov 90\nbackground 0 0 0\n",
+        (unsigned long long)seed);
+    for (size_t a = 0; a < sizeof angles / sizeof angles[0]; a++)
+        for (unsigned rep = 0; rep < per_angle; rep++, k++) {
+            double th = uniform(&s, 0, 2 * VEC3_PI), len = uniform(&s, 0.6, 1.4);
+            double cx = uniform(&s, -0.5, 0.5), cy = uniform(&s, -0.5, 0.5);
+            double w = len * tan(angles[a] * VEC3_PI / 360), dx = cos(th), dy = sin(th);
+            /* base corners, then the tip: counter-clockwise on the screen */
+            double p[3][2] = {{cx + dy * w, cy - dx * w}, {cx + dx * len, cy + dy * len},
+                              {cx - dy * w, cy + dx * w}};
+            double z = 5 + 0.01 * k;
+            put(&b, "object s%u\n", k);
+            for (int v = 0; v < 3; v++)
+                put(&b, " v %.12g %.12g %.12g\n", p[v][0] * z, p[v][1] * z, z);
+            put(&b, " f 1 2 3 colour 255 255 255\nend\n");
+        }
+    if (b.oom) {
+        free(b.s);
+        return NULL;
+    }
+    return b.s;
+}

@@ -17,5 +17,9 @@ typedef struct {
 /* Defaults: 12 faces, 10% crossing Z = 0, 10% back-facing, up to 6 vertices. */
 scenegen_params scenegen_defaults(void);
 char *scenegen_random(uint64_t seed, const scenegen_params *p);
+/* Slivers: `per_angle` triangles for each tip angle 10, 5, 2, 1, 0.5, 0.2,
+ * 0.1, 0.05, 0.02, 0.01 degrees, random orientation and length, facing the
+ * observer (fov 90) at distance 5. */
+char *scenegen_slivers(uint64_t seed, unsigned per_angle);
 
 #endif

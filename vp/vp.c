@@ -353,7 +353,9 @@ alb_err vp_run_stream(vp_t *vp, const uint32_t *w, size_t n, const char *name,
             break;
         switch (ev->kind) {
         case WS_EV_CONFIG:
-            if (!(e = vp_config(vp, &ev->u.config, d)) && vp_frame_alloc(vp, &frame, false))
+            if ((e = vp_config(vp, &ev->u.config, d)))
+                break;
+            if (vp_frame_alloc(vp, &frame, false))
                 e = diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory for a frame");
             break;
         case WS_EV_TEXTURE:
@@ -363,11 +365,7 @@ alb_err vp_run_stream(vp_t *vp, const uint32_t *w, size_t n, const char *name,
             vp_frame_begin(vp, &ev->u.frame);
             break;
         case WS_EV_FACE:
-            if ((e = vp_face(vp, &ev->u.face, d))) {
-                char msg[sizeof d->msg];
-                memcpy(msg, d->msg, sizeof msg);
-                diag_off(d, e, name, (long long)ev->first * 4, "word %zu: %s", ev->first, msg);
-            }
+            e = vp_face(vp, &ev->u.face, d);
             break;
         case WS_EV_FRAME_END:
             vp_frame_end(vp, &frame);
@@ -377,6 +375,12 @@ alb_err vp_run_stream(vp_t *vp, const uint32_t *w, size_t n, const char *name,
         case WS_EV_END:
             break;
         }
+    }
+    if (e && (ev->kind == WS_EV_CONFIG || ev->kind == WS_EV_FACE) && d->offset < 0 && !d->line) {
+        /* a packet the decoder accepted but this VP cannot take: say where */
+        char msg[sizeof d->msg];
+        memcpy(msg, d->msg, sizeof msg);
+        diag_off(d, e, name, (long long)ev->first * 4, "word %zu: %s", ev->first, msg);
     }
     frame_free(&frame);
     free(ev);
