@@ -23,7 +23,7 @@ COMMON_SRC := common/diag.c common/profile.c common/words.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
 VP_SRC     := vp/vp.c vp/shade.c vp/frame.c
 TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c
-SINK_SRC   := emu/exr.c emu/preview.c
+SINK_SRC   := emu/exr.c emu/preview.c emu/sim.c emu/sim_timed.c emu/sim_cycle.c emu/vcd.c
 EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cmd_render.c emu/cmd_compare.c emu/cmd_scene.c \
               emu/cli.c
 LIB_SRC    := $(COMMON_SRC) $(GP_SRC) $(VP_SRC) $(TOOLS_SRC) $(SINK_SRC) $(BUILD)/gen/builtin_scene.c

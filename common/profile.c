@@ -10,12 +10,17 @@
 /* Defaults are chosen as a 1990s team would for 50 Hz at these sizes: 24-bit
  * mantissas and depth (what a 24-bit DSP datapath carries), 8-bit colour, and
  * six bits below the pixel in edge intercepts (docs/profiles.md). */
+/* The clocked parameters (docs/microarchitecture.md): a 40 MHz VP with 8
+ * edge units and a 4-sample fill for 512x512, twice the clock and fill rate
+ * for 1024x1024, a 512-word FIFO, two face slots, a 4-cell fill queue, an
+ * 8-stage divider; the GP spends 24 + 6 per edge clocks per face. */
+#define CLOCKED(khz, fill) khz, 512, 2, 8, fill, 4, 8, 4, 24, 6, 16
 static const profile_t builtin[] = {
-    {"a512", 512, 512, 0, 14, 24, 24, 8, 16, 12, BOUND_ALBATROS, true},
-    {"a1024", 1024, 1024, 0, 15, 24, 24, 8, 16, 12, BOUND_ALBATROS, true},
-    {"a1024x512", 1024, 512, 0, 15, 24, 24, 8, 16, 12, BOUND_ALBATROS, true},
-    {"a256", 256, 256, 0, 13, 24, 24, 8, 16, 12, BOUND_ALBATROS, true},
-    {"t32", 32, 32, 0, 10, 24, 24, 8, 16, 12, BOUND_ALBATROS, true},
+    {"a512", 512, 512, 0, 14, 24, 24, 8, 16, 12, BOUND_ALBATROS, true, CLOCKED(40000, 4)},
+    {"a1024", 1024, 1024, 0, 15, 24, 24, 8, 16, 12, BOUND_ALBATROS, true, CLOCKED(80000, 8)},
+    {"a1024x512", 1024, 512, 0, 15, 24, 24, 8, 16, 12, BOUND_ALBATROS, true, CLOCKED(60000, 8)},
+    {"a256", 256, 256, 0, 13, 24, 24, 8, 16, 12, BOUND_ALBATROS, true, CLOCKED(20000, 4)},
+    {"t32", 32, 32, 0, 10, 24, 24, 8, 16, 12, BOUND_ALBATROS, true, CLOCKED(10000, 4)},
 };
 
 static const char *const names[] = {"a512", "a1024", "a1024x512", "a256", "t32", NULL};
@@ -77,7 +82,10 @@ typedef struct {
 static const uint_field uint_fields[] = {
     FIELD(width), FIELD(height), {"aa", offsetof(profile_t, aa_levels)},
     FIELD(edge_frac_bits), FIELD(coef_bits), FIELD(depth_bits),
-    FIELD(colour_bits), FIELD(recip_bits), FIELD(shade_frac_bits),
+    FIELD(colour_bits), FIELD(recip_bits), FIELD(shade_frac_bits), FIELD(clock_khz),
+    FIELD(fifo_depth), FIELD(face_slots), FIELD(edge_units), FIELD(fill_rate), FIELD(fill_queue),
+    FIELD(divider_latency), FIELD(shade_latency), FIELD(gp_face_cycles), FIELD(gp_edge_cycles),
+    FIELD(gp_frame_cycles),
 };
 
 int profile_set(profile_t *p, const char *assignment, char *err, size_t errlen)
@@ -116,9 +124,11 @@ int profile_set(profile_t *p, const char *assignment, char *err, size_t errlen)
         p->cull_backfaces = val[0] == '1';
         return 0;
     }
-    snprintf(err, errlen, "'%.*s': unknown profile key (known: width height aa "
-             "edge_frac_bits coef_bits depth_bits colour_bits recip_bits "
-             "shade_frac_bits bound backface)", (int)klen, assignment);
+    char known[600] = "";
+    for (size_t i = 0; i < sizeof uint_fields / sizeof uint_fields[0]; i++)
+        snprintf(known + strlen(known), sizeof known - strlen(known), " %s", uint_fields[i].key);
+    snprintf(err, errlen, "'%.*s': unknown profile key (known:%s bound backface)", (int)klen,
+             assignment, known);
     return -1;
 }
 
@@ -163,6 +173,21 @@ int profile_check(const profile_t *p, char *err, size_t errlen)
     if (p->coef_bits + profile_levels(p) + 2 + p->recip_bits + 1 > 63)
         BAD("coef_bits + levels + recip_bits = %u: the product would not fit 63 bits",
             p->coef_bits + profile_levels(p) + p->recip_bits);
+    if (p->clock_khz < 1 || p->clock_khz > 10000000)
+        BAD("clock_khz=%u: must be in 1..10000000", p->clock_khz);
+    if (p->fifo_depth < 1 || p->fifo_depth > (1u << 20))
+        BAD("fifo_depth=%u: must be in 1..1048576 words", p->fifo_depth);
+    if (p->face_slots < 1 || p->face_slots > 64)
+        BAD("face_slots=%u: must be in 1..64", p->face_slots);
+    if (p->edge_units < 1 || p->edge_units > 64)
+        BAD("edge_units=%u: must be in 1..64", p->edge_units);
+    if (p->fill_rate < 1 || p->fill_rate > 256)
+        BAD("fill_rate=%u: must be in 1..256 samples per clock", p->fill_rate);
+    if (p->fill_queue < 1 || p->fill_queue > 1024)
+        BAD("fill_queue=%u: must be in 1..1024 cells", p->fill_queue);
+    if (p->divider_latency > 1000 || p->shade_latency > 1000 || p->gp_face_cycles > 1000000 ||
+        p->gp_edge_cycles > 1000000 || p->gp_frame_cycles > 1000000)
+        BAD("latencies must be at most 1000 (divider, shade) and 1000000 (GP)");
     return 0;
 #undef BAD
 }
@@ -172,8 +197,14 @@ void profile_describe(const profile_t *p, char *buf, size_t len)
     snprintf(buf, len,
              "profile=%s\nwidth=%u\nheight=%u\naa=%u\nedge_frac_bits=%u\n"
              "coef_bits=%u\ndepth_bits=%u\ncolour_bits=%u\nrecip_bits=%u\n"
-             "shade_frac_bits=%u\nbound=%s\nbackface=%d\n",
+             "shade_frac_bits=%u\nbound=%s\nbackface=%d\nclock_khz=%u\nfifo_depth=%u\n"
+             "face_slots=%u\nedge_units=%u\nfill_rate=%u\nfill_queue=%u\n"
+             "divider_latency=%u\nshade_latency=%u\ngp_face_cycles=%u\ngp_edge_cycles=%u\n"
+             "gp_frame_cycles=%u\n",
              p->name, p->width, p->height, p->aa_levels, p->edge_frac_bits,
              p->coef_bits, p->depth_bits, p->colour_bits, p->recip_bits,
-             p->shade_frac_bits, bound_method_name(p->bound), p->cull_backfaces);
+             p->shade_frac_bits, bound_method_name(p->bound), p->cull_backfaces, p->clock_khz,
+             p->fifo_depth, p->face_slots, p->edge_units, p->fill_rate, p->fill_queue,
+             p->divider_latency, p->shade_latency, p->gp_face_cycles, p->gp_edge_cycles,
+             p->gp_frame_cycles);
 }

@@ -26,6 +26,18 @@ typedef struct {
     unsigned shade_frac_bits; /* fraction bits of intensity after eq. (7) */
     bound_method bound;
     bool cull_backfaces;      /* GP drops faces whose back the observer sees */
+    /* the clocked micro-architecture (docs/microarchitecture.md) */
+    unsigned clock_khz;       /* modelled clock */
+    unsigned fifo_depth;      /* GP -> VP FIFO, 32-bit words */
+    unsigned face_slots;      /* edge store: faces loaded ahead of the engine */
+    unsigned edge_units;      /* edges the engine evaluates per clock */
+    unsigned fill_rate;       /* samples the fill unit issues per clock */
+    unsigned fill_queue;      /* cells between engine and fill unit */
+    unsigned divider_latency; /* reciprocal unit pipeline stages */
+    unsigned shade_latency;   /* shading, texture, fog, write stages */
+    unsigned gp_face_cycles;  /* GP time per face packet, before its words */
+    unsigned gp_edge_cycles;  /* ... plus this per edge */
+    unsigned gp_frame_cycles; /* ... per FRAME packet */
 } profile_t;
 
 /* Fill *p with the named profile; returns 0, or -1 if unknown. */

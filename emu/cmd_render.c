@@ -5,6 +5,8 @@
 #include "commands.h"
 #include "exr.h"
 #include "preview.h"
+#include "sim.h"
+#include "vcd.h"
 #include "../tools/ref.h"
 #include "../vp/vp.h"
 
@@ -22,6 +24,10 @@ typedef struct {
     } views[MAX_VIEWS];
     unsigned nviews;
     bool json, quiet, help;
+    fidelity fid;
+    const char *vcd;
+    uint64_t vcd_from, vcd_to;
+    profile_t prof;
     /* run state */
     unsigned nframes, done;
     const char *cmd;
@@ -52,6 +58,24 @@ static int render_opt(void *ctx, const char *name, const char *value)
             return -1;
         }
         a->views[a->nviews++].path = colon + 1;
+    } else if (strcmp(name, "fidelity") == 0) {
+        if (fidelity_parse(value, &a->fid)) {
+            fprintf(stderr, "albatros %s: --fidelity %s: expected functional, timed or cycle\n",
+                    a->cmd, value);
+            return -1;
+        }
+    } else if (strcmp(name, "vcd") == 0) {
+        a->vcd = value;
+    } else if (strcmp(name, "vcd-window") == 0) {
+        unsigned long long from, to;
+        char tail;
+        if (sscanf(value, "%llu:%llu%c", &from, &to, &tail) != 2 || from > to) {
+            fprintf(stderr, "albatros %s: --vcd-window %s: expected FROM:TO cycles, FROM <= TO\n",
+                    a->cmd, value);
+            return -1;
+        }
+        a->vcd_from = from;
+        a->vcd_to = to;
     } else if (strcmp(name, "json") == 0)
         a->json = true;
     else if (strcmp(name, "quiet") == 0 || strcmp(name, "q") == 0)
@@ -74,7 +98,8 @@ static void numbered(char *out, size_t len, const char *path, unsigned number, u
     snprintf(out, len, "%.*s.%04u%s", (int)(dot - path), path, number, dot);
 }
 
-static void stats_json(FILE *f, const frame_t *fr, const vp_stats *st, unsigned levels)
+static void stats_json(FILE *f, const frame_t *fr, const vp_stats *st, unsigned levels,
+                       const sim_counters *sc, const profile_t *p)
 {
     fprintf(f, "{\"frame\": %u, \"faces\": %llu, \"edges\": %llu, \"cells_per_level\": [",
             fr->number, (unsigned long long)st->faces, (unsigned long long)st->edges);
@@ -82,11 +107,16 @@ static void stats_json(FILE *f, const frame_t *fr, const vp_stats *st, unsigned 
         fprintf(f, "%s%llu", l ? ", " : "", (unsigned long long)st->cells[l]);
     fprintf(f, "], \"cells_inside\": %llu, \"cells_outside\": %llu, \"cells_split\": %llu, "
                "\"samples_tested\": %llu, \"samples_covered\": %llu, \"samples_written\": %llu, "
-               "\"depth_saturated\": %llu, \"depth_underflow\": %llu}",
+               "\"depth_saturated\": %llu, \"depth_underflow\": %llu",
             (unsigned long long)st->cells_inside, (unsigned long long)st->cells_outside,
             (unsigned long long)st->cells_split, (unsigned long long)st->samples_tested,
             (unsigned long long)st->samples_covered, (unsigned long long)st->samples_written,
             (unsigned long long)st->depth_saturated, (unsigned long long)st->depth_underflow);
+    if (sc) {
+        fprintf(f, ", \"timing\": ");
+        sim_counters_json(f, sc, p);
+    }
+    fputc('}', f);
 }
 
 static uint64_t total_cells(const vp_stats *st)
@@ -117,7 +147,7 @@ static void width_warnings(const frame_t *f, const vp_stats *st)
                 (double)f->near * ldexp(1, (int)f->depth_bits));
 }
 
-static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st)
+static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st, const sim_counters *sc)
 {
     sink_ctx *s = ctx;
     render_args *a = s->a;
@@ -150,7 +180,7 @@ static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st)
     if (a->json) {
         printf("%s", a->done ? ",\n  " : "  ");
         if (st)
-            stats_json(stdout, f, st, s->levels);
+            stats_json(stdout, f, st, s->levels, sc, &a->prof);
         else
             printf("{\"frame\": %u}", f->number);
     } else if (!a->quiet && !st) {
@@ -159,6 +189,8 @@ static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st)
         fprintf(stderr, "%sframe %u: %llu faces, %llu cells visited, %llu samples written\n",
                 a->progress ? "\r" : "", f->number, (unsigned long long)st->faces,
                 (unsigned long long)total_cells(st), (unsigned long long)st->samples_written);
+        if (sc)
+            sim_counters_text(stderr, sc, &a->prof);
     }
     a->done++;
     return 0;
@@ -180,26 +212,40 @@ static unsigned count_frames(const uint32_t *w, size_t n)
     return frames;
 }
 
-/* The VP on a whole stream, frames to the sinks. */
+/* The VP on a whole stream at the chosen fidelity, frames to the sinks. */
 static int run_vp(render_args *a, const profile_t *prof, const uint32_t *w, size_t n,
                   const char *name)
 {
     diag_t d;
     diag_init(&d, stderr);
-    vp_t *vp = NULL;
-    if (vp_create(&vp, prof, &d)) {
-        diag_print(&d, stderr);
-        return 1;
+    sim_options opt = {a->fid, NULL, a->vcd_from, a->vcd_to ? a->vcd_to : UINT64_MAX};
+    a->prof = *prof;
+    if (a->vcd) {
+        if (a->fid != FIDELITY_CYCLE) {
+            fprintf(stderr, "albatros %s: --vcd traces the cycle fidelity: add --fidelity cycle\n",
+                    a->cmd);
+            return 2;
+        }
+        if (!(opt.vcd = vcd_open(a->vcd, &d))) {
+            diag_print(&d, stderr);
+            return 1;
+        }
     }
     a->nframes = count_frames(w, n);
     sink_ctx s = {a, profile_levels(prof)};
     if (a->json)
-        printf("{\"profile\": \"%s\", \"frames\": [\n", prof->name);
-    alb_err e = vp_run_stream(vp, w, n, name, write_outputs, &s, &d);
+        printf("{\"profile\": \"%s\", \"fidelity\": \"%s\", \"frames\": [\n", prof->name,
+               fidelity_name(a->fid));
+    alb_err e = sim_run(prof, w, n, name, &opt, write_outputs, &s, &d);
     if (a->json)
         printf("\n]}\n");
-    vp_destroy(vp);
+    if (opt.vcd && vcd_close(opt.vcd)) {
+        fprintf(stderr, "albatros %s: %s: write error\n", a->cmd, a->vcd);
+        e = e ? e : ALB_ERR_IO;
+    }
     if (e && e != ALB_ERR_IO)
+        diag_print(&d, stderr);
+    else if (e == ALB_ERR_IO && d.msg[0])
         diag_print(&d, stderr);
     return e ? 1 : 0;
 }
@@ -214,6 +260,10 @@ static const char render_help[] =
     "  --png FILE          PNG preview of the colour\n"
     "  --view NAME:FILE    PNG of one view: colour, depth, face, level, coverage\n"
     "  --stream FILE       also write the GP's word stream\n"
+    "  --fidelity F        functional (default: pixels only), timed or cycle (cycle\n"
+    "                      counts, unit counters, vp.cycles; docs/microarchitecture.md)\n"
+    "  --vcd FILE          VCD waveform of the cycle model (with --fidelity cycle)\n"
+    "  --vcd-window A:B    trace only cycles A to B\n"
     "  --json              per-frame VP statistics as JSON on stdout\n"
     "  -q, --quiet         no summary\n\n";
 
@@ -221,7 +271,8 @@ static const char vp_help[] =
     "usage: albatros vp STREAM [-o FRAME.exr] [--png FRAME.png] [--view NAME:FILE.png]\n"
     "                   [--json] [--profile NAME] [--set KEY=VALUE]\n\n"
     "Run the VP alone on a word stream (as written by albatros gp), as an RTL test\n"
-    "bench replays it.  The profile must match the stream's CONFIG formats.\n\n";
+    "bench replays it.  The profile must match the stream's CONFIG formats.\n"
+    "Options as for render: -o, --png, --view, --json, --fidelity, --vcd, --vcd-window.\n\n";
 
 static int check_outputs(render_args *a)
 {
@@ -236,7 +287,7 @@ static int check_outputs(render_args *a)
 int cmd_render(int argc, char **argv)
 {
     static const char *const spec[] = {"output=", "png=", "view=", "stream=", "json", "quiet",
-                                       "q", "help", NULL};
+                                       "q", "help", "fidelity=", "vcd=", "vcd-window=", NULL};
     render_args a = {.cmd = "render", .progress = cli_isatty_stderr()};
     run_opts o;
     run_opts_init(&o);
@@ -282,7 +333,7 @@ int cmd_render(int argc, char **argv)
 int cmd_vp(int argc, char **argv)
 {
     static const char *const spec[] = {"output=", "png=", "view=", "json", "quiet", "q", "help",
-                                       NULL};
+                                       "fidelity=", "vcd=", "vcd-window=", NULL};
     render_args a = {.cmd = "vp", .progress = cli_isatty_stderr()};
     run_opts o;
     run_opts_init(&o);
@@ -352,7 +403,7 @@ int cmd_reference(int argc, char **argv)
             rc = 1;
             break;
         }
-        rc = write_outputs(&s, &fr, NULL) ? 1 : 0;
+        rc = write_outputs(&s, &fr, NULL, NULL) ? 1 : 0;
         frame_free(&fr);
     }
     if (a.json)

@@ -39,6 +39,26 @@ void frame_free(frame_t *f)
     f->coverage = NULL;
 }
 
+int frame_copy(frame_t *dst, const frame_t *src)
+{
+    if (frame_alloc(dst, src->width, src->height, src->cycles != NULL))
+        return -1;
+    size_t n = (size_t)src->width * src->height;
+    memcpy(dst->rgb, src->rgb, 3 * n * sizeof *dst->rgb);
+    memcpy(dst->depth, src->depth, n * sizeof *dst->depth);
+    memcpy(dst->face, src->face, n * sizeof *dst->face);
+    memcpy(dst->level, src->level, n * sizeof *dst->level);
+    memcpy(dst->coverage, src->coverage, n * sizeof *dst->coverage);
+    if (src->cycles)
+        memcpy(dst->cycles, src->cycles, n * sizeof *dst->cycles);
+    dst->colour_bits = src->colour_bits;
+    dst->depth_bits = src->depth_bits;
+    dst->aa_levels = src->aa_levels;
+    dst->near = src->near;
+    dst->number = src->number;
+    return 0;
+}
+
 float frame_z(const frame_t *f, uint32_t d)
 {
     if (d == 0)

@@ -30,6 +30,8 @@ typedef struct {
 /* Allocate a frame's planes (cycles only if with_cycles); -1 if out of memory. */
 int frame_alloc(frame_t *f, unsigned width, unsigned height, bool with_cycles);
 void frame_free(frame_t *f);
+/* Deep copy into dst (allocated here); -1 if out of memory. */
+int frame_copy(frame_t *dst, const frame_t *src);
 
 /* Z in scene units of a depth store value: near / (d / 2^depth_bits);
  * +infinity for d = 0 (no surface). */

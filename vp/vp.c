@@ -153,13 +153,6 @@ void vp_form_setup(const vp_t *vp, const ws_form *f, vp_form_fn *fn)
 
 /* ---- the subdivision engine ---- */
 
-typedef struct {
-    uint32_t c0, r0;         /* top-left sample */
-    uint8_t wl, hl;          /* log2 of width and height in samples */
-    uint8_t level;
-    uint64_t active;         /* edges not yet known to hold the cell inside */
-} cell;
-
 static void write_sample(vp_t *vp, const vp_face_setup *fs, uint32_t c, uint32_t r,
                          unsigned level)
 {
@@ -180,7 +173,7 @@ static void write_sample(vp_t *vp, const vp_face_setup *fs, uint32_t c, uint32_t
     vp_shade_sample(vp, fs, nz, c, r, vp->s_rgb + 3 * idx);
 }
 
-static void fill_cell(vp_t *vp, const vp_face_setup *fs, const cell *k)
+void vp_fill(vp_t *vp, const vp_face_setup *fs, const vp_cell *k)
 {
     uint32_t cw = 1u << k->wl, ch = 1u << k->hl;
     for (uint32_t r = k->r0; r < k->r0 + ch; r++)
@@ -190,7 +183,7 @@ static void fill_cell(vp_t *vp, const vp_face_setup *fs, const cell *k)
 
 /* Classify cell k against its active edges: -1 outside, 1 inside (every
  * edge holds it wholly), 0 crossing; k->active loses the edges that hold it. */
-static int classify(const vp_edge_fn *e, cell *k)
+static int classify(const vp_edge_fn *e, vp_cell *k)
 {
     int64_t c0 = 2 * (int64_t)k->c0, c1 = 2 * ((int64_t)k->c0 + (1 << k->wl));
     int64_t r0 = 2 * (int64_t)k->r0, r1 = 2 * ((int64_t)k->r0 + (1 << k->hl));
@@ -222,49 +215,60 @@ static bool sample_inside(const vp_edge_fn *e, uint64_t active, uint32_t c, uint
     return true;
 }
 
-static void subdivide(vp_t *vp, const vp_face_setup *fs, const vp_edge_fn *e, unsigned n)
+void vp_walk_begin(vp_walk *w, const vp_t *vp, const vp_loaded_face *f)
 {
-    cell stack[3 * VP_MAX_LEVELS + 4];
-    unsigned top = 0;
-    stack[top++] = (cell){0, 0, (uint8_t)vp->lw, (uint8_t)vp->lh, 0,
-                          n == 64 ? ~0ull : (1ull << n) - 1};
-    while (top) {
-        cell k = stack[--top];
-        vp->st.cells[k.level]++;
-        if (k.wl == 0 && k.hl == 0) {
-            /* a single sample: decided at its centre */
-            vp->st.samples_tested++;
-            if (sample_inside(e, k.active, k.c0, k.r0))
-                write_sample(vp, fs, k.c0, k.r0, k.level);
-            continue;
-        }
-        int cls = classify(e, &k);
-        if (cls < 0) {
-            vp->st.cells_outside++;
-            continue;
-        }
-        if (cls > 0) {
-            vp->st.cells_inside++;
-            fill_cell(vp, fs, &k);
-            continue;
-        }
-        vp->st.cells_split++;
-        /* children, visited top-left, top-right, bottom-left, bottom-right;
-         * a side already one sample long is not split */
-        uint8_t wl = k.wl ? k.wl - 1 : 0, hl = k.hl ? k.hl - 1 : 0;
-        cell kids[4];
-        unsigned nk = 0;
-        for (unsigned dy = 0; dy < (k.hl ? 2u : 1u); dy++)
-            for (unsigned dx = 0; dx < (k.wl ? 2u : 1u); dx++)
-                kids[nk++] = (cell){k.c0 + (dx << wl), k.r0 + (dy << hl), wl, hl,
-                                    (uint8_t)(k.level + 1), k.active};
-        while (nk)
-            stack[top++] = kids[--nk];
-    }
+    w->e = f->e;
+    w->top = 0;
+    w->stack[w->top++] = (vp_cell){0, 0, (uint8_t)vp->lw, (uint8_t)vp->lh, 0,
+                                   f->n == 64 ? ~0ull : (1ull << f->n) - 1};
 }
 
-static alb_err face_setup(vp_t *vp, const ws_face *f, vp_face_setup *fs, diag_t *d)
+bool vp_walk_next(vp_t *vp, vp_walk *w, vp_step *step)
 {
+    if (!w->top)
+        return false;
+    vp_cell k = w->stack[--w->top];
+    vp->st.cells[k.level]++;
+    step->edges = (unsigned)__builtin_popcountll(k.active);
+    step->cell = k;
+    if (k.wl == 0 && k.hl == 0) {
+        /* a single sample: decided at its centre */
+        vp->st.samples_tested++;
+        step->kind = sample_inside(w->e, k.active, k.c0, k.r0) ? VP_STEP_SAMPLE_IN
+                                                               : VP_STEP_SAMPLE_OUT;
+        return true;
+    }
+    int cls = classify(w->e, &k);
+    step->cell = k;
+    if (cls < 0) {
+        vp->st.cells_outside++;
+        step->kind = VP_STEP_OUT;
+        return true;
+    }
+    if (cls > 0) {
+        vp->st.cells_inside++;
+        step->kind = VP_STEP_FILL;
+        return true;
+    }
+    vp->st.cells_split++;
+    step->kind = VP_STEP_SPLIT;
+    /* children, visited top-left, top-right, bottom-left, bottom-right;
+     * a side already one sample long is not split */
+    uint8_t wl = k.wl ? k.wl - 1 : 0, hl = k.hl ? k.hl - 1 : 0;
+    vp_cell kids[4];
+    unsigned nk = 0;
+    for (unsigned dy = 0; dy < (k.hl ? 2u : 1u); dy++)
+        for (unsigned dx = 0; dx < (k.wl ? 2u : 1u); dx++)
+            kids[nk++] = (vp_cell){k.c0 + (dx << wl), k.r0 + (dy << hl), wl, hl,
+                                   (uint8_t)(k.level + 1), k.active};
+    while (nk)
+        w->stack[w->top++] = kids[--nk];
+    return true;
+}
+
+alb_err vp_load_face(vp_t *vp, const ws_face *f, vp_loaded_face *out, diag_t *d)
+{
+    vp_face_setup *fs = &out->fs;
     memset(fs, 0, sizeof *fs);
     fs->id = f->id;
     fs->flags = f->flags;
@@ -283,21 +287,26 @@ static alb_err face_setup(vp_t *vp, const ws_face *f, vp_face_setup *fs, diag_t 
         fs->texels = vp->tex[f->texture];
         fs->tex_log2 = vp->tex_log2[f->texture];
     }
+    for (unsigned i = 0; i < f->n_edges; i++)
+        vp_edge_setup(vp, &f->edge[i], &out->e[i]);
+    out->n = f->n_edges;
     return ALB_OK;
 }
 
 alb_err vp_face(vp_t *vp, const ws_face *f, diag_t *d)
 {
-    vp_face_setup fs;
-    vp_edge_fn e[WS_MAX_EDGES];
-    alb_err err = face_setup(vp, f, &fs, d);
+    vp_loaded_face lf;
+    alb_err err = vp_load_face(vp, f, &lf, d);
     if (err)
         return err;
-    for (unsigned i = 0; i < f->n_edges; i++)
-        vp_edge_setup(vp, &f->edge[i], &e[i]);
     vp->st.faces++;
     vp->st.edges += f->n_edges;
-    subdivide(vp, &fs, e, f->n_edges);
+    vp_walk w;
+    vp_step step;
+    vp_walk_begin(&w, vp, &lf);
+    while (vp_walk_next(vp, &w, &step))
+        if (step.kind == VP_STEP_FILL || step.kind == VP_STEP_SAMPLE_IN)
+            vp_fill(vp, &lf.fs, &step.cell);
     return ALB_OK;
 }
 

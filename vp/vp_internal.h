@@ -52,6 +52,54 @@ struct vp {
     vp_stats st;
 };
 
+/* A face as the edge store holds it: shading set-up and edge functions. */
+typedef struct {
+    vp_face_setup fs;
+    vp_edge_fn e[WS_MAX_EDGES];
+    unsigned n;
+} vp_loaded_face;
+
+/* ---- the subdivision engine as a resumable walk (vp.c) ---- */
+
+typedef struct {
+    uint32_t c0, r0;         /* top-left sample */
+    uint8_t wl, hl;          /* log2 of width and height in samples */
+    uint8_t level;
+    uint64_t active;         /* edges not yet known to hold the cell inside */
+} vp_cell;
+
+typedef enum {
+    VP_STEP_OUT,             /* an edge has the cell wholly outside */
+    VP_STEP_SPLIT,           /* an edge crosses: four (or two) children pushed */
+    VP_STEP_FILL,            /* every edge holds the cell: fill all its samples */
+    VP_STEP_SAMPLE_IN,       /* a single sample inside every edge */
+    VP_STEP_SAMPLE_OUT       /* a single sample outside some edge */
+} vp_step_kind;
+
+typedef struct {
+    vp_step_kind kind;
+    vp_cell cell;
+    unsigned edges;          /* active edges the step evaluated */
+} vp_step;
+
+typedef struct {
+    const vp_edge_fn *e;
+    vp_cell stack[3 * VP_MAX_LEVELS + 4];
+    unsigned top;
+} vp_walk;
+
+void vp_walk_begin(vp_walk *w, const vp_t *vp, const vp_loaded_face *f);
+/* The next cell step in the engine's order; false when the face is done.
+ * Counts the cell in vp->st. */
+bool vp_walk_next(vp_t *vp, vp_walk *w, vp_step *step);
+/* Write the samples of a FILL or SAMPLE_IN cell (depth test, shading). */
+void vp_fill(vp_t *vp, const vp_face_setup *fs, const vp_cell *k);
+/* The edge store's set-up of a FACE packet; ALB_ERR_STREAM for a texture
+ * never loaded. */
+alb_err vp_load_face(vp_t *vp, const ws_face *f, vp_loaded_face *out, diag_t *d);
+/* Samples in a cell. */
+static inline uint32_t vp_cell_samples(const vp_cell *k) { return 1u << (k->wl + k->hl); }
+
 /* Edge set-up (vp.c). */
 void vp_edge_setup(const vp_t *vp, const ws_edge *e, vp_edge_fn *fn);
 void vp_form_setup(const vp_t *vp, const ws_form *f, vp_form_fn *fn);

@@ -1,0 +1,215 @@
+/* sim.c — the fidelity switch, and what the cycle and timed models share:
+ * counter bins per frame, the per-pixel cycle map, counter output. */
+#include "sim_internal.h"
+#include "../common/fix.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+const char *fidelity_name(fidelity f)
+{
+    return f == FIDELITY_CYCLE ? "cycle" : f == FIDELITY_TIMED ? "timed" : "functional";
+}
+
+int fidelity_parse(const char *s, fidelity *f)
+{
+    for (int i = FIDELITY_FUNCTIONAL; i <= FIDELITY_CYCLE; i++)
+        if (strcmp(s, fidelity_name((fidelity)i)) == 0) {
+            *f = (fidelity)i;
+            return 0;
+        }
+    return -1;
+}
+
+/* ---- bins ---- */
+
+int bins_init(sim_bins *b)
+{
+    memset(b, 0, sizeof *b);
+    b->cap = 16;
+    b->bin = calloc(b->cap + 1, sizeof *b->bin);
+    b->retire = calloc(b->cap, sizeof *b->retire);
+    return b->bin && b->retire ? 0 : -1;
+}
+
+void bins_free(sim_bins *b)
+{
+    free(b->bin);
+    free(b->retire);
+    memset(b, 0, sizeof *b);
+}
+
+/* The bin of cycle t: the first frame retiring at or after t. */
+static unsigned bin_index(const sim_bins *b, int64_t t)
+{
+    unsigned lo = 0, hi = b->nretired;
+    while (lo < hi) {
+        unsigned mid = (lo + hi) / 2;
+        if (b->retire[mid] >= t)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    return lo;
+}
+
+sim_counters *bins_at(sim_bins *b, int64_t t) { return &b->bin[bin_index(b, t)]; }
+
+void bins_add(sim_bins *b, size_t offset, int64_t a, int64_t e)
+{
+    for (unsigned i = bin_index(b, a); a < e; i++) {
+        int64_t end = i < b->nretired && b->retire[i] + 1 < e ? b->retire[i] + 1 : e;
+        *(uint64_t *)((char *)&b->bin[i] + offset) += (uint64_t)(end - a);
+        a = end;
+    }
+}
+
+int bins_retire(sim_bins *b, int64_t r)
+{
+    if (b->nretired == b->cap) {
+        unsigned cap = b->cap * 2;
+        sim_counters *nb = realloc(b->bin, (cap + 1) * sizeof *nb);
+        if (!nb)
+            return -1;
+        b->bin = nb;
+        int64_t *nr = realloc(b->retire, cap * sizeof *nr);
+        if (!nr)
+            return -1;
+        b->retire = nr;
+        memset(b->bin + b->cap + 1, 0, (cap - b->cap) * sizeof *nb);
+        b->cap = cap;
+    }
+    sim_counters *c = &b->bin[b->nretired];
+    int64_t prev = b->nretired ? b->retire[b->nretired - 1] : -1;
+    c->retire = (uint64_t)r;
+    c->cycles = (uint64_t)(r - prev);
+    b->retire[b->nretired++] = r;
+    return 0;
+}
+
+/* ---- the per-pixel cycle map ---- */
+
+/* Cells of level l are (S_W >> l) x (S_H >> l), one sample at least. */
+static unsigned lvl_wl(const vp_t *vp, unsigned l) { return vp->lw > l ? vp->lw - l : 0; }
+static unsigned lvl_hl(const vp_t *vp, unsigned l) { return vp->lh > l ? vp->lh - l : 0; }
+
+int cycle_map_init(cycle_map *m, const vp_t *vp)
+{
+    memset(m, 0, sizeof *m);
+    m->levels = vp->p + 1;
+    for (unsigned l = 0; l < m->levels; l++) {
+        size_t n = (size_t)1 << ((vp->lw - lvl_wl(vp, l)) + (vp->lh - lvl_hl(vp, l)));
+        m->lvl[l] = calloc(n, sizeof *m->lvl[l]);
+        if (!m->lvl[l]) {
+            cycle_map_free(m);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+void cycle_map_free(cycle_map *m)
+{
+    for (unsigned l = 0; l < VP_MAX_LEVELS; l++)
+        free(m->lvl[l]);
+    memset(m, 0, sizeof *m);
+}
+
+void cycle_map_charge(cycle_map *m, const vp_t *vp, const vp_cell *k, uint64_t cycles)
+{
+    unsigned l = k->level;
+    size_t per_row = (size_t)1 << (vp->lw - k->wl);
+    m->lvl[l][(size_t)(k->r0 >> k->hl) * per_row + (k->c0 >> k->wl)] += cycles;
+}
+
+void cycle_map_resolve(cycle_map *m, const vp_t *vp, frame_t *out)
+{
+    unsigned aa = vp->prof.aa_levels;
+    memset(out->cycles, 0, (size_t)out->width * out->height * sizeof *out->cycles);
+    for (unsigned l = 0; l < m->levels; l++) {
+        unsigned wl = lvl_wl(vp, l), hl = lvl_hl(vp, l);
+        size_t per_row = (size_t)1 << (vp->lw - wl), rows = (size_t)1 << (vp->lh - hl);
+        for (size_t cy = 0; cy < rows; cy++)
+            for (size_t cx = 0; cx < per_row; cx++) {
+                uint64_t *cell = &m->lvl[l][cy * per_row + cx];
+                if (!*cell)
+                    continue;
+                /* each sample of the cell gets cycles * 65536 / samples */
+                uint64_t each = (*cell << 16) >> (wl + hl);
+                for (size_t r = cy << hl; r < (cy + 1) << hl; r++)
+                    for (size_t c = cx << wl; c < (cx + 1) << wl; c++)
+                        out->cycles[(r >> aa) * out->width + (c >> aa)] += (uint32_t)each;
+                *cell = 0;
+            }
+    }
+}
+
+uint64_t gp_packet_cycles(const profile_t *p, const ws_event *ev)
+{
+    if (ev->kind == WS_EV_FACE)
+        return p->gp_face_cycles + (uint64_t)p->gp_edge_cycles * ev->u.face.n_edges;
+    if (ev->kind == WS_EV_FRAME)
+        return p->gp_frame_cycles;
+    return 0;
+}
+
+/* ---- entry and output ---- */
+
+typedef struct {
+    sim_sink sink;
+    void *ctx;
+} functional_ctx;
+
+static int functional_sink(void *ctx, const frame_t *f, const vp_stats *st)
+{
+    functional_ctx *c = ctx;
+    return c->sink ? c->sink(c->ctx, f, st, NULL) : 0;
+}
+
+alb_err sim_run(const profile_t *p, const uint32_t *w, size_t n, const char *name,
+                const sim_options *opt, sim_sink sink, void *ctx, diag_t *d)
+{
+    if (opt->fid == FIDELITY_TIMED)
+        return sim_run_timed(p, w, n, name, sink, ctx, d);
+    if (opt->fid == FIDELITY_CYCLE)
+        return sim_run_cycle(p, w, n, name, opt, sink, ctx, d);
+    vp_t *vp = NULL;
+    alb_err e = vp_create(&vp, p, d);
+    functional_ctx fc = {sink, ctx};
+    if (!e)
+        e = vp_run_stream(vp, w, n, name, functional_sink, &fc, d);
+    vp_destroy(vp);
+    return e;
+}
+
+static double fps(const sim_counters *c, const profile_t *p)
+{
+    return c->cycles ? 1000.0 * p->clock_khz / (double)c->cycles : 0;
+}
+
+void sim_counters_json(FILE *f, const sim_counters *c, const profile_t *p)
+{
+    fputc('{', f);
+#define J(field) fprintf(f, "\"" #field "\": %llu, ", (unsigned long long)c->field);
+    SIM_COUNTER_FIELDS(J)
+#undef J
+    fprintf(f, "\"fifo_mean\": %.3f, \"fps\": %.3f, \"realtime_50hz\": %s}",
+            c->cycles ? (double)c->fifo_sum / (double)c->cycles : 0.0, fps(c, p),
+            c->cycles * 50 <= (uint64_t)p->clock_khz * 1000 ? "true" : "false");
+}
+
+void sim_counters_text(FILE *f, const sim_counters *c, const profile_t *p)
+{
+    double cyc = (double)(c->cycles ? c->cycles : 1);
+    fprintf(f, "  %llu cycles = %.3f ms at %.3f MHz: %.1f fps, %s the 50 Hz budget\n",
+            (unsigned long long)c->cycles, (double)c->cycles / p->clock_khz,
+            p->clock_khz / 1000.0, fps(c, p),
+            c->cycles * 50 <= (uint64_t)p->clock_khz * 1000 ? "within" : "OVER");
+    fprintf(f, "  GP busy %.1f%% stall %.1f%% | parser busy %.1f%% starve %.1f%% blocked %.1f%% | "
+               "engine busy %.1f%% stall %.1f%% | fill busy %.1f%% | FIFO peak %llu mean %.1f\n",
+            100 * (double)c->gp_busy / cyc, 100 * (double)c->gp_stall / cyc,
+            100 * (double)c->parser_busy / cyc, 100 * (double)c->parser_starve / cyc,
+            100 * (double)c->parser_blocked / cyc, 100 * (double)c->engine_busy / cyc,
+            100 * (double)c->engine_stall / cyc, 100 * (double)c->fill_busy / cyc,
+            (unsigned long long)c->fifo_peak, (double)c->fifo_sum / cyc);
+}

@@ -1,0 +1,277 @@
+/* sim_timed.c — the timed fidelity: the rules of docs/microarchitecture.md
+ * as recurrences over event times, computed in stream order.  Each word's
+ * push and pop, each engine step and each fill gets its cycle from the events
+ * it waits for (all earlier in stream order), so idle and predictable
+ * stretches cost nothing.  Equal to the cycle fidelity by test. */
+#include "sim_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    const profile_t *p;
+    vp_t *vp;
+    sim_bins bins;
+    cycle_map map;
+    frame_t frame;
+    /* words: the pop times of the last fifo_depth + 1 words, by index */
+    int64_t *pop_ring;
+    uint64_t words;           /* words pushed so far */
+    uint64_t popped;          /* words counted as popped for the FIFO peak */
+    int64_t last_push, last_pop;
+    /* units */
+    int64_t *slot_free;       /* face slot k % face_slots free from this cycle */
+    uint64_t faces;
+    int64_t engine_free;      /* first cycle the engine can start a face */
+    int64_t *take_ring;       /* fill_queue last cells: cycle the fill unit took them */
+    uint64_t cells;
+    int64_t fill_free;        /* first cycle the fill unit can take a cell */
+    int64_t drain;            /* last cycle of any face's activity so far */
+    int64_t frame_last;       /* last activity of the current frame's faces */
+    int64_t frame_start;      /* first cycle a face of the current frame may start */
+    int64_t prev_retire;
+    bool first_face_of_frame;
+    unsigned latency;         /* 1 + divider + shade */
+    /* retired frames whose counters may still grow: words of later frames
+     * pushed or popped before their retirement are met later in the stream */
+    struct pending {
+        frame_t frame;
+        vp_stats st;
+        unsigned bin;
+    } *pending;
+    unsigned npending, cap_pending;
+} timed;
+
+static int64_t max64(int64_t a, int64_t b) { return a > b ? a : b; }
+
+/* When the parser can take a word of this packet (room in the VP). */
+static int64_t room(timed *t, const ws_event *ev)
+{
+    switch (ev->kind) {
+    case WS_EV_FACE:
+        return t->slot_free[t->faces % t->p->face_slots];
+    case WS_EV_TEXTURE:
+    case WS_EV_END:
+        return t->drain + 1;   /* wait until every earlier face retired */
+    default:
+        return 0;
+    }
+}
+
+/* GP push and parser pop of one word; `compute` is the GP's time before it
+ * (the packet's first word) or -1. */
+static void word_times(timed *t, int64_t compute, int64_t ready)
+{
+    const unsigned depth = t->p->fifo_depth;
+    uint64_t i = t->words;
+    int64_t want = t->last_push + 1;   /* GP free after its previous push */
+    if (compute >= 0) {
+        bins_add(&t->bins, CNT(gp_busy), want, want + compute);
+        want += compute;
+    }
+    /* the FIFO held fewer than depth words at the start of the push cycle:
+     * the word depth places back has been popped before it */
+    int64_t push = want;
+    if (i >= depth)
+        push = max64(push, t->pop_ring[(i - depth) % (depth + 1)] + 1);
+    bins_add(&t->bins, CNT(gp_stall), want, push);
+    bins_add(&t->bins, CNT(gp_busy), push, push + 1);
+    /* the parser wants it from the cycle after its previous pop */
+    int64_t asked = t->last_pop + 1;
+    int64_t pop = max64(max64(asked, push + 1), ready);
+    int64_t blocked_end = ready < pop ? ready : pop;
+    if (blocked_end > asked)
+        bins_add(&t->bins, CNT(parser_blocked), asked, blocked_end);
+    bins_add(&t->bins, CNT(parser_starve), blocked_end > asked ? blocked_end : asked, pop);
+    bins_add(&t->bins, CNT(parser_busy), pop, pop + 1);
+    /* occupancy: the word is in the FIFO at the start of push+1 .. pop */
+    bins_add(&t->bins, CNT(fifo_sum), push + 1, pop + 1);
+    while (t->popped < i && t->pop_ring[t->popped % (depth + 1)] <= push)
+        t->popped++;
+    sim_counters *at = bins_at(&t->bins, push);
+    uint64_t level = i + 1 - t->popped;
+    if (level > at->fifo_peak)
+        at->fifo_peak = level;
+    t->pop_ring[i % (depth + 1)] = pop;
+    t->last_push = push;
+    t->last_pop = pop;
+    t->words++;
+}
+
+/* The engine and fill unit on one loaded face, from cycle `start`. */
+static void run_face(timed *t, const vp_loaded_face *lf, int64_t loaded)
+{
+    const profile_t *p = t->p;
+    int64_t now = max64(max64(loaded + 1, t->engine_free), t->first_face_of_frame ? t->frame_start : 0);
+    t->first_face_of_frame = false;
+    vp_walk w;
+    vp_step step;
+    t->vp->st.faces++;
+    t->vp->st.edges += lf->n;
+    vp_walk_begin(&w, t->vp, lf);
+    while (vp_walk_next(t->vp, &w, &step)) {
+        uint64_t c = step_cycles(step.edges, p->edge_units);
+        cycle_map_charge(&t->map, t->vp, &step.cell, c);
+        bins_add(&t->bins, CNT(engine_busy), now, now + (int64_t)c);
+        int64_t end = now + (int64_t)c - 1;
+        if (step.kind == VP_STEP_FILL || step.kind == VP_STEP_SAMPLE_IN) {
+            /* hand-over: the queue held fewer than fill_queue cells */
+            int64_t put = end;
+            uint64_t n = t->cells;
+            if (n >= p->fill_queue)
+                put = max64(put, t->take_ring[(n - p->fill_queue) % p->fill_queue] + 1);
+            bins_add(&t->bins, CNT(engine_stall), end + 1, put + 1);
+            int64_t take = max64(put + 1, t->fill_free);
+            uint64_t f = fill_cycles(vp_cell_samples(&step.cell), p->fill_rate);
+            cycle_map_charge(&t->map, t->vp, &step.cell, f);
+            bins_add(&t->bins, CNT(fill_busy), take, take + (int64_t)f);
+            t->fill_free = take + (int64_t)f;
+            t->take_ring[n % p->fill_queue] = take;
+            t->cells++;
+            int64_t written = take + (int64_t)f - 1 + t->latency - 1;
+            t->frame_last = max64(t->frame_last, written);
+            vp_fill(t->vp, &lf->fs, &step.cell);
+            end = put;
+        }
+        now = end + 1;
+    }
+    /* the face is finished in its last step's cycle; its slot is free next */
+    t->engine_free = now;
+    t->frame_last = max64(t->frame_last, now - 1);
+    t->slot_free[t->faces % p->face_slots] = now;
+    t->faces++;
+    t->drain = max64(t->drain, t->frame_last);
+}
+
+/* Hand retired frames to the sink once no later word can add to their
+ * counters: every later push and pop comes after the GP's and the parser's
+ * last ones, so a frame retired before both is final (all: at the end). */
+static alb_err flush_frames(timed *t, bool all, sim_sink sink, void *ctx)
+{
+    int64_t safe = t->last_push < t->last_pop ? t->last_push : t->last_pop;
+    unsigned done = 0;
+    alb_err e = ALB_OK;
+    while (done < t->npending) {
+        struct pending *pf = &t->pending[done];
+        if (!all && t->bins.retire[pf->bin] >= safe)
+            break;
+        if (!e && sink && sink(ctx, &pf->frame, &pf->st, &t->bins.bin[pf->bin]))
+            e = ALB_ERR_IO;
+        frame_free(&pf->frame);
+        done++;
+    }
+    memmove(t->pending, t->pending + done, (t->npending - done) * sizeof *t->pending);
+    t->npending -= done;
+    return e;
+}
+
+static alb_err frame_end(timed *t, int64_t popped, diag_t *d)
+{
+    int64_t r = max64(max64(popped, t->frame_last), t->prev_retire + 1);
+    if (bins_retire(&t->bins, r))
+        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
+    vp_frame_end(t->vp, &t->frame);
+    cycle_map_resolve(&t->map, t->vp, &t->frame);
+    t->prev_retire = r;
+    t->drain = max64(t->drain, r);
+    if (t->npending == t->cap_pending) {
+        unsigned cap = t->cap_pending ? 2 * t->cap_pending : 4;
+        struct pending *np = realloc(t->pending, cap * sizeof *np);
+        if (!np)
+            return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
+        t->pending = np;
+        t->cap_pending = cap;
+    }
+    struct pending *pf = &t->pending[t->npending];
+    if (frame_copy(&pf->frame, &t->frame))
+        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
+    pf->st = *vp_stats_get(t->vp);
+    pf->bin = t->bins.nretired - 1;
+    t->npending++;
+    return ALB_OK;
+}
+
+static alb_err timed_init(timed *t, const profile_t *p, diag_t *d)
+{
+    memset(t, 0, sizeof *t);
+    t->p = p;
+    t->latency = 1 + p->divider_latency + p->shade_latency;
+    t->last_push = t->last_pop = -1;
+    t->prev_retire = -1;
+    t->drain = -1;
+    t->frame_last = -1;
+    alb_err e = vp_create(&t->vp, p, d);
+    if (e)
+        return e;
+    t->pop_ring = calloc(p->fifo_depth + 1, sizeof *t->pop_ring);
+    t->slot_free = calloc(p->face_slots, sizeof *t->slot_free);
+    t->take_ring = calloc(p->fill_queue, sizeof *t->take_ring);
+    if (!t->pop_ring || !t->slot_free || !t->take_ring || bins_init(&t->bins) ||
+        cycle_map_init(&t->map, t->vp) || vp_frame_alloc(t->vp, &t->frame, true))
+        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the timed model");
+    return ALB_OK;
+}
+
+static void timed_free(timed *t)
+{
+    for (unsigned i = 0; i < t->npending; i++)
+        frame_free(&t->pending[i].frame);
+    free(t->pending);
+    vp_destroy(t->vp);
+    free(t->pop_ring);
+    free(t->slot_free);
+    free(t->take_ring);
+    bins_free(&t->bins);
+    cycle_map_free(&t->map);
+    frame_free(&t->frame);
+}
+
+alb_err sim_run_timed(const profile_t *p, const uint32_t *w, size_t n, const char *name,
+                      sim_sink sink, void *ctx, diag_t *d)
+{
+    timed t;
+    alb_err e = timed_init(&t, p, d);
+    ws_reader r;
+    ws_event *ev = malloc(sizeof *ev);
+    vp_loaded_face *lf = malloc(sizeof *lf);
+    if (!e && (!ev || !lf))
+        e = diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
+    ws_reader_init(&r, w, n, name);
+    while (!e && !r.ended) {
+        if ((e = ws_next(&r, ev, d)))
+            break;
+        int64_t ready = room(&t, ev);
+        for (size_t k = 0; k < ev->count; k++)
+            word_times(&t, k == 0 ? (int64_t)gp_packet_cycles(p, ev) : -1, ready);
+        switch (ev->kind) {
+        case WS_EV_CONFIG:
+            if (!(e = vp_config(t.vp, &ev->u.config, d)))
+                t.frame.near = ev->u.config.near;
+            break;
+        case WS_EV_TEXTURE:
+            e = vp_texture(t.vp, &ev->u.texture, d);
+            break;
+        case WS_EV_FRAME:
+            vp_frame_begin(t.vp, &ev->u.frame);
+            t.frame_start = t.prev_retire + 1;
+            t.frame_last = -1;
+            t.first_face_of_frame = true;
+            break;
+        case WS_EV_FACE:
+            if (!(e = vp_load_face(t.vp, &ev->u.face, lf, d)))
+                run_face(&t, lf, t.last_pop);
+            break;
+        case WS_EV_FRAME_END:
+            e = frame_end(&t, t.last_pop, d);
+            break;
+        case WS_EV_END:
+            break;
+        }
+        if (!e)
+            e = flush_frames(&t, r.ended, sink, ctx);
+    }
+    free(ev);
+    free(lf);
+    timed_free(&t);
+    return e;
+}

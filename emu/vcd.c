@@ -1,0 +1,216 @@
+/* vcd.c — the VCD writer (IEEE 1364 §18): a $timescale of 1 ps with times at
+ * the modelled clock's edges, one $scope module per unit, identifiers of
+ * printable characters, $dumpvars with initial values, no $date — two runs
+ * give byte-identical files.  Its buffer is written with write(2), which a
+ * signal handler may call, so SIGINT, SIGTERM, SIGABRT and SIGSEGV still
+ * leave a complete trace. */
+#include "vcd.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define BUF 65536
+
+struct vcd {
+    int fd;
+    int failed;
+    size_t len;
+    char buf[BUF];
+    uint64_t value[VCD_MAX_VARS];
+    unsigned width[VCD_MAX_VARS];
+    unsigned nvars;
+    uint64_t period;          /* ps */
+    uint64_t now, written;    /* current time; last "#t" written (+1, 0 = none) */
+    uint64_t last_cycle;
+};
+
+/* The trace a fatal signal must complete: one per process. */
+static vcd_t *active;
+
+static void flush(vcd_t *v)
+{
+    size_t off = 0;
+    while (off < v->len) {
+        ssize_t k = write(v->fd, v->buf + off, v->len - off);
+        if (k < 0) {
+            if (errno == EINTR)
+                continue;
+            v->failed = 1;
+            break;
+        }
+        off += (size_t)k;
+    }
+    v->len = 0;
+}
+
+static void put(vcd_t *v, const char *s, size_t n)
+{
+    if (v->len + n > BUF)
+        flush(v);
+    memcpy(v->buf + v->len, s, n);
+    v->len += n;
+}
+
+static void puts_(vcd_t *v, const char *s) { put(v, s, strlen(s)); }
+
+/* Async-signal-safe: a final timestamp, the buffer, then the default action. */
+static void on_fatal(int sig)
+{
+    if (active) {
+        char t[32];
+        int n = 0;
+        uint64_t x = active->now + active->period;
+        char rev[24];
+        int k = 0;
+        do
+            rev[k++] = (char)('0' + x % 10);
+        while ((x /= 10) && k < 23);
+        t[n++] = '#';
+        while (k)
+            t[n++] = rev[--k];
+        t[n++] = '\n';
+        if (active->len + (size_t)n <= BUF) {
+            memcpy(active->buf + active->len, t, (size_t)n);
+            active->len += (size_t)n;
+        }
+        flush(active);
+        active = NULL;
+    }
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+vcd_t *vcd_open(const char *path, diag_t *d)
+{
+    vcd_t *v = calloc(1, sizeof *v);
+    if (!v) {
+        diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory");
+        return NULL;
+    }
+    v->fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0666);
+    if (v->fd < 0) {
+        diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create trace: %s", strerror(errno));
+        free(v);
+        return NULL;
+    }
+    puts_(v, "$version albatros cycle model $end\n$timescale 1ps $end\n");
+    active = v;
+    signal(SIGABRT, on_fatal);
+    signal(SIGSEGV, on_fatal);
+    return v;
+}
+
+void vcd_scope(vcd_t *v, const char *module)
+{
+    char line[128];
+    snprintf(line, sizeof line, "$scope module %s $end\n", module);
+    puts_(v, line);
+}
+
+void vcd_upscope(vcd_t *v) { puts_(v, "$upscope $end\n"); }
+
+/* Identifier of variable id: printable characters '!' .. '~'. */
+static int ident(unsigned id, char *out)
+{
+    int n = 0;
+    do {
+        out[n++] = (char)('!' + id % 94);
+        id /= 94;
+    } while (id);
+    out[n] = 0;
+    return n;
+}
+
+void vcd_var(vcd_t *v, unsigned id, const char *name, unsigned width)
+{
+    char line[160], code[8];
+    if (id >= VCD_MAX_VARS)
+        return;
+    ident(id, code);
+    snprintf(line, sizeof line, "$var wire %u %s %s $end\n", width, code, name);
+    puts_(v, line);
+    v->width[id] = width;
+    if (id >= v->nvars)
+        v->nvars = id + 1;
+}
+
+static void value_line(vcd_t *v, unsigned id, uint64_t value)
+{
+    char line[96], code[8];
+    int n = 0;
+    if (v->width[id] == 1) {
+        line[n++] = value ? '1' : '0';
+    } else {
+        line[n++] = 'b';
+        int top = 63;
+        while (top > 0 && !(value >> top & 1))
+            top--;
+        for (int b = top; b >= 0; b--)
+            line[n++] = (char)('0' + (value >> b & 1));
+        line[n++] = ' ';
+    }
+    int k = ident(id, code);
+    memcpy(line + n, code, (size_t)k);
+    n += k;
+    line[n++] = '\n';
+    put(v, line, (size_t)n);
+}
+
+void vcd_begin(vcd_t *v, uint64_t period_ps)
+{
+    v->period = period_ps ? period_ps : 1;
+    puts_(v, "$enddefinitions $end\n#0\n$dumpvars\n");
+    for (unsigned i = 0; i < v->nvars; i++)
+        if (v->width[i])
+            value_line(v, i, 0);
+    puts_(v, "$end\n");
+    v->written = 1;   /* "#0" */
+}
+
+void vcd_time(vcd_t *v, uint64_t cycle, int half)
+{
+    v->now = cycle * v->period + (half ? v->period / 2 : 0);
+    v->last_cycle = cycle;
+}
+
+void vcd_set(vcd_t *v, unsigned id, uint64_t value)
+{
+    if (id >= v->nvars || v->value[id] == value)
+        return;
+    if (v->written != v->now + 1) {
+        char t[32];
+        int n = snprintf(t, sizeof t, "#%llu\n", (unsigned long long)v->now);
+        put(v, t, (size_t)n);
+        v->written = v->now + 1;
+    }
+    v->value[id] = value;
+    value_line(v, id, value);
+}
+
+void vcd_end(vcd_t *v, uint64_t cycle)
+{
+    char t[32];
+    uint64_t end = cycle * v->period;
+    if (v->written != end + 1 && end + 1 > v->written) {
+        int n = snprintf(t, sizeof t, "#%llu\n", (unsigned long long)end);
+        put(v, t, (size_t)n);
+        v->written = end + 1;
+    }
+}
+
+int vcd_close(vcd_t *v)
+{
+    if (!v)
+        return 0;
+    flush(v);
+    int bad = v->failed || close(v->fd) != 0;
+    if (active == v)
+        active = NULL;
+    free(v);
+    return bad ? -1 : 0;
+}

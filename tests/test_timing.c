@@ -1,0 +1,440 @@
+/* test_timing.c — the clocked model: hand-computed cycle counts of tiny
+ * streams (docs/microarchitecture.md), cycle == timed on every counter and
+ * functional == cycle on every pixel over random scenes and odd parameter
+ * sets, monotonicity, and the VCD trace read back by a parser. */
+#include "t.h"
+#include "gp_helpers.h"
+#include "../emu/sim.h"
+#include "../emu/vcd.h"
+#include "../tools/scenegen.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_FRAMES 8
+
+typedef struct {
+    unsigned n;
+    sim_counters c[MAX_FRAMES];
+    frame_t f[MAX_FRAMES];
+} run_log;
+
+static int log_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
+{
+    (void)vs;
+    run_log *l = ctx;
+    if (l->n == MAX_FRAMES)
+        return 0;
+    if (sc)
+        l->c[l->n] = *sc;
+    if (frame_copy(&l->f[l->n], f))
+        return -1;
+    l->n++;
+    return 0;
+}
+
+static void log_free(run_log *l)
+{
+    for (unsigned i = 0; i < l->n; i++)
+        frame_free(&l->f[i]);
+    l->n = 0;
+}
+
+static alb_err run(const profile_t *p, const ws_buf *b, fidelity fid, run_log *l, vcd_t *v)
+{
+    diag_t d;
+    diag_init(&d, NULL);
+    sim_options o = {fid, v, 0, UINT64_MAX};
+    memset(l, 0, sizeof *l);
+    alb_err e = sim_run(p, b->w, b->n, "test", &o, log_frame, l, &d);
+    if (e)
+        fprintf(stderr, "sim_run: %s\n", d.msg);
+    return e;
+}
+
+static profile_t t32_fast_gp(void)
+{
+    profile_t p;
+    profile_lookup("t32", &p);
+    p.gp_face_cycles = 10;
+    p.gp_edge_cycles = 0;
+    p.gp_frame_cycles = 0;
+    return p;
+}
+
+/* A stream of one frame with the given faces (screen-covering faces with
+ * the given edges). */
+static void one_frame(ws_buf *b, const profile_t *p, const ws_face *faces, unsigned n)
+{
+    ws_buf_init(b);
+    ws_config cfg = {p->edge_frac_bits, p->coef_bits, 1.0f};
+    ws_put_config(b, &cfg);
+    ws_frame fr = {0, 0x101010, false, 0, 0, 0};
+    ws_put_frame(b, &fr);
+    for (unsigned i = 0; i < n; i++)
+        ws_put_face(b, &faces[i]);
+    ws_put_frame_end(b, n);
+    ws_put_end(b);
+}
+
+/* A face at depth 1/2 everywhere (near/Z = 0.5), no edges: the whole screen. */
+static ws_face whole_screen(uint32_t id)
+{
+    ws_face f;
+    memset(&f, 0, sizeof f);
+    f.id = id;
+    f.rgb = 0xFF8040;
+    f.depth = (ws_form){-1, {0, 0, 1}};
+    return f;
+}
+
+TEST(timing_worked_example_whole_screen_face)
+{
+    /* docs/microarchitecture.md, "Worked example": 295 cycles */
+    profile_t p = t32_fast_gp();
+    ws_face f = whole_screen(0);
+    ws_buf b;
+    one_frame(&b, &p, &f, 1);
+    run_log l;
+    for (int fid = FIDELITY_TIMED; fid <= FIDELITY_CYCLE; fid++) {
+        CHECK(run(&p, &b, (fidelity)fid, &l, NULL) == ALB_OK);
+        CHECK_EQ(l.n, 1);
+        CHECK_EQ(l.c[0].cycles, 295);
+        CHECK_EQ(l.c[0].engine_busy, 1);
+        CHECK_EQ(l.c[0].fill_busy, 256);
+        CHECK_EQ(l.c[0].gp_busy, 10 + 17);   /* compute + the words up to FRAME_END and END */
+        CHECK_EQ(l.c[0].parser_busy, 16);
+        /* every sample written: the whole screen has the face */
+        CHECK_EQ(l.n ? l.f[0].face[32 * 32 - 1] : 99, 0);
+        log_free(&l);
+    }
+    ws_buf_free(&b);
+}
+
+TEST(timing_face_rejected_at_top_level)
+{
+    /* one vertical edge at x = 2, face to its right: the screen is outside.
+     * GP: words 0-7 in cycles 0-7, computes 8-17, the face's 9 words in
+     * 18-26, FRAME_END 27, END 28.  Parser: each word a cycle later, starving
+     * in cycle 0 and 9-18; the face loaded in 27, FRAME_END taken in 28.
+     * Engine: one 1-cycle step in 28, rejected.  Retires in 28: 29 cycles. */
+    profile_t p = t32_fast_gp();
+    ws_face f = whole_screen(0);
+    f.n_edges = 1;
+    f.edge[0] = (ws_edge){1, 0, 5u << p.edge_frac_bits, 5u << p.edge_frac_bits};
+    ws_buf b;
+    one_frame(&b, &p, &f, 1);
+    run_log l;
+    for (int fid = FIDELITY_TIMED; fid <= FIDELITY_CYCLE; fid++) {
+        CHECK(run(&p, &b, (fidelity)fid, &l, NULL) == ALB_OK);
+        CHECK_EQ(l.c[0].cycles, 29);
+        CHECK_EQ(l.c[0].engine_busy, 1);
+        CHECK_EQ(l.c[0].fill_busy, 0);
+        CHECK_EQ(l.c[0].gp_busy, 19 + 10);
+        CHECK_EQ(l.c[0].parser_busy, 18);
+        CHECK_EQ(l.c[0].parser_starve, 11);
+        CHECK_EQ(l.f[0].face[0], FRAME_NO_FACE);
+        log_free(&l);
+    }
+    ws_buf_free(&b);
+}
+
+TEST(timing_full_fifo_stalls_the_gp)
+{
+    /* Two screen-covering faces, one face slot, a 2-word FIFO, no GP compute.
+     * The second face's words wait for the slot (blocked in 16), so the FIFO
+     * fills and the GP stalls in cycle 17.  Face 1 is loaded in 23, starts in
+     * 24, its cell waits for the fill unit (busy 17-272) and is filled in
+     * 273-528, written by 540: 541 cycles. */
+    profile_t p = t32_fast_gp();
+    p.gp_face_cycles = 0;
+    p.face_slots = 1;
+    p.fifo_depth = 2;
+    ws_face f[2] = {whole_screen(0), whole_screen(1)};
+    ws_buf b;
+    one_frame(&b, &p, f, 2);
+    run_log l;
+    for (int fid = FIDELITY_TIMED; fid <= FIDELITY_CYCLE; fid++) {
+        CHECK(run(&p, &b, (fidelity)fid, &l, NULL) == ALB_OK);
+        CHECK_EQ(l.c[0].cycles, 541);
+        CHECK_EQ(l.c[0].gp_stall, 1);
+        /* blocked in 16 for the slot, then 25-540 holding END for retirement */
+        CHECK_EQ(l.c[0].parser_blocked, 1 + 516);
+        CHECK_EQ(l.c[0].fifo_peak, 2);
+        CHECK_EQ(l.c[0].fill_busy, 512);
+        /* the equal depths keep face 0 */
+        CHECK_EQ(l.f[0].face[100], 0);
+        log_free(&l);
+    }
+    ws_buf_free(&b);
+}
+
+/* The stream of a scene text for profile p. */
+static int stream_of(const char *text, const profile_t *p, ws_buf *b)
+{
+    scene_t s;
+    diag_t d;
+    diag_init(&d, NULL);
+    ws_buf_init(b);
+    if (scene_parse(text, strlen(text), "t", &s, &d))
+        return -1;
+    gp_t *gp = NULL;
+    alb_err e = gp_create(&gp, &s, p, &d);
+    if (!e)
+        e = gp_run(gp, b, NULL, &d);
+    gp_destroy(gp);
+    scene_free(&s);
+    return e ? -1 : 0;
+}
+
+static bool counters_equal(const sim_counters *a, const sim_counters *b)
+{
+#define EQ(field) if (a->field != b->field) return false;
+    SIM_COUNTER_FIELDS(EQ)
+#undef EQ
+    return true;
+}
+
+static bool frames_equal(const frame_t *a, const frame_t *b, bool cycles)
+{
+    size_t n = (size_t)a->width * a->height;
+    return !memcmp(a->rgb, b->rgb, 3 * n * sizeof *a->rgb) &&
+           !memcmp(a->depth, b->depth, n * sizeof *a->depth) &&
+           !memcmp(a->face, b->face, n * sizeof *a->face) &&
+           !memcmp(a->level, b->level, n) &&
+           (!cycles || !memcmp(a->cycles, b->cycles, n * sizeof *a->cycles));
+}
+
+/* cycle == timed (counters, frames, per-pixel cycles); functional == both
+ * on pixels. */
+static void check_fidelities(const profile_t *p, const ws_buf *b, const char *what)
+{
+    run_log lf, lt, lc;
+    if (run(p, b, FIDELITY_FUNCTIONAL, &lf, NULL) || run(p, b, FIDELITY_TIMED, &lt, NULL) ||
+        run(p, b, FIDELITY_CYCLE, &lc, NULL)) {
+        CHECK_MSG(0, "%s: a run failed", what);
+        return;
+    }
+    CHECK(lt.n == lc.n && lf.n == lc.n && lc.n > 0);
+    for (unsigned i = 0; i < lc.n && i < lt.n && i < lf.n; i++) {
+        CHECK_MSG(counters_equal(&lt.c[i], &lc.c[i]),
+                  "%s frame %u: timed %llu cycles, cycle %llu (or a counter differs)", what, i,
+                  (unsigned long long)lt.c[i].cycles, (unsigned long long)lc.c[i].cycles);
+        CHECK_MSG(frames_equal(&lt.f[i], &lc.f[i], true), "%s frame %u: timed/cycle frames", what, i);
+        CHECK_MSG(frames_equal(&lf.f[i], &lc.f[i], false), "%s frame %u: functional/cycle", what, i);
+    }
+    log_free(&lf);
+    log_free(&lt);
+    log_free(&lc);
+}
+
+TEST(timing_cycle_equals_timed_on_random_scenes)
+{
+    /* small screens and odd parameters, so stalls of every kind happen */
+    static const char *const sets[] = {
+        "",
+        "fifo_depth=3 face_slots=1 fill_queue=1",
+        "edge_units=1 fill_rate=1 divider_latency=0 shade_latency=0",
+        "fifo_depth=64 face_slots=4 fill_queue=8 fill_rate=16 gp_face_cycles=200",
+        "aa=1 fill_rate=3 edge_units=3 gp_edge_cycles=40",
+    };
+    scenegen_params gp = scenegen_defaults();
+    char err[256];
+    for (uint64_t seed = 1; seed <= 200; seed++) {
+        profile_t p;
+        profile_lookup("t32", &p);
+        p.width = p.height = 64;
+        p.edge_frac_bits = 11;
+        char buf[256];
+        snprintf(buf, sizeof buf, "%s", sets[seed % 5]);
+        for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
+            profile_set(&p, tok, err, sizeof err);
+        gp.faces = 2 + (unsigned)(seed % 23);
+        char *text = scenegen_random(seed, &gp);
+        ws_buf b;
+        if (!text || stream_of(text, &p, &b)) {
+            CHECK_MSG(0, "seed %llu: no stream", (unsigned long long)seed);
+            free(text);
+            return;
+        }
+        char what[64];
+        snprintf(what, sizeof what, "seed %llu", (unsigned long long)seed);
+        check_fidelities(&p, &b, what);
+        ws_buf_free(&b);
+        free(text);
+    }
+}
+
+TEST(timing_cycle_equals_timed_on_builtin_scene)
+{
+    size_t len;
+    const char *text = scene_builtin_text(&len);
+    char *copy = malloc(len + 1);
+    memcpy(copy, text, len);
+    copy[len] = 0;
+    profile_t p;
+    profile_lookup("a256", &p);
+    ws_buf b;
+    CHECK(stream_of(copy, &p, &b) == 0);
+    check_fidelities(&p, &b, "builtin");
+    ws_buf_free(&b);
+    free(copy);
+}
+
+/* Adding a face at the end of a frame never shortens the frame: every time
+ * in the model is a maximum of earlier times plus durations (monotone). */
+TEST(timing_more_faces_never_fewer_cycles)
+{
+    scenegen_params gp = scenegen_defaults();
+    profile_t p;
+    profile_lookup("t32", &p);
+    for (uint64_t seed = 1; seed <= 40; seed++) {
+        uint64_t prev = 0;
+        for (unsigned n = 1; n <= 12; n++) {
+            gp.faces = n;
+            /* the same first n-1 polygons, one more at the end */
+            char *text = scenegen_random(seed, &gp);
+            ws_buf b;
+            run_log l;
+            if (!text || stream_of(text, &p, &b) || run(&p, &b, FIDELITY_TIMED, &l, NULL)) {
+                CHECK_MSG(0, "seed %llu n %u", (unsigned long long)seed, n);
+                free(text);
+                return;
+            }
+            CHECK_MSG(l.c[0].cycles >= prev, "seed %llu: %u faces %llu cycles < %llu",
+                      (unsigned long long)seed, n, (unsigned long long)l.c[0].cycles,
+                      (unsigned long long)prev);
+            prev = l.c[0].cycles;
+            log_free(&l);
+            ws_buf_free(&b);
+            free(text);
+        }
+    }
+}
+
+/* ---- the VCD trace, read back ---- */
+
+typedef struct {
+    char id[8];
+    char name[64];
+    unsigned width;
+} vcd_var_decl;
+
+/* Check the trace's structure; return the number of cycles with fifo.push
+ * high, or -1 (with a failed check) if it is malformed. */
+static long vcd_parse(const char *path, long long period_ps)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        CHECK_MSG(0, "no trace %s", path);
+        return -1;
+    }
+    static vcd_var_decl vars[64];
+    unsigned nvars = 0, depth = 0;
+    char tok[256];
+    bool timescale = false, enddef = false;
+    /* header */
+    while (fscanf(f, "%255s", tok) == 1 && !enddef) {
+        if (!strcmp(tok, "$timescale")) {
+            CHECK(fscanf(f, "%255s", tok) == 1 && !strcmp(tok, "1ps"));
+            timescale = true;
+        } else if (!strcmp(tok, "$scope")) {
+            CHECK(fscanf(f, "%255s", tok) == 1 && !strcmp(tok, "module"));
+            CHECK(fscanf(f, "%255s", tok) == 1);
+            depth++;
+        } else if (!strcmp(tok, "$upscope")) {
+            CHECK(depth > 0);
+            depth--;
+        } else if (!strcmp(tok, "$var")) {
+            vcd_var_decl *v = &vars[nvars++];
+            CHECK(fscanf(f, "%255s %u %7s %63s", tok, &v->width, v->id, v->name) == 4);
+            CHECK(!strcmp(tok, "wire") && v->width >= 1 && v->width <= 64);
+        } else if (!strcmp(tok, "$enddefinitions")) {
+            enddef = true;
+        } else if (!strcmp(tok, "$date")) {
+            CHECK_MSG(0, "a $date makes traces differ between runs");
+        }
+        if (!strcmp(tok, "$end") || tok[0] != '$')
+            continue;
+    }
+    CHECK(timescale && enddef && depth == 0 && nvars > 10);
+    /* body: timestamps increasing, changes of declared variables */
+    long long now = -1, push_since = -1;
+    long pushes = 0;
+    int push_id = -1;
+    for (unsigned i = 0; i < nvars; i++)
+        if (!strcmp(vars[i].name, "push"))
+            push_id = (int)i;
+    bool ok = true;
+    while (ok && fscanf(f, "%255s", tok) == 1) {
+        if (tok[0] == '#') {
+            long long t = atoll(tok + 1);
+            ok = t > now || (now == 0 && t == 0);
+            if (now >= 0 && t > now && t % period_ps != 0 && t % period_ps != period_ps / 2)
+                ok = false;   /* only clock edges */
+            now = t;
+            continue;
+        }
+        if (tok[0] == '$')
+            continue;   /* $dumpvars, $end */
+        char val[80] = "", id[8] = "";
+        if (tok[0] == 'b') {
+            snprintf(val, sizeof val, "%.79s", tok + 1);
+            ok = fscanf(f, "%7s", id) == 1;
+        } else {
+            val[0] = tok[0];
+            snprintf(id, sizeof id, "%.7s", tok + 1);
+        }
+        int found = -1;
+        for (unsigned i = 0; i < nvars; i++)
+            if (!strcmp(vars[i].id, id))
+                found = (int)i;
+        ok = ok && found >= 0 && strlen(val) <= vars[found].width && strspn(val, "01") == strlen(val);
+        /* push is high for whole cycles: count them from its edges */
+        if (ok && found == push_id && val[0] == '1')
+            push_since = now;
+        if (ok && found == push_id && val[0] == '0' && push_since >= 0) {
+            pushes += (long)((now - push_since) / period_ps);
+            push_since = -1;
+        }
+    }
+    fclose(f);
+    CHECK_MSG(ok, "malformed trace near time %lld token '%s'", now, tok);
+    return ok ? pushes : -1;
+}
+
+TEST(timing_vcd_trace_is_valid)
+{
+    profile_t p = t32_fast_gp();
+    p.fifo_depth = 2;
+    p.face_slots = 1;
+    p.gp_face_cycles = 0;
+    ws_face f[2] = {whole_screen(0), whole_screen(1)};
+    ws_buf b;
+    one_frame(&b, &p, f, 2);
+    char path[600];
+    snprintf(path, sizeof path, "%s/t.vcd", t_tmpdir());
+    diag_t d;
+    diag_init(&d, NULL);
+    vcd_t *v = vcd_open(path, &d);
+    CHECK(v != NULL);
+    run_log l;
+    CHECK(run(&p, &b, FIDELITY_CYCLE, &l, v) == ALB_OK);
+    CHECK(vcd_close(v) == 0);
+    log_free(&l);
+    /* t32 runs at 10 MHz: 100000 ps a cycle; fifo.push was high in exactly
+     * as many cycles as the stream has words (24) */
+    long pushes = vcd_parse(path, 100000);
+    CHECK_EQ(pushes, 24);
+    /* a second run gives the same bytes */
+    char path2[600];
+    snprintf(path2, sizeof path2, "%s/t2.vcd", t_tmpdir());
+    v = vcd_open(path2, &d);
+    CHECK(run(&p, &b, FIDELITY_CYCLE, &l, v) == ALB_OK);
+    CHECK(vcd_close(v) == 0);
+    log_free(&l);
+    char cmd[1300];
+    snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", path, path2);
+    CHECK(system(cmd) == 0);
+    ws_buf_free(&b);
+}
