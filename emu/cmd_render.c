@@ -276,7 +276,7 @@ static const char vp_help[] =
 
 static int check_outputs(render_args *a)
 {
-    if (!a->output && !a->png && !a->nviews && !a->json && !a->stream) {
+    if (!a->output && !a->png && !a->nviews && !a->json && !a->stream && !a->vcd) {
         fprintf(stderr, "albatros %s: nothing to write: give -o FRAME.exr, --png FILE, --view "
                         "NAME:FILE or --json\n", a->cmd);
         return 2;

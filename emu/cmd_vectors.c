@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "exr.h"
 #include "preview.h"
+#include "sim.h"
 #include "../vp/vp.h"
 
 #include <dirent.h>
@@ -138,7 +139,37 @@ typedef struct {
     const char *diff_dir;
     unsigned frames;
     int failed;
+    char *counters;          /* bless: expected.cycles being written */
+    size_t clen, ccap;
+    char **want;             /* check: the lines of expected.cycles */
+    unsigned nwant;
 } frames_ctx;
+
+/* One line of expected.cycles: the frame's counters as key=value. */
+static void counters_line(char *out, size_t len, unsigned frame, const sim_counters *c)
+{
+    int n = snprintf(out, len, "frame=%u", frame);
+#define KV(field) n += snprintf(out + n, len - (size_t)n, " " #field "=%llu", \
+                                (unsigned long long)c->field);
+    SIM_COUNTER_FIELDS(KV)
+#undef KV
+}
+
+/* The first key whose value differs between two counter lines. */
+static void first_counter_diff(const char *want, const char *got, char *out, size_t len)
+{
+    const char *w = want, *g = got;
+    while (*w && *g) {
+        size_t wl = strcspn(w, " "), gl = strcspn(g, " ");
+        if (wl != gl || strncmp(w, g, wl)) {
+            snprintf(out, len, "expected %.*s, got %.*s", (int)wl, w, (int)gl, g);
+            return;
+        }
+        w += wl + (w[wl] == ' ');
+        g += gl + (g[gl] == ' ');
+    }
+    snprintf(out, len, "lines differ in length");
+}
 
 static void frame_path(const vector *v, unsigned k, char *out, size_t len)
 {
@@ -167,6 +198,8 @@ static bool first_pixel_diff(const frame_t *w, const frame_t *g, size_t *at, cha
             ch = "vp.level", a = w->level[i], b = g->level[i];
         if (!ch && w->coverage[i] != g->coverage[i])
             ch = "vp.coverage", a = w->coverage[i], b = g->coverage[i];
+        if (!ch && w->cycles && g->cycles && w->cycles[i] != g->cycles[i])
+            ch = "vp.cycles", a = w->cycles[i], b = g->cycles[i];
         if (!ch)
             continue;
         ++*count;
@@ -209,12 +242,40 @@ static int check_frame(frames_ctx *c, const frame_t *f, const char *path)
     return rc;
 }
 
-static int frame_sink(void *ctx, const frame_t *f, const vp_stats *st)
+static void check_counters(frames_ctx *c, const frame_t *f, const char *line)
+{
+    unsigned k = c->frames - 1;
+    if (k >= c->nwant) {
+        fprintf(stderr, "FAIL %s: expected.cycles has no line for frame %u\n", c->v->name, k);
+        c->failed = 1;
+    } else if (strcmp(c->want[k], line)) {
+        char what[200];
+        first_counter_diff(c->want[k], line, what, sizeof what);
+        fprintf(stderr, "FAIL %s: frame %u counters differ: %s\n", c->v->name, f->number, what);
+        c->failed = 1;
+    }
+}
+
+static int frame_sink(void *ctx, const frame_t *f, const vp_stats *st, const sim_counters *sc)
 {
     (void)st;
     frames_ctx *c = ctx;
-    char path[600];
+    char path[600], line[600];
     frame_path(c->v, c->frames++, path, sizeof path);
+    counters_line(line, sizeof line, f->number, sc);
+    if (c->bless) {
+        size_t need = c->clen + strlen(line) + 2;
+        if (need > c->ccap) {
+            char *nb = realloc(c->counters, 2 * need);
+            if (!nb)
+                return -1;
+            c->counters = nb;
+            c->ccap = 2 * need;
+        }
+        c->clen += (size_t)sprintf(c->counters + c->clen, "%s\n", line);
+    } else {
+        check_counters(c, f, line);
+    }
     if (c->bless) {
         diag_t d;
         diag_init(&d, NULL);
@@ -231,21 +292,91 @@ static int frame_sink(void *ctx, const frame_t *f, const vp_stats *st)
     return 0;
 }
 
-/* Render the stream through the VP; check (or bless) every frame. */
+/* The lines of a text file, in a malloc'd array of pointers into *text. */
+static char **read_lines(const char *path, char **text, unsigned *n)
+{
+    *n = 0;
+    *text = NULL;
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return NULL;
+    size_t cap = 1 << 16, len = 0;
+    char *buf = malloc(cap);
+    while (buf) {
+        size_t got = fread(buf + len, 1, cap - len - 1, f);
+        len += got;
+        if (got == 0)
+            break;
+        if (len + 1 == cap) {
+            char *nb = realloc(buf, cap * 2);
+            if (!nb) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
+            buf = nb;
+            cap *= 2;
+        }
+    }
+    fclose(f);
+    if (!buf)
+        return NULL;
+    buf[len] = 0;
+    char **lines = malloc((len / 2 + 2) * sizeof *lines);
+    if (!lines) {
+        free(buf);
+        return NULL;
+    }
+    for (char *p = buf; *p;) {
+        lines[(*n)++] = p;
+        char *nl = strchr(p, '\n');
+        if (!nl)
+            break;
+        *nl = 0;
+        p = nl + 1;
+    }
+    *text = buf;
+    return lines;
+}
+
+/* Render the stream through the timed model (pixels, vp.cycles and the
+ * counters, equal to the cycle model's by test); check or bless them. */
 static int vector_frames(const vector *v, const profile_t *prof, const ws_buf *stream, bool bless,
                          const char *diff_dir)
 {
-    frames_ctx c = {v, bless, diff_dir, 0, 0};
+    frames_ctx c = {v, bless, diff_dir, 0, 0, NULL, 0, 0, NULL, 0};
+    char cpath[600], *ctext = NULL;
+    snprintf(cpath, sizeof cpath, "%s/expected.cycles", v->dir);
+    if (!bless) {
+        c.want = read_lines(cpath, &ctext, &c.nwant);
+        if (!c.want) {
+            fprintf(stderr, "FAIL %s: no %s (run 'make bless' to create it)\n", v->name, cpath);
+            c.failed = 1;
+        }
+    }
     diag_t d;
     diag_init(&d, NULL);
-    vp_t *vp = NULL;
-    alb_err e = vp_create(&vp, prof, &d);
-    if (!e)
-        e = vp_run_stream(vp, stream->w, stream->n, v->name, frame_sink, &c, &d);
-    vp_destroy(vp);
+    sim_options opt = {FIDELITY_TIMED, NULL, 0, 0};
+    alb_err e = sim_run(prof, stream->w, stream->n, v->name, &opt, frame_sink, &c, &d);
+    free(c.want);
+    free(ctext);
     if (e) {
         diag_print(&d, stderr);
+        free(c.counters);
         return 1;
+    }
+    if (!bless && c.want && c.nwant != c.frames) {
+        fprintf(stderr, "FAIL %s: expected.cycles has %u lines, the run %u frames\n", v->name,
+                c.nwant, c.frames);
+        c.failed = 1;
+    }
+    if (bless) {
+        FILE *f = fopen(cpath, "w");
+        if (!f || fputs(c.counters ? c.counters : "", f) < 0 || fclose(f)) {
+            fprintf(stderr, "%s: cannot write\n", cpath);
+            c.failed = 1;
+        }
+        free(c.counters);
     }
     /* no expected frame may be left over from a longer run */
     char path[600];

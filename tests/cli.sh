@@ -73,6 +73,10 @@ printf '\x01' | dd of="$tmp/v/tri/expected.stream" bs=1 seek=48 conv=notrunc 2>/
 expect 1 "expected .* depth[.]A=" "$bin" vectors check "$tmp/v"
 # a changed colour: the stream and the frame differ; the pixel and channel are named
 "$bin" vectors bless "$tmp/v" >/dev/null
+cp "$tmp/v/tri/expected.cycles" "$tmp/cycles.bak"
+sed -i 's/engine_busy=[0-9]*/engine_busy=1/' "$tmp/v/tri/expected.cycles"
+expect 1 "frame 0 counters differ: expected engine_busy=1, got engine_busy=" "$bin" vectors check "$tmp/v"
+cp "$tmp/cycles.bak" "$tmp/v/tri/expected.cycles"
 sed -i 's/^ f 1 2 3$/ f 1 2 3 colour 10 20 30/' "$tmp/v/tri/scene.scene"
 expect 1 "frame 0 differs at pixel \([0-9]+, [0-9]+\): vp.R expected 200, got 10" \
     "$bin" vectors check --diff-dir "$tmp/diffs" "$tmp/v"
@@ -103,6 +107,24 @@ expect 2 "views are colour" "$bin" render --view bogus:x.png
 expect 0 '0 of them different' "$bin" accuracy "$tmp/t.scene" --profile a256
 "$bin" scene random --faces 5 --seed 3 -o "$tmp/r.scene" && "$bin" scene random --faces 5 --seed 3 | cmp -s - "$tmp/r.scene" && ok || bad "scene random not deterministic"
 expect 0 '0 of them different' "$bin" accuracy --random 3 --profile a256
+
+# fidelities: the replay of a stream gives the full run's cycles; counters
+"$bin" render "$tmp/t.scene" --profile a256 --fidelity timed --json -q --stream "$tmp/ts.stream" > "$tmp/full.json"
+"$bin" vp "$tmp/ts.stream" --profile a256 --fidelity cycle --json -q > "$tmp/replay.json"
+grep -o '"timing": {[^}]*}' "$tmp/full.json" > "$tmp/full.t"
+grep -o '"timing": {[^}]*}' "$tmp/replay.json" > "$tmp/replay.t"
+[[ -s $tmp/full.t ]] && cmp -s "$tmp/full.t" "$tmp/replay.t" && ok || bad "replay cycles differ: $(cat "$tmp/full.t" "$tmp/replay.t")"
+expect 0 'cycles = .* fps, within the 50 Hz budget' "$bin" render "$tmp/t.scene" --profile a256 --fidelity timed -o "$tmp/c.exr" --view cycles:"$tmp/cy.png"
+[[ -s $tmp/cy.png ]] && ok || bad "no cycles heat map"
+exrheader "$tmp/c.exr" | grep -q 'vp.cycles, 32-bit unsigned' && ok || bad "no vp.cycles channel"
+expect 1 'has no cycle counts' "$bin" render "$tmp/t.scene" --profile a256 -q --view cycles:"$tmp/x.png"
+expect 2 'add --fidelity cycle' "$bin" render "$tmp/t.scene" --profile a256 --vcd "$tmp/x.vcd"
+expect 2 'expected FROM:TO' "$bin" render --fidelity cycle --vcd "$tmp/x.vcd" --vcd-window 5
+"$bin" render "$tmp/t.scene" --profile a256 --fidelity cycle -q --json --vcd "$tmp/w.vcd" --vcd-window 100:200 > /dev/null && ok || bad "vcd run"
+# a256 runs at 20 MHz: 50000 ps a cycle; the window is cycles 100-200
+stamps=$(grep '^#' "$tmp/w.vcd" | tr -d '#' | awk '$1 > 0 && ($1 < 5000000 || $1 > 10050000)' | wc -l)
+grep -q '^\$enddefinitions' "$tmp/w.vcd" && grep -q '^#5000000$' "$tmp/w.vcd" && [[ $stamps -le 1 ]] && ok || bad "vcd window: $stamps stamps outside"
+expect 2 "expected functional, timed or cycle" "$bin" render --fidelity fast
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]
