@@ -37,6 +37,7 @@ ALBATROS := $(BUILD)/albatros
 UNIT     := $(BUILD)/tests/unit
 
 COST     := $(BUILD)/tools/cost
+BENCH    := $(BUILD)/tools/bench
 
 .PHONY: all test unit vectors bless asan bench demo setup deps clean help crosscheck
 all: $(ALBATROS) $(UNIT)
@@ -88,6 +89,9 @@ $(ALBATROS): $(EMU_OBJ) $(LIB_OBJ)
 $(COST): $(BUILD)/tools/cost.o $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
+$(BENCH): $(BUILD)/tools/bench.o $(LIB_OBJ)
+	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
+
 $(UNIT): $(TEST_OBJ) $(LIB_OBJ)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
@@ -119,7 +123,8 @@ crosscheck:
 	build-clang-O3/albatros vectors check test-vectors
 
 # figures, not tests: docs/performance.md quotes them
-bench: $(COST)
+bench: $(COST) $(BENCH)
+	$(BENCH)
 	$(COST)
 
 demo: $(ALBATROS)

@@ -31,15 +31,10 @@ static inline int64_t fix_floor_shr(int64_t x, unsigned s)
     return x >= 0 ? x >> s : -(int64_t)(((uint64_t)(-(x + 1)) >> s) + 1);
 }
 
-/* Number of significant bits of v (0 for 0). */
+/* Number of significant bits of v (0 for 0): a priority encoder. */
 static inline unsigned fix_bitlen(uint64_t v)
 {
-    unsigned n = 0;
-    while (v) {
-        n++;
-        v >>= 1;
-    }
-    return n;
+    return v ? 64u - (unsigned)__builtin_clzll(v) : 0;
 }
 
 /* Saturating x * 2^s for s >= 0, clamped to [lo, hi]. */

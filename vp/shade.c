@@ -5,6 +5,8 @@
 #include "vp_internal.h"
 #include "../common/fix.h"
 
+#include <stdlib.h>
+
 static int64_t form_at(const vp_form_fn *f, int64_t c, int64_t r)
 {
     return f->origin + c * f->step_c + r * f->step_r;
@@ -29,6 +31,35 @@ vp_recip vp_reciprocal(int64_t n, unsigned rb)
     unsigned nb = fix_bitlen((uint64_t)n);
     int64_t dm = nb > rb ? n >> (nb - rb) : n << (rb - nb);
     vp_recip r = {((int64_t)1 << (2 * rb - 1)) / dm, (int)nb - (int)rb};
+    return r;
+}
+
+/* The reciprocal ROM holds every quotient of the unit: the same bits as the
+ * division above, one table read per sample. */
+#define ROM_MAX_BITS 16
+
+int vp_recip_rom_init(vp_t *vp)
+{
+    unsigned rb = vp->prof.recip_bits;
+    if (rb > ROM_MAX_BITS)
+        return 0;   /* wider units divide */
+    size_t n = (size_t)1 << (rb - 1);
+    vp->recip_rom = malloc(n * sizeof *vp->recip_rom);
+    if (!vp->recip_rom)
+        return -1;
+    for (size_t i = 0; i < n; i++)
+        vp->recip_rom[i] = (uint32_t)(((int64_t)1 << (2 * rb - 1)) / (int64_t)(n + i));
+    return 0;
+}
+
+vp_recip vp_reciprocal_rom(const vp_t *vp, int64_t n)
+{
+    unsigned rb = vp->prof.recip_bits;
+    if (!vp->recip_rom)
+        return vp_reciprocal(n, rb);
+    unsigned nb = fix_bitlen((uint64_t)n);
+    int64_t dm = nb > rb ? n >> (nb - rb) : n << (rb - nb);
+    vp_recip r = {vp->recip_rom[dm - ((int64_t)1 << (rb - 1))], (int)nb - (int)rb};
     return r;
 }
 
@@ -84,7 +115,7 @@ void vp_shade_sample(const vp_t *vp, const vp_face_setup *fs, int64_t nz, int64_
     bool fog = vp->frame.fog && (fs->flags & WS_FACE_FOG);
     vp_recip rc = {0, 0};
     if (fs->flags & (WS_FACE_SHADE | WS_FACE_TEXTURE) || fog)
-        rc = vp_reciprocal(nz, rb);
+        rc = vp_reciprocal_rom(vp, nz);
     int ez = fs->depth.exp;
     /* eq. (7): intensity = shade / depth, clamped to [0, 1] */
     int64_t intensity = one;
@@ -100,7 +131,9 @@ void vp_shade_sample(const vp_t *vp, const vp_face_setup *fs, int64_t nz, int64_
         texel = fs->texels[((size_t)v << lg) + u];
     }
     /* output stage: base x texel x intensity scaled to the frame store,
-     * round half up: (2 m (2^CB - 1) + D) / 2D with D = 255 * 255 * 2^FI */
+     * round half up: (2 m (2^CB - 1) + D) / 2D with D = 255 * 255 * 2^FI,
+     * computed as floor(floor(x / 2^(FI+1)) / 65025) — the same integer, a
+     * shift and a division by a constant */
     const uint64_t top = (1u << vp->prof.colour_bits) - 1;
     const uint64_t den = (uint64_t)255 * 255 << fi;
     int64_t vis = one;
@@ -110,7 +143,7 @@ void vp_shade_sample(const vp_t *vp, const vp_face_setup *fs, int64_t nz, int64_
     }
     for (int ch = 0; ch < 3; ch++) {
         uint64_t m = (uint64_t)fs->rgb[ch] * (texel >> (16 - 8 * ch) & 0xFF) * (uint64_t)intensity;
-        int64_t out = (int64_t)((2 * m * top + den) / (2 * den));
+        int64_t out = (int64_t)(((2 * m * top + den) >> (fi + 1)) / 65025u);
         if (fog)   /* blend toward the fog colour, round half up */
             out = (out * vis + (int64_t)vp->fog_rgb[ch] * (one - vis) + one / 2) >> fi;
         rgb[ch] = (uint16_t)out;

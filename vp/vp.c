@@ -29,7 +29,7 @@ alb_err vp_create(vp_t **out, const profile_t *prof, diag_t *d)
     vp->s_face = malloc(n * sizeof *vp->s_face);
     vp->s_level = malloc(n * sizeof *vp->s_level);
     vp->s_rgb = malloc(3 * n * sizeof *vp->s_rgb);
-    if (!vp->s_depth || !vp->s_face || !vp->s_level || !vp->s_rgb) {
+    if (!vp->s_depth || !vp->s_face || !vp->s_level || !vp->s_rgb || vp_recip_rom_init(vp)) {
         vp_destroy(vp);
         return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for a %ux%u sample store",
                        vp->sw, vp->sh);
@@ -44,6 +44,7 @@ void vp_destroy(vp_t *vp)
         return;
     for (unsigned i = 0; i < WS_MAX_TEXTURES; i++)
         free(vp->tex[i]);
+    free(vp->recip_rom);
     free(vp->s_depth);
     free(vp->s_face);
     free(vp->s_level);
@@ -153,12 +154,10 @@ void vp_form_setup(const vp_t *vp, const ws_form *f, vp_form_fn *fn)
 
 /* ---- the subdivision engine ---- */
 
-static void write_sample(vp_t *vp, const vp_face_setup *fs, uint32_t c, uint32_t r,
-                         unsigned level)
+static inline void write_sample(vp_t *vp, const vp_face_setup *fs, uint32_t c, uint32_t r,
+                                unsigned level, int64_t nz)
 {
     size_t idx = (size_t)r * vp->sw + c;
-    vp->st.samples_covered++;
-    int64_t nz = fs->depth.origin + (int64_t)c * fs->depth.step_c + (int64_t)r * fs->depth.step_r;
     uint32_t dv = vp_depth_value(vp, nz, fs->depth.exp);
     vp->st.depth_underflow += dv == 0 && nz > 0;
     vp->st.depth_saturated += dv == (uint32_t)(((uint64_t)1 << vp->prof.depth_bits) - 1);
@@ -176,9 +175,14 @@ static void write_sample(vp_t *vp, const vp_face_setup *fs, uint32_t c, uint32_t
 void vp_fill(vp_t *vp, const vp_face_setup *fs, const vp_cell *k)
 {
     uint32_t cw = 1u << k->wl, ch = 1u << k->hl;
-    for (uint32_t r = k->r0; r < k->r0 + ch; r++)
-        for (uint32_t c = k->c0; c < k->c0 + cw; c++)
-            write_sample(vp, fs, c, r, k->level);
+    vp->st.samples_covered += (uint64_t)cw * ch;
+    int64_t row_nz = fs->depth.origin + (int64_t)k->c0 * fs->depth.step_c +
+                     (int64_t)k->r0 * fs->depth.step_r;
+    for (uint32_t r = k->r0; r < k->r0 + ch; r++, row_nz += fs->depth.step_r) {
+        int64_t nz = row_nz;   /* the depth form, stepped exactly along the row */
+        for (uint32_t c = k->c0; c < k->c0 + cw; c++, nz += fs->depth.step_c)
+            write_sample(vp, fs, c, r, k->level, nz);
+    }
 }
 
 /* Classify cell k against its active edges: -1 outside, 1 inside (every
@@ -317,6 +321,17 @@ void vp_frame_end(vp_t *vp, frame_t *out)
     unsigned aa = vp->prof.aa_levels, n = 1u << aa;
     out->number = vp->frame.number;
     out->near = vp->cfg.near;
+    if (aa == 0) {
+        /* one sample per pixel: the store is the frame */
+        size_t np = (size_t)vp->prof.width * vp->prof.height;
+        memcpy(out->rgb, vp->s_rgb, 3 * np * sizeof *out->rgb);
+        memcpy(out->depth, vp->s_depth, np * sizeof *out->depth);
+        memcpy(out->face, vp->s_face, np * sizeof *out->face);
+        memcpy(out->level, vp->s_level, np);
+        for (size_t i = 0; i < np; i++)
+            out->coverage[i] = vp->s_face[i] != FRAME_NO_FACE;
+        return;
+    }
     for (unsigned y = 0; y < vp->prof.height; y++)
         for (unsigned x = 0; x < vp->prof.width; x++) {
             /* the pixel's nearest sample gives depth, face and level (ties:

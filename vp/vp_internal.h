@@ -50,6 +50,7 @@ struct vp {
     uint16_t bg[3];          /* background in frame-store units */
     uint16_t fog_rgb[3];
     vp_stats st;
+    uint32_t *recip_rom;     /* floor(2^(2RB-1) / dm) for dm in [2^(RB-1), 2^RB) */
 };
 
 /* A face as the edge store holds it: shading set-up and edge functions. */
@@ -116,6 +117,10 @@ typedef struct {
     int shift;
 } vp_recip;
 vp_recip vp_reciprocal(int64_t n, unsigned recip_bits);
+/* The same through the VP's table (the hardware's reciprocal ROM). */
+vp_recip vp_reciprocal_rom(const vp_t *vp, int64_t n);
+/* Build the table; -1 if out of memory. */
+int vp_recip_rom_init(vp_t *vp);
 /* floor(num / den * 2^(e_num - e_den + frac)) through the reciprocal. */
 int64_t vp_ratio(int64_t num, int e_num, vp_recip r, int e_den, unsigned recip_bits, int frac);
 
