@@ -124,23 +124,31 @@ void cycle_map_charge(cycle_map *m, const vp_t *vp, const vp_cell *k, uint64_t c
 
 void cycle_map_resolve(cycle_map *m, const vp_t *vp, frame_t *out)
 {
+    /* Each sample's share is the sum over the cells containing it of
+     * cycles * 65536 / (samples of the cell), truncated per cell: pushed down
+     * the levels, each cell adding its share to its parent's total. */
     unsigned aa = vp->prof.aa_levels;
-    memset(out->cycles, 0, (size_t)out->width * out->height * sizeof *out->cycles);
     for (unsigned l = 0; l < m->levels; l++) {
         unsigned wl = lvl_wl(vp, l), hl = lvl_hl(vp, l);
+        unsigned dx = l && lvl_wl(vp, l - 1) > wl, dy = l && lvl_hl(vp, l - 1) > hl;
         size_t per_row = (size_t)1 << (vp->lw - wl), rows = (size_t)1 << (vp->lh - hl);
+        size_t parent_row = per_row >> dx;
         for (size_t cy = 0; cy < rows; cy++)
             for (size_t cx = 0; cx < per_row; cx++) {
                 uint64_t *cell = &m->lvl[l][cy * per_row + cx];
-                if (!*cell)
-                    continue;
-                /* each sample of the cell gets cycles * 65536 / samples */
-                uint64_t each = (*cell << 16) >> (wl + hl);
-                for (size_t r = cy << hl; r < (cy + 1) << hl; r++)
-                    for (size_t c = cx << wl; c < (cx + 1) << wl; c++)
-                        out->cycles[(r >> aa) * out->width + (c >> aa)] += (uint32_t)each;
-                *cell = 0;
+                uint64_t inherited = l ? m->lvl[l - 1][(cy >> dy) * parent_row + (cx >> dx)] : 0;
+                *cell = inherited + ((*cell << 16) >> (wl + hl));
             }
+    }
+    /* the last level holds single samples; pixels sum their samples */
+    const uint64_t *last = m->lvl[m->levels - 1];
+    memset(out->cycles, 0, (size_t)out->width * out->height * sizeof *out->cycles);
+    for (size_t r = 0; r < (size_t)1 << vp->lh; r++)
+        for (size_t c = 0; c < (size_t)1 << vp->lw; c++)
+            out->cycles[(r >> aa) * out->width + (c >> aa)] += (uint32_t)last[(r << vp->lw) + c];
+    for (unsigned l = 0; l < m->levels; l++) {
+        size_t n = (size_t)1 << ((vp->lw - lvl_wl(vp, l)) + (vp->lh - lvl_hl(vp, l)));
+        memset(m->lvl[l], 0, n * sizeof *m->lvl[l]);
     }
 }
 

@@ -40,6 +40,7 @@ typedef struct {
         unsigned bin;
     } *pending;
     unsigned npending, cap_pending;
+    frame_t spare;            /* a flushed frame's planes, reused (no copies) */
 } timed;
 
 static int64_t max64(int64_t a, int64_t b) { return a > b ? a : b; }
@@ -157,7 +158,10 @@ static alb_err flush_frames(timed *t, bool all, sim_sink sink, void *ctx)
             break;
         if (!e && sink && sink(ctx, &pf->frame, &pf->st, &t->bins.bin[pf->bin]))
             e = ALB_ERR_IO;
-        frame_free(&pf->frame);
+        if (!t->spare.rgb)
+            t->spare = pf->frame;
+        else
+            frame_free(&pf->frame);
         done++;
     }
     memmove(t->pending, t->pending + done, (t->npending - done) * sizeof *t->pending);
@@ -182,9 +186,17 @@ static alb_err frame_end(timed *t, int64_t popped, diag_t *d)
         t->pending = np;
         t->cap_pending = cap;
     }
+    /* the finished planes move to the pending list; drawing goes on in a
+     * spare set */
     struct pending *pf = &t->pending[t->npending];
-    if (frame_copy(&pf->frame, &t->frame))
+    pf->frame = t->frame;
+    if (t->spare.rgb) {
+        t->frame = t->spare;
+        memset(&t->spare, 0, sizeof t->spare);
+    } else if (vp_frame_alloc(t->vp, &t->frame, true)) {
         return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
+    }
+    t->frame.near = pf->frame.near;
     pf->st = *vp_stats_get(t->vp);
     pf->bin = t->bins.nretired - 1;
     t->npending++;
@@ -217,6 +229,7 @@ static void timed_free(timed *t)
     for (unsigned i = 0; i < t->npending; i++)
         frame_free(&t->pending[i].frame);
     free(t->pending);
+    frame_free(&t->spare);
     vp_destroy(t->vp);
     free(t->pop_ring);
     free(t->slot_free);
