@@ -16,6 +16,7 @@ const char *alb_strerror(alb_err e)
     case ALB_ERR_CONFIG: return "invalid configuration";
     case ALB_ERR_NOMEM: return "out of memory";
     case ALB_ERR_MISMATCH: return "mismatch";
+    case ALB_ERR_INTERRUPTED: return "interrupted";
     }
     return "unknown error";
 }

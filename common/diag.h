@@ -15,7 +15,8 @@ typedef enum {
     ALB_ERR_LIMIT,     /* a documented limit was exceeded */
     ALB_ERR_CONFIG,    /* a profile or option is invalid */
     ALB_ERR_NOMEM,
-    ALB_ERR_MISMATCH   /* a comparison found a difference */
+    ALB_ERR_MISMATCH,  /* a comparison found a difference */
+    ALB_ERR_INTERRUPTED /* stopped by SIGINT or SIGTERM */
 } alb_err;
 
 const char *alb_strerror(alb_err e);

@@ -243,11 +243,9 @@ static int run_vp(render_args *a, const profile_t *prof, const uint32_t *w, size
         fprintf(stderr, "albatros %s: %s: write error\n", a->cmd, a->vcd);
         e = e ? e : ALB_ERR_IO;
     }
-    if (e && e != ALB_ERR_IO)
+    if (e && (e != ALB_ERR_IO || d.msg[0]))
         diag_print(&d, stderr);
-    else if (e == ALB_ERR_IO && d.msg[0])
-        diag_print(&d, stderr);
-    return e ? 1 : 0;
+    return e == ALB_ERR_INTERRUPTED ? 130 : e ? 1 : 0;
 }
 
 static const char render_help[] =

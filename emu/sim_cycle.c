@@ -518,7 +518,8 @@ alb_err sim_run_cycle(const profile_t *p, const uint32_t *w, size_t n, const cha
         if (m.ended && drained(&m, t))
             break;
         if (!(t & 4095) && interrupted) {
-            e = diag_at(d, ALB_ERR_IO, name, 0, 0, "interrupted at cycle %lld", (long long)t);
+            e = diag_at(d, ALB_ERR_INTERRUPTED, name, 0, 0, "interrupted at cycle %lld; the trace "
+                        "is complete up to it", (long long)t);
             break;
         }
     }

@@ -125,6 +125,12 @@ expect 2 'expected FROM:TO' "$bin" render --fidelity cycle --vcd "$tmp/x.vcd" --
 stamps=$(grep '^#' "$tmp/w.vcd" | tr -d '#' | awk '$1 > 0 && ($1 < 5000000 || $1 > 10050000)' | wc -l)
 grep -q '^\$enddefinitions' "$tmp/w.vcd" && grep -q '^#5000000$' "$tmp/w.vcd" && [[ $stamps -le 1 ]] && ok || bad "vcd window: $stamps stamps outside"
 expect 2 "expected functional, timed or cycle" "$bin" render --fidelity fast
+# Ctrl-C during a long traced run: exit 130 and a complete trace
+"$bin" scene random --faces 3000 --seed 2 -o "$tmp/heavy.scene"
+timeout --preserve-status -s INT 2 "$bin" render "$tmp/heavy.scene" --profile a1024 --fidelity cycle --vcd "$tmp/int.vcd" -q > "$tmp/int.out" 2>&1
+rc=$?
+[[ $rc -eq 130 ]] && grep -q 'interrupted at cycle' "$tmp/int.out" && ok || bad "SIGINT: exit $rc: $(cat "$tmp/int.out")"
+grep -q '^\$enddefinitions' "$tmp/int.vcd" && tail -n 1 "$tmp/int.vcd" | grep -q '^#[0-9]*$' && ok || bad "interrupted trace incomplete"
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]
