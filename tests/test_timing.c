@@ -8,6 +8,7 @@
 #include "../emu/vcd.h"
 #include "../tools/scenegen.h"
 
+#include <dirent.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -437,4 +438,49 @@ TEST(timing_vcd_trace_is_valid)
     snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", path, path2);
     CHECK(system(cmd) == 0);
     ws_buf_free(&b);
+}
+
+/* cycle == timed == functional on every golden vector's stream, with the
+ * vector's own profile (its options file: --profile and --set only). */
+TEST(timing_fidelities_agree_on_every_vector)
+{
+    DIR *dir = opendir("test-vectors");
+    CHECK(dir != NULL);
+    if (!dir)
+        return;
+    struct dirent *de;
+    unsigned n = 0;
+    while ((de = readdir(dir))) {
+        if (de->d_name[0] == '.')
+            continue;
+        char path[600], opts[1024] = "";
+        snprintf(path, sizeof path, "test-vectors/%s/options", de->d_name);
+        FILE *f = fopen(path, "r");
+        if (f) {
+            size_t k = fread(opts, 1, sizeof opts - 1, f);
+            opts[k] = 0;
+            fclose(f);
+        }
+        profile_t p;
+        profile_lookup("a512", &p);
+        char err[256];
+        for (char *tok = strtok(opts, " \n"); tok; tok = strtok(NULL, " \n")) {
+            if (!strcmp(tok, "--profile") && (tok = strtok(NULL, " \n")))
+                profile_lookup(tok, &p);
+            else if (!strcmp(tok, "--set") && (tok = strtok(NULL, " \n")))
+                profile_set(&p, tok, err, sizeof err);
+        }
+        snprintf(path, sizeof path, "test-vectors/%s/expected.stream", de->d_name);
+        ws_buf b;
+        ws_buf_init(&b);
+        diag_t d;
+        diag_init(&d, NULL);
+        if (ws_read_file(path, &b.w, &b.n, &d))
+            continue;   /* not a vector */
+        check_fidelities(&p, &b, de->d_name);
+        ws_buf_free(&b);
+        n++;
+    }
+    closedir(dir);
+    CHECK(n >= 12);
 }
