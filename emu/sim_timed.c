@@ -164,7 +164,8 @@ static alb_err flush_frames(timed *t, bool all, sim_sink sink, void *ctx)
             frame_free(&pf->frame);
         done++;
     }
-    memmove(t->pending, t->pending + done, (t->npending - done) * sizeof *t->pending);
+    if (done && done < t->npending)
+        memmove(t->pending, t->pending + done, (t->npending - done) * sizeof *t->pending);
     t->npending -= done;
     return e;
 }
