@@ -3,7 +3,7 @@
 
 CC      ?= cc
 BUILD   ?= build
-PKGS    := libpng
+PKGS    := libpng libusb-1.0 hidapi-hidraw
 # OpenEXR 3.1 has no pkg-config module for its C library alone: the C API
 # (OpenEXRCore) takes the OpenEXR module's include path and one library.
 EXR_CFLAGS := $(shell pkg-config --cflags OpenEXR)
@@ -22,11 +22,16 @@ LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm $(EXTRA_LDLIBS)
 COMMON_SRC := common/diag.c common/profile.c common/words.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
 VP_SRC     := vp/vp.c vp/shade.c vp/frame.c
-TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c
+TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools/methods.c \
+              $(wildcard tools/methods/*.c)
 SINK_SRC   := emu/exr.c emu/preview.c emu/sim.c emu/sim_timed.c emu/sim_cycle.c emu/vcd.c
-EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cmd_render.c emu/cmd_compare.c emu/cmd_scene.c \
+FW_SRC     := firmware/core.c firmware/crc32.c firmware/sim/board.c
+BRIDGE_SRC := emu/bridge/link.c emu/bridge/stream.c emu/bridge/transport_sim.c \
+              emu/bridge/transport_fault.c emu/bridge/transport_usb.c
+EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cmd_render.c emu/cmd_compare.c emu/cmd_scene.c emu/cmd_stream.c \
               emu/cli.c
-LIB_SRC    := $(COMMON_SRC) $(GP_SRC) $(VP_SRC) $(TOOLS_SRC) $(SINK_SRC) $(BUILD)/gen/builtin_scene.c
+LIB_SRC    := $(COMMON_SRC) $(GP_SRC) $(VP_SRC) $(TOOLS_SRC) $(SINK_SRC) $(FW_SRC) $(BRIDGE_SRC) \
+              $(BUILD)/gen/builtin_scene.c
 TEST_SRC   := $(wildcard tests/test_*.c) tests/t.c tests/gp_helpers.c
 
 LIB_OBJ  := $(patsubst %.c,$(BUILD)/%.o,$(LIB_SRC:$(BUILD)/%=%))
@@ -55,7 +60,8 @@ help:
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
-DEB_PKGS := build-essential pkg-config libpng-dev libopenexr-dev openexr
+DEB_PKGS := build-essential pkg-config libpng-dev libopenexr-dev openexr libusb-1.0-0-dev \
+            libhidapi-dev
 setup: deps
 	$(MAKE) all
 deps:
@@ -90,6 +96,10 @@ $(COST): $(BUILD)/tools/cost.o $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 $(BENCH): $(BUILD)/tools/bench.o $(LIB_OBJ)
+	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
+
+METHODS_TABLE := $(BUILD)/tools/methods-table
+$(METHODS_TABLE): $(BUILD)/tools/methods_table.o $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 $(UNIT): $(TEST_OBJ) $(LIB_OBJ)

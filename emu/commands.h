@@ -17,6 +17,8 @@ int cmd_reference(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_accuracy(int argc, char **argv);
 int cmd_scene(int argc, char **argv);
+int cmd_stream(int argc, char **argv);
+int cmd_board(int argc, char **argv);
 
 
 

@@ -18,6 +18,8 @@ static const command commands[] = {
     {"compare", cmd_compare, "compare two frames: face mismatches, colour error, diff image"},
     {"accuracy", cmd_accuracy, "measure the VP against the exact reference on scenes"},
     {"scene", cmd_scene, "write a generated scene (random polygons, slivers)"},
+    {"stream", cmd_stream, "stream to a board (USB or simulated) and check it against the emulator"},
+    {"board", cmd_board, "list, inspect or reset boards over HID"},
     {"dump", cmd_dump, "check a word stream and print it with field names"},
     {"vectors", cmd_vectors, "check (or bless) the golden vectors"},
     {"profiles", cmd_profiles, "list the family's profiles and their fields"},

@@ -32,6 +32,7 @@ static void prepare_face(ref_face *rf, const vec3 *p, unsigned n)
     rf->n = n;
     bool all_front = true;
     for (unsigned k = 0; k < n; k++) {
+        rf->v[k] = p[k];
         rf->edge[k] = v3_cross(p[k], p[(k + 1) % n]);
         all_front &= p[k].z > 0;
     }
@@ -144,7 +145,7 @@ static double lerp3(double a, double b, double c, double s, double t)
 }
 
 /* Colour (0..255 per channel, before fog) of face r at observer point P. */
-static void shade(const scene_t *sc, const ref_face *r, vec3 P, double out[3])
+void ref_shade_point(const scene_t *sc, const ref_face *r, vec3 P, double out[3])
 {
     const scene_object *o = r->obj;
     const scene_face *f = r->face;
@@ -227,6 +228,12 @@ static double fogged(const scene_t *s, const ref_face *f, double c, double fogc,
     return fogc + (c - fogc) * vis;
 }
 
+void ref_fog_point(const scene_t *s, const ref_face *f, double z, double rgb[3])
+{
+    for (int ch = 0; ch < 3; ch++)
+        rgb[ch] = fogged(s, f, rgb[ch], s->fog_rgb[ch], z);
+}
+
 int ref_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *out)
 {
     ref_frame rf;
@@ -258,9 +265,8 @@ int ref_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *ou
                     if (h.face >= 0) {
                         const ref_face *f = &rf.faces[h.face];
                         covered++;
-                        shade(s, f, v3_scale(v3(xs, ys, 1), 1 / h.q), c);
-                        for (int ch = 0; ch < 3; ch++)
-                            c[ch] = fogged(s, f, c[ch], s->fog_rgb[ch], 1 / h.q);
+                        ref_shade_point(s, f, v3_scale(v3(xs, ys, 1), 1 / h.q), c);
+                        ref_fog_point(s, f, 1 / h.q, c);
                         if (h.q > best_q) {
                             best_q = h.q;
                             best = h.face;

@@ -16,6 +16,7 @@ typedef struct {
     const scene_object *obj;
     const scene_face *face;
     unsigned n;               /* edges */
+    vec3 v[SCENE_MAX_FACE_VERTICES];      /* the vertices R_j in observer space */
     vec3 edge[SCENE_MAX_FACE_VERTICES];   /* R_j x R_j+1: inside n.(x, y, 1) >= 0 */
     vec3 plane_n;             /* plane N.P = d in observer space */
     double plane_d;
@@ -34,6 +35,16 @@ typedef struct {
 /* The faces of frame `frame` that the observer can see the front of. */
 int ref_prepare(const scene_t *s, const profile_t *p, unsigned frame, ref_frame *rf);
 void ref_frame_free(ref_frame *rf);
+
+/* Colour (0..255 per channel, before fog) of face f at the observer-space
+ * point P of its plane: the scene's fields by barycentric coordinates in the
+ * face's field triple (docs/reference.md).  The other renderers of tools/
+ * (tools/methods.h) shade through this so that they differ from the
+ * reference only in visibility. */
+void ref_shade_point(const scene_t *s, const ref_face *f, vec3 P, double rgb_out[3]);
+/* Linear fog in Z (distance along the view axis) applied to rgb in place, if
+ * the scene has fog and the face takes it. */
+void ref_fog_point(const scene_t *s, const ref_face *f, double z, double rgb[3]);
 
 /* Render frame `frame` into out (allocated here at the profile's size). */
 int ref_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *out);

@@ -1,0 +1,150 @@
+/* link.c — packet codec of the host side of the bridge. */
+#include "link.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+size_t link_encode(uint8_t *out, uint8_t type, uint32_t seq, const uint8_t *payload, uint32_t len)
+{
+    out[0] = PROTO_MAGIC0, out[1] = PROTO_MAGIC1, out[2] = PROTO_MAGIC2, out[3] = PROTO_MAGIC3;
+    out[PROTO_OFF_TYPE] = type;
+    out[PROTO_OFF_FLAGS] = 0;
+    out[PROTO_OFF_RSVD] = out[PROTO_OFF_RSVD + 1] = 0;
+    PROTO_PUT32(out + PROTO_OFF_SEQ, seq);
+    PROTO_PUT32(out + PROTO_OFF_LEN, len);
+    if (len)
+        memcpy(out + PROTO_HEADER, payload, len);
+    uint32_t crc = 0;
+    size_t n = PROTO_HEADER + len, done = 0;
+    while (done < n) {   /* proto_crc32 takes 16-bit lengths (the 8051's) */
+        uint16_t piece = (uint16_t)(n - done > 0x8000 ? 0x8000 : n - done);
+        crc = proto_crc32(crc, out + done, piece);
+        done += piece;
+    }
+    PROTO_PUT32(out + n, crc);
+    return n + PROTO_TRAILER;
+}
+
+void link_rx_init(link_rx *rx) { memset(rx, 0, sizeof *rx); }
+
+void link_rx_free(link_rx *rx)
+{
+    free(rx->buf);
+    memset(rx, 0, sizeof *rx);
+}
+
+int link_rx_feed(link_rx *rx, const uint8_t *data, size_t len)
+{
+    if (rx->start && rx->start == rx->len)
+        rx->start = rx->len = 0;
+    if (rx->len + len > rx->cap) {
+        if (rx->start) {   /* compact first */
+            memmove(rx->buf, rx->buf + rx->start, rx->len - rx->start);
+            rx->len -= rx->start;
+            rx->start = 0;
+        }
+        if (rx->len + len > rx->cap) {
+            size_t cap = rx->cap ? rx->cap : 4096;
+            while (cap < rx->len + len)
+                cap *= 2;
+            uint8_t *nb = realloc(rx->buf, cap);
+            if (!nb)
+                return -1;
+            rx->buf = nb;
+            rx->cap = cap;
+        }
+    }
+    memcpy(rx->buf + rx->len, data, len);
+    rx->len += len;
+    return 0;
+}
+
+static bool is_magic(const uint8_t *p)
+{
+    return p[0] == PROTO_MAGIC0 && p[1] == PROTO_MAGIC1 && p[2] == PROTO_MAGIC2 &&
+           p[3] == PROTO_MAGIC3;
+}
+
+static uint32_t crc_of(const uint8_t *p, size_t n)
+{
+    uint32_t crc = 0;
+    for (size_t done = 0; done < n;) {
+        uint16_t piece = (uint16_t)(n - done > 0x8000 ? 0x8000 : n - done);
+        crc = proto_crc32(crc, p + done, piece);
+        done += piece;
+    }
+    return crc;
+}
+
+int link_rx_next(link_rx *rx, link_packet *p)
+{
+    for (;;) {
+        size_t avail = rx->len - rx->start;
+        const uint8_t *b = rx->buf + rx->start;
+        /* find the magic */
+        size_t skip = 0;
+        while (skip + 4 <= avail && !is_magic(b + skip))
+            skip++;
+        if (skip + 4 > avail) {
+            /* keep up to 3 bytes that may start a magic */
+            size_t keep = avail < 3 ? avail : 3;
+            rx->garbage += avail - keep;
+            rx->start = rx->len - keep;
+            return 0;
+        }
+        rx->garbage += skip;
+        rx->start += skip;
+        b += skip;
+        avail -= skip;
+        if (avail < PROTO_HEADER)
+            return 0;
+        uint32_t len = PROTO_GET32(b + PROTO_OFF_LEN);
+        if (b[PROTO_OFF_RSVD] || b[PROTO_OFF_RSVD + 1] || len > PROTO_MAX_PAYLOAD) {
+            rx->garbage++;
+            rx->start++;   /* one byte after the candidate's magic start */
+            continue;
+        }
+        size_t total = PROTO_HEADER + len + PROTO_TRAILER;
+        if (avail < total)
+            return 0;
+        if (crc_of(b, PROTO_HEADER + len) != PROTO_GET32(b + PROTO_HEADER + len)) {
+            rx->crc_errors++;
+            rx->garbage++;
+            rx->start++;
+            continue;
+        }
+        p->type = b[PROTO_OFF_TYPE];
+        p->seq = PROTO_GET32(b + PROTO_OFF_SEQ);
+        p->len = len;
+        p->payload = b + PROTO_HEADER;
+        rx->start += total;
+        rx->packets++;
+        if (rx->have_seq && p->seq != rx->expect_seq) {
+            if (p->seq > rx->expect_seq)
+                rx->seq_gaps++;
+            else
+                rx->duplicates++;
+        }
+        rx->have_seq = true;
+        rx->expect_seq = p->seq + 1;
+        return 1;
+    }
+}
+
+uint32_t link_frame_crc(const uint16_t *rgb, size_t pixels)
+{
+    uint8_t chunk[3 * 2 * 256];
+    uint32_t crc = 0;
+    size_t i = 0;
+    while (i < pixels) {
+        size_t n = pixels - i < 256 ? pixels - i : 256;
+        for (size_t k = 0; k < 3 * n; k++) {
+            uint16_t v = rgb[3 * i + k];
+            chunk[2 * k] = (uint8_t)v;
+            chunk[2 * k + 1] = (uint8_t)(v >> 8);
+        }
+        crc = proto_crc32(crc, chunk, (uint16_t)(6 * n));
+        i += n;
+    }
+    return crc;
+}

@@ -1,0 +1,45 @@
+/* link.h — the host's side of the bulk protocol (docs/usb-protocol.md):
+ * packet encoding, and a decoder of the board's packets with the same
+ * resynchronisation rules as the firmware, counting every loss. */
+#ifndef ALBATROS_LINK_H
+#define ALBATROS_LINK_H
+
+#include "../../firmware/proto.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+/* Encode one packet into out (PROTO_HEADER + len + PROTO_TRAILER bytes). */
+size_t link_encode(uint8_t *out, uint8_t type, uint32_t seq, const uint8_t *payload, uint32_t len);
+
+typedef struct {
+    uint8_t type;
+    uint32_t seq;
+    uint32_t len;
+    const uint8_t *payload;   /* valid until the next link_rx_* call */
+} link_packet;
+
+typedef struct {
+    uint8_t *buf;
+    size_t len, cap, start;   /* unread bytes are buf[start .. len) */
+    bool have_seq;
+    uint32_t expect_seq;
+    /* losses seen on the way in */
+    uint64_t crc_errors, garbage, seq_gaps, duplicates, packets;
+} link_rx;
+
+void link_rx_init(link_rx *rx);
+void link_rx_free(link_rx *rx);
+/* Append received bytes; -1 if out of memory. */
+int link_rx_feed(link_rx *rx, const uint8_t *data, size_t len);
+/* The next valid packet: 1 with *p filled, 0 if more bytes are needed.
+ * Bad candidates are skipped (counted); sequence gaps and duplicates are
+ * counted and the packet is still returned (p->seq tells). */
+int link_rx_next(link_rx *rx, link_packet *p);
+
+/* The CRC of a frame store as the protocol defines it: R, G, B of every
+ * pixel as 16-bit little-endian, row 0 first (docs/usb-protocol.md). */
+uint32_t link_frame_crc(const uint16_t *rgb, size_t pixels);
+
+#endif

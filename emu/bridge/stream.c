@@ -1,0 +1,416 @@
+/* stream.c — the streaming engine behind `albatros stream`: RESET, the
+ * stream's preamble, then frames in WORDS packets no more than `window`
+ * frames ahead of the last RESULT; RESULTs compared with the emulator; on a
+ * board ERROR the first unconfirmed frame is RESUMEd and resent; a missing
+ * RESULT is asked for once with QUERY, then the board has stopped answering.
+ * Every loss is counted and the first problem described. */
+#include "stream.h"
+#include "link.h"
+#include "../../common/words.h"
+
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+typedef struct {
+    transport_t *t;
+    const uint32_t *w;
+    size_t n;
+    stream_frame *f;
+    unsigned nf;
+    const stream_opts *o;
+    stream_report *r;
+    link_rx rx;
+    uint32_t seq;
+    uint8_t *pkt;             /* encode buffer */
+    bool need_resume, failed;
+    unsigned next;            /* next frame to send */
+    /* a READBACK in progress */
+    int rb_frame;
+    size_t rb_got, rb_first_bad;
+    char rb_what[160];
+} streamer;
+
+void stream_opts_default(stream_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->timeout_ms = 2000;
+    o->retries = 3;
+    o->window = 16;
+    o->readback = true;
+}
+
+static void __attribute__((format(printf, 2, 3))) problem(streamer *s, const char *fmt, ...)
+{
+    if (s->r->first_problem[0])
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(s->r->first_problem, sizeof s->r->first_problem, fmt, ap);
+    va_end(ap);
+}
+
+static void __attribute__((format(printf, 2, 3))) note(streamer *s, const char *fmt, ...)
+{
+    if (!s->o->log)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    if (s->o->progress)
+        fputc('\n', s->o->log);
+    vfprintf(s->o->log, fmt, ap);
+    va_end(ap);
+    fputc('\n', s->o->log);
+}
+
+static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32_t len)
+{
+    size_t n = link_encode(s->pkt, type, s->seq++, payload, len);
+    tr_status st = s->t->ops->write(s->t, s->pkt, n);
+    if (st == TR_OK)
+        st = s->t->ops->flush(s->t);
+    if (st != TR_OK) {
+        problem(s, "link failed while sending packet %u (%s): %s", (unsigned)(s->seq - 1),
+                st == TR_GONE ? "device disconnected" : "I/O error", s->t->error);
+        s->failed = true;
+        return -1;
+    }
+    s->r->bytes += n;
+    s->r->packets++;
+    return 0;
+}
+
+static int send_u32(streamer *s, uint8_t type, uint32_t v)
+{
+    uint8_t p[4];
+    PROTO_PUT32(p, v);
+    return send_packet(s, type, p, 4);
+}
+
+static int send_words(streamer *s, size_t from, size_t to)
+{
+    size_t max = s->o->chunk_bytes ? s->o->chunk_bytes : s->t->max_payload;
+    if (max > s->t->max_payload)
+        max = s->t->max_payload;
+    size_t per = max / 4 ? max / 4 : 1;
+    uint8_t *buf = malloc(per * 4);
+    if (!buf)
+        return -1;
+    for (size_t i = from; i < to && !s->failed; i += per) {
+        size_t k = to - i < per ? to - i : per;
+        for (size_t j = 0; j < k; j++)
+            PROTO_PUT32(buf + 4 * j, s->w[i + j]);
+        send_packet(s, PROTO_T_WORDS, buf, (uint32_t)(4 * k));
+    }
+    free(buf);
+    return s->failed ? -1 : 0;
+}
+
+static int frame_index(const streamer *s, uint32_t number)
+{
+    for (unsigned i = 0; i < s->nf; i++)
+        if (s->f[i].number == number)
+            return (int)i;
+    return -1;
+}
+
+static unsigned first_unconfirmed(const streamer *s)
+{
+    unsigned i = 0;
+    while (i < s->nf && s->f[i].have)
+        i++;
+    return i;
+}
+
+static void on_result(streamer *s, const link_packet *p)
+{
+    if (p->len < PROTO_RESULT_BYTES)
+        return;
+    uint32_t number = PROTO_GET32(p->payload + PROTO_RESULT_FRAME);
+    int i = frame_index(s, number);
+    if (i < 0) {
+        problem(s, "the board reported frame %u, which the stream does not have", number);
+        return;
+    }
+    stream_frame *f = &s->f[i];
+    uint32_t crc = PROTO_GET32(p->payload + PROTO_RESULT_CRC);
+    uint64_t cyc = PROTO_GET32(p->payload + PROTO_RESULT_CYC_LO) |
+                   (uint64_t)PROTO_GET32(p->payload + PROTO_RESULT_CYC_HI) << 32;
+    if (f->have)
+        return;   /* a resent frame's result again */
+    f->have = true;
+    f->board_crc = crc;
+    f->board_cycles = cyc;
+    s->r->frames++;
+    bool ok = true;
+    if (crc != f->crc) {
+        s->r->crc_mismatch++;
+        ok = false;
+        note(s, "frame %u: frame CRC %08x, the emulator's %08x", number, crc, f->crc);
+    }
+    if (cyc != f->cycles) {
+        s->r->cycle_mismatch++;
+        ok = false;
+        note(s, "frame %u: %llu cycles, the emulator's %llu", number, (unsigned long long)cyc,
+             (unsigned long long)f->cycles);
+    }
+    if (ok)
+        s->r->matched++;
+    else if (crc != f->crc)
+        problem(s, "frame %u: the board's frame CRC %08x differs from the emulator's %08x%s", number,
+                crc, f->crc, s->o->readback ? " (see the readback below)" : "");
+    else
+        problem(s, "frame %u: the board took %llu cycles, the emulator %llu", number,
+                (unsigned long long)cyc, (unsigned long long)f->cycles);
+}
+
+static const char *const error_names[] = {"none", "bad CRC", "sequence gap", "duplicate",
+                                          "bad type", "bad length", "malformed stream",
+                                          "wrong mode", "overflow"};
+
+static void on_error(streamer *s, const link_packet *p)
+{
+    if (p->len < 16)
+        return;
+    uint32_t code = PROTO_GET32(p->payload), seq = PROTO_GET32(p->payload + 4);
+    uint32_t expected = PROTO_GET32(p->payload + 8), detail = PROTO_GET32(p->payload + 12);
+    s->r->board_errors[code < 9 ? code : 0]++;
+    note(s, "board: %s at packet %u (expected %u, detail %u)", code < 9 ? error_names[code] : "?",
+         seq, expected, detail);
+    if (code != PROTO_E_DUPLICATE)
+        s->need_resume = true;
+}
+
+static void on_pixels(streamer *s, const link_packet *p)
+{
+    if (p->len < 12 || s->rb_frame < 0)
+        return;
+    const stream_frame *f = &s->f[s->rb_frame];
+    uint32_t first = PROTO_GET32(p->payload + 4), count = PROTO_GET32(p->payload + 8);
+    size_t npix = (size_t)f->width * f->height;
+    if ((uint64_t)count * 6 + 12 != p->len || first + (uint64_t)count > npix)
+        return;
+    for (uint32_t k = 0; k < count && s->rb_first_bad == (size_t)-1; k++)
+        for (int ch = 0; ch < 3; ch++) {
+            uint16_t b = (uint16_t)(p->payload[12 + 6 * k + 2 * ch] |
+                                    p->payload[13 + 6 * k + 2 * ch] << 8);
+            uint16_t e = f->rgb[3 * (first + k) + ch];
+            if (b != e && s->rb_first_bad == (size_t)-1) {
+                s->rb_first_bad = first + k;
+                snprintf(s->rb_what, sizeof s->rb_what, "pixel (%zu, %zu) channel %c: board %u, "
+                         "emulator %u", (size_t)(first + k) % f->width,
+                         (size_t)(first + k) / f->width, "RGB"[ch], b, e);
+            }
+        }
+    s->rb_got += count;
+}
+
+static void dispatch(streamer *s, const link_packet *p)
+{
+    switch (p->type) {
+    case PROTO_T_RESULT: on_result(s, p); break;
+    case PROTO_T_ERROR: on_error(s, p); break;
+    case PROTO_T_PIXELS: on_pixels(s, p); break;
+    default: break;   /* STATUS and anything newer */
+    }
+}
+
+/* Read what the board has (waiting up to timeout_ms for the first bytes);
+ * returns true if any packet arrived. */
+static bool pump(streamer *s, unsigned timeout_ms)
+{
+    uint8_t buf[65536];
+    bool any = false;
+    for (;;) {
+        size_t got = 0;
+        tr_status st = s->t->ops->read(s->t, buf, sizeof buf, &got, any ? 0 : timeout_ms);
+        if (st == TR_GONE || st == TR_ERROR) {
+            problem(s, "link failed while reading from the board: %s", s->t->error);
+            s->failed = true;
+            return any;
+        }
+        if (!got)
+            break;
+        if (link_rx_feed(&s->rx, buf, got))
+            break;
+        link_packet p;
+        while (link_rx_next(&s->rx, &p) == 1) {
+            any = true;
+            dispatch(s, &p);
+        }
+        timeout_ms = 0;
+    }
+    return any;
+}
+
+/* Ask a board for a bad frame's store and name its first wrong pixel. */
+static void readback(streamer *s, unsigned i)
+{
+    stream_frame *f = &s->f[i];
+    if (!f->rgb)
+        return;
+    s->rb_frame = (int)i;
+    s->rb_got = 0;
+    s->rb_first_bad = (size_t)-1;
+    s->rb_what[0] = 0;
+    if (send_u32(s, PROTO_T_READBACK, f->number))
+        return;
+    size_t npix = (size_t)f->width * f->height;
+    while (s->rb_got < npix && pump(s, s->o->timeout_ms))
+        ;
+    if (s->rb_first_bad != (size_t)-1)
+        note(s, "frame %u: first difference at %s", f->number, s->rb_what);
+    else if (s->rb_got < npix)
+        note(s, "frame %u: the board did not send its frame store back", f->number);
+    if (s->rb_first_bad != (size_t)-1 && strstr(s->r->first_problem, "readback")) {
+        size_t len = strlen(s->r->first_problem);
+        snprintf(s->r->first_problem + len, sizeof s->r->first_problem - len, ": first at %s",
+                 s->rb_what);
+    }
+    s->rb_frame = -1;
+}
+
+static void resume(streamer *s)
+{
+    s->need_resume = false;
+    unsigned i = first_unconfirmed(s);
+    if (i >= s->nf)
+        return;   /* every frame confirmed: the loss was in the stream's tail */
+    if (s->f[i].resends++ >= s->o->retries) {
+        problem(s, "frame %u still failing after %u resends", s->f[i].number, s->o->retries);
+        s->failed = true;
+        return;
+    }
+    note(s, "resuming from frame %u", s->f[i].number);
+    s->r->resumes++;
+    if (!send_u32(s, PROTO_T_RESUME, s->f[i].number))
+        s->next = i;
+}
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames, unsigned nframes,
+               const stream_opts *o, stream_report *r)
+{
+    streamer s = {t, w, n, frames, nframes, o, r, {0}, 0, NULL, false, false, 0, -1, 0, 0, ""};
+    memset(r, 0, sizeof *r);
+    link_rx_init(&s.rx);
+    s.pkt = malloc(PROTO_HEADER + PROTO_MAX_PAYLOAD + PROTO_TRAILER);
+    double t0 = now();
+    if (!s.pkt) {
+        problem(&s, "out of memory");
+        return -1;
+    }
+    size_t preamble = nframes ? frames[0].first_word : n;
+    bool end_sent = false, queried = false;
+    if (send_packet(&s, PROTO_T_RESET, NULL, 0) == 0)
+        send_words(&s, 0, preamble);
+    while (!s.failed) {
+        if (s.need_resume) {
+            resume(&s);
+            end_sent = false;
+            continue;
+        }
+        unsigned first = first_unconfirmed(&s);
+        while (!s.failed && !s.need_resume && s.next < nframes && s.next < first + o->window) {
+            send_words(&s, frames[s.next].first_word, frames[s.next].end_word);
+            s.next++;
+            pump(&s, 0);
+        }
+        if (s.failed || s.need_resume)
+            continue;
+        if (s.next == nframes && !end_sent) {
+            send_words(&s, nframes ? frames[nframes - 1].end_word : preamble, n);
+            end_sent = true;
+        }
+        if (first_unconfirmed(&s) == nframes) {
+            /* a PING after the last packet: a loss of the stream's tail (no
+             * frame in it) still shows as a sequence gap, reported */
+            if (!send_packet(&s, PROTO_T_PING, NULL, 0))
+                pump(&s, o->timeout_ms);
+            break;
+        }
+        if (o->progress && o->log)
+            fprintf(o->log, "\r%u/%u frames confirmed, %.1f MB sent", s.r->frames, nframes,
+                    (double)s.r->bytes / 1e6);
+        if (pump(&s, o->timeout_ms)) {
+            queried = false;
+            continue;
+        }
+        if (s.failed)
+            break;
+        unsigned i = first_unconfirmed(&s);
+        if (queried) {
+            problem(&s, "the board stopped answering: no RESULT for frame %u within %u ms after "
+                        "sending up to frame %u", frames[i].number, o->timeout_ms,
+                    s.next ? frames[s.next - 1].number : 0);
+            s.failed = true;
+            break;
+        }
+        s.r->queries++;
+        queried = true;
+        send_u32(&s, PROTO_T_QUERY, frames[i].number);
+    }
+    if (!s.failed && o->readback)
+        for (unsigned i = 0; i < nframes && !s.failed; i++)
+            if (frames[i].have && frames[i].board_crc != frames[i].crc)
+                readback(&s, i);
+    if (o->progress && o->log)
+        fputc('\n', o->log);
+    r->rx_crc_errors = s.rx.crc_errors;
+    r->rx_garbage = s.rx.garbage;
+    r->rx_gaps = s.rx.seq_gaps;
+    r->rx_duplicates = s.rx.duplicates;
+    r->seconds = now() - t0;
+    link_rx_free(&s.rx);
+    free(s.pkt);
+    if (s.failed)
+        return -1;
+    return r->matched == nframes ? 0 : 1;
+}
+
+int stream_frames(const uint32_t *w, size_t n, stream_frame **frames, unsigned *nframes)
+{
+    ws_reader rd;
+    ws_event *ev = malloc(sizeof *ev);
+    diag_t d;
+    diag_init(&d, NULL);
+    stream_frame *f = NULL;
+    unsigned nf = 0;
+    int rc = ev ? 0 : -1;
+    ws_reader_init(&rd, w, n, "stream");
+    while (!rc && !rd.ended) {
+        if (ws_next(&rd, ev, &d)) {
+            rc = -1;
+            break;
+        }
+        if (ev->kind == WS_EV_FRAME) {
+            stream_frame *nfp = realloc(f, (nf + 1) * sizeof *nfp);
+            if (!nfp) {
+                rc = -1;
+                break;
+            }
+            f = nfp;
+            memset(&f[nf], 0, sizeof f[nf]);
+            f[nf].number = ev->u.frame.number;
+            f[nf].first_word = ev->first;
+            nf++;
+        }
+        if (ev->kind == WS_EV_FRAME_END)
+            f[nf - 1].end_word = ev->first + ev->count;
+    }
+    free(ev);
+    if (rc) {
+        free(f);
+        return -1;
+    }
+    *frames = f;
+    *nframes = nf;
+    return 0;
+}

@@ -1,0 +1,145 @@
+/* transport_fault.c — a transport that misbehaves on purpose, for the
+ * bridge's fault-injection tests: corrupted bytes either way, dropped,
+ * duplicated and swapped packets, a board that falls silent, a device that
+ * disconnects.  Each write call is one packet (the streamer writes so). */
+#include "transport.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    transport_t *inner;
+    tr_faults f;
+    uint64_t bytes_out, packets_out, bytes_in;
+    uint8_t *held;            /* a packet held back for a swap */
+    size_t held_len;
+    bool gone;
+} faulty;
+
+static tr_status pass(transport_t *t, faulty *z, const uint8_t *data, size_t len)
+{
+    tr_status s = z->inner->ops->write(z->inner, data, len);
+    if (s)
+        snprintf(t->error, sizeof t->error, "%s", z->inner->error);
+    return s;
+}
+
+static tr_status f_write(transport_t *t, const uint8_t *data, size_t len)
+{
+    faulty *z = t->impl;
+    if (z->gone) {
+        snprintf(t->error, sizeof t->error, "writing to the board: device disconnected");
+        return TR_GONE;
+    }
+    uint64_t n = ++z->packets_out;
+    uint8_t *copy = malloc(len ? len : 1);
+    if (!copy)
+        return TR_ERROR;
+    memcpy(copy, data, len);
+    if (z->f.corrupt_byte > z->bytes_out && z->f.corrupt_byte <= z->bytes_out + len)
+        copy[z->f.corrupt_byte - z->bytes_out - 1] ^= 0x10;
+    z->bytes_out += len;
+    tr_status s = TR_OK;
+    if (z->f.disconnect_after && z->bytes_out >= z->f.disconnect_after) {
+        z->gone = true;
+        free(copy);
+        snprintf(t->error, sizeof t->error, "writing to the board: device disconnected");
+        return TR_GONE;
+    }
+    if (n == z->f.drop_packet) {
+        /* lost on the wire */
+    } else if (n == z->f.swap_packet) {
+        z->held = copy;
+        z->held_len = len;
+        return TR_OK;
+    } else {
+        s = pass(t, z, copy, len);
+        if (!s && n == z->f.duplicate_packet)
+            s = pass(t, z, copy, len);
+        if (!s && z->held) {
+            s = pass(t, z, z->held, z->held_len);
+            free(z->held);
+            z->held = NULL;
+        }
+    }
+    free(copy);
+    return s;
+}
+
+static tr_status f_flush(transport_t *t)
+{
+    faulty *z = t->impl;
+    return z->gone ? TR_GONE : z->inner->ops->flush(z->inner);
+}
+
+static tr_status f_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got, unsigned timeout_ms)
+{
+    faulty *z = t->impl;
+    *got = 0;
+    if (z->gone) {
+        snprintf(t->error, sizeof t->error, "reading from the board: device disconnected");
+        return TR_GONE;
+    }
+    if (z->f.silence_after && z->bytes_in >= z->f.silence_after)
+        return TR_TIMEOUT;
+    size_t room = cap;
+    if (z->f.silence_after && z->bytes_in + room > z->f.silence_after)
+        room = (size_t)(z->f.silence_after - z->bytes_in);
+    tr_status s = z->inner->ops->read(z->inner, buf, room, got, timeout_ms);
+    if (z->f.corrupt_reply > z->bytes_in && z->f.corrupt_reply <= z->bytes_in + *got)
+        buf[z->f.corrupt_reply - z->bytes_in - 1] ^= 0x04;
+    z->bytes_in += *got;
+    return s;
+}
+
+static tr_status f_hid_get(transport_t *t, uint8_t *buf, size_t len)
+{
+    faulty *z = t->impl;
+    if (z->gone)
+        return TR_GONE;
+    tr_status s = z->inner->ops->hid_get(z->inner, buf, len);
+    if (s)
+        snprintf(t->error, sizeof t->error, "%s", z->inner->error);
+    return s;
+}
+
+static tr_status f_hid_set(transport_t *t, const uint8_t *buf, size_t len)
+{
+    faulty *z = t->impl;
+    if (z->gone)
+        return TR_GONE;
+    tr_status s = z->inner->ops->hid_set(z->inner, buf, len);
+    if (s)
+        snprintf(t->error, sizeof t->error, "%s", z->inner->error);
+    return s;
+}
+
+static void f_close(transport_t *t)
+{
+    faulty *z = t->impl;
+    z->inner->ops->close(z->inner);
+    free(z->held);
+    free(z);
+    free(t);
+}
+
+static const transport_ops fault_ops = {"faulty", f_write, f_flush, f_read, f_hid_get, f_hid_set,
+                                        f_close};
+
+transport_t *transport_faulty(transport_t *inner, const tr_faults *f)
+{
+    transport_t *t = calloc(1, sizeof *t);
+    faulty *z = calloc(1, sizeof *z);
+    if (!t || !z) {
+        free(t);
+        free(z);
+        return NULL;
+    }
+    z->inner = inner;
+    z->f = *f;
+    t->ops = &fault_ops;
+    t->impl = z;
+    t->max_payload = inner->max_payload;
+    return t;
+}

@@ -1,0 +1,476 @@
+/* transport_usb.c — the real board: bulk data through libusb-1.0's
+ * asynchronous API with several transfers in flight each way, control
+ * through hidapi (hidraw back end, so the kernel keeps the HID interface and
+ * libusb claims only the data interface).  Error messages carry
+ * libusb_error_name() and what we were doing; LIBUSB_ERROR_ACCESS names the
+ * udev rule to install (docs/usb-protocol.md, "Permissions"). */
+#include "transport.h"
+#include "../../firmware/proto.h"
+
+#include <hidapi.h>
+#include <libusb.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/time.h>
+#include <time.h>
+
+#define OUT_TRANSFERS 16      /* 16 x 64 KiB: ~0.5 s at a 2 MB/s stream */
+#define OUT_SIZE      (128u * PROTO_BULK_MAXPKT)
+#define IN_TRANSFERS  4
+#define IN_SIZE       (32u * PROTO_BULK_MAXPKT)
+#define IO_TIMEOUT_MS 5000
+
+typedef struct usb_link usb_link;
+
+typedef struct {
+    usb_link *u;
+    struct libusb_transfer *xfer;
+    uint8_t *buf;
+    bool busy;
+    int stalls;               /* halts cleared for this transfer */
+} slot;
+
+struct usb_link {
+    libusb_context *ctx;
+    libusb_device_handle *h;
+    hid_device *hid;
+    slot out[OUT_TRANSFERS], in[IN_TRANSFERS];
+    unsigned filling;         /* out slot being filled, or OUT_TRANSFERS */
+    size_t fill_len;
+    uint8_t *rx;              /* received, not yet read */
+    size_t rx_len, rx_cap;
+    bool gone, failed;
+    char error[400];
+    unsigned busy_out, busy_in;
+};
+
+static void set_error(usb_link *u, const char *doing, int rc)
+{
+    if (u->failed)
+        return;
+    u->failed = true;
+    snprintf(u->error, sizeof u->error, "%s: %s", doing, libusb_error_name(rc));
+    if (rc == LIBUSB_ERROR_NO_DEVICE)
+        u->gone = true;
+}
+
+/* ---- completions ---- */
+
+static void LIBUSB_CALL out_done(struct libusb_transfer *x)
+{
+    slot *s = x->user_data;
+    usb_link *u = s->u;
+    switch (x->status) {
+    case LIBUSB_TRANSFER_COMPLETED:
+        if (x->actual_length != x->length)
+            set_error(u, "bulk OUT: short write", LIBUSB_ERROR_IO);
+        break;
+    case LIBUSB_TRANSFER_TIMED_OUT: {
+        /* a timed-out transfer may have sent part of its data: resend the
+         * rest rather than losing or repeating bytes */
+        int done = x->actual_length;
+        memmove(s->buf, s->buf + done, (size_t)(x->length - done));
+        x->length -= done;
+        if (libusb_submit_transfer(x) == 0)
+            return;
+        set_error(u, "bulk OUT: resubmitting after a timeout", LIBUSB_ERROR_TIMEOUT);
+        break;
+    }
+    case LIBUSB_TRANSFER_STALL:
+        if (s->stalls++ == 0 && libusb_clear_halt(u->h, PROTO_EP_OUT) == 0 &&
+            libusb_submit_transfer(x) == 0)
+            return;
+        set_error(u, "bulk OUT: endpoint stalled twice", LIBUSB_ERROR_PIPE);
+        break;
+    case LIBUSB_TRANSFER_NO_DEVICE:
+        set_error(u, "bulk OUT", LIBUSB_ERROR_NO_DEVICE);
+        break;
+    case LIBUSB_TRANSFER_CANCELLED:
+        break;
+    default:
+        set_error(u, "bulk OUT", LIBUSB_ERROR_IO);
+        break;
+    }
+    s->busy = false;
+    u->busy_out--;
+}
+
+static void LIBUSB_CALL in_done(struct libusb_transfer *x)
+{
+    slot *s = x->user_data;
+    usb_link *u = s->u;
+    /* every completion may carry data, a timed-out one included */
+    if (x->actual_length > 0) {
+        size_t need = u->rx_len + (size_t)x->actual_length;
+        if (need > u->rx_cap) {
+            size_t cap = u->rx_cap ? u->rx_cap * 2 : 65536;
+            while (cap < need)
+                cap *= 2;
+            uint8_t *nr = realloc(u->rx, cap);
+            if (!nr) {
+                set_error(u, "bulk IN: out of memory", LIBUSB_ERROR_NO_MEM);
+                s->busy = false;
+                u->busy_in--;
+                return;
+            }
+            u->rx = nr;
+            u->rx_cap = cap;
+        }
+        memcpy(u->rx + u->rx_len, x->buffer, (size_t)x->actual_length);
+        u->rx_len += (size_t)x->actual_length;
+    }
+    switch (x->status) {
+    case LIBUSB_TRANSFER_COMPLETED:
+    case LIBUSB_TRANSFER_TIMED_OUT:
+        if (!u->failed && libusb_submit_transfer(x) == 0)
+            return;
+        break;
+    case LIBUSB_TRANSFER_STALL:
+        if (s->stalls++ == 0 && libusb_clear_halt(u->h, PROTO_EP_IN) == 0 &&
+            libusb_submit_transfer(x) == 0)
+            return;
+        set_error(u, "bulk IN: endpoint stalled twice", LIBUSB_ERROR_PIPE);
+        break;
+    case LIBUSB_TRANSFER_NO_DEVICE:
+        set_error(u, "bulk IN", LIBUSB_ERROR_NO_DEVICE);
+        break;
+    case LIBUSB_TRANSFER_CANCELLED:
+        break;
+    default:
+        set_error(u, "bulk IN", LIBUSB_ERROR_IO);
+        break;
+    }
+    s->busy = false;
+    u->busy_in--;
+}
+
+static void events(usb_link *u, unsigned ms)
+{
+    struct timeval tv = {(time_t)(ms / 1000), (suseconds_t)(ms % 1000) * 1000};
+    int rc = libusb_handle_events_timeout_completed(u->ctx, &tv, NULL);
+    if (rc && rc != LIBUSB_ERROR_INTERRUPTED)
+        set_error(u, "handling USB events", rc);
+}
+
+/* ---- operations ---- */
+
+static tr_status status_of(transport_t *t, usb_link *u)
+{
+    if (!u->failed)
+        return TR_OK;
+    snprintf(t->error, sizeof t->error, "%s", u->error);
+    return u->gone ? TR_GONE : TR_ERROR;
+}
+
+static int submit_out(usb_link *u, unsigned i)
+{
+    slot *s = &u->out[i];
+    libusb_fill_bulk_transfer(s->xfer, u->h, PROTO_EP_OUT, s->buf, (int)u->fill_len, out_done, s,
+                              IO_TIMEOUT_MS);
+    /* a transfer of a whole number of packets ends with a zero-length one */
+    s->xfer->flags = u->fill_len % PROTO_BULK_MAXPKT == 0 ? LIBUSB_TRANSFER_ADD_ZERO_PACKET : 0;
+    s->stalls = 0;
+    int rc = libusb_submit_transfer(s->xfer);
+    if (rc) {
+        set_error(u, "submitting a bulk OUT transfer", rc);
+        return -1;
+    }
+    s->busy = true;
+    u->busy_out++;
+    u->filling = OUT_TRANSFERS;
+    u->fill_len = 0;
+    return 0;
+}
+
+static tr_status usb_flush(transport_t *t)
+{
+    usb_link *u = t->impl;
+    if (u->filling < OUT_TRANSFERS && u->fill_len)
+        submit_out(u, u->filling);
+    return status_of(t, u);
+}
+
+static tr_status usb_write(transport_t *t, const uint8_t *data, size_t len)
+{
+    usb_link *u = t->impl;
+    while (len && !u->failed) {
+        if (u->filling == OUT_TRANSFERS) {
+            /* a free transfer, waiting for one while all are in flight */
+            unsigned i = 0;
+            while (!u->failed) {
+                for (i = 0; i < OUT_TRANSFERS && u->out[i].busy; i++)
+                    ;
+                if (i < OUT_TRANSFERS)
+                    break;
+                events(u, 100);
+            }
+            if (u->failed)
+                break;
+            u->filling = i;
+            u->fill_len = 0;
+        }
+        size_t k = OUT_SIZE - u->fill_len < len ? OUT_SIZE - u->fill_len : len;
+        memcpy(u->out[u->filling].buf + u->fill_len, data, k);
+        u->fill_len += k;
+        data += k;
+        len -= k;
+        if (u->fill_len == OUT_SIZE)
+            submit_out(u, u->filling);
+    }
+    return status_of(t, u);
+}
+
+static tr_status usb_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got, unsigned timeout_ms)
+{
+    usb_link *u = t->impl;
+    struct timespec start;
+    clock_gettime(CLOCK_MONOTONIC, &start);
+    *got = 0;
+    for (;;) {
+        events(u, 0);
+        if (u->rx_len || u->failed)
+            break;
+        struct timespec now;
+        clock_gettime(CLOCK_MONOTONIC, &now);
+        long ms = (long)(now.tv_sec - start.tv_sec) * 1000 + (now.tv_nsec - start.tv_nsec) / 1000000;
+        if (ms >= (long)timeout_ms)
+            return TR_TIMEOUT;
+        events(u, (unsigned)(timeout_ms - (unsigned)ms < 50 ? timeout_ms - (unsigned)ms : 50));
+    }
+    size_t n = u->rx_len < cap ? u->rx_len : cap;
+    memcpy(buf, u->rx, n);
+    memmove(u->rx, u->rx + n, u->rx_len - n);
+    u->rx_len -= n;
+    *got = n;
+    return n ? TR_OK : status_of(t, u);
+}
+
+static tr_status usb_hid_get(transport_t *t, uint8_t *buf, size_t len)
+{
+    usb_link *u = t->impl;
+    if (!u->hid) {
+        snprintf(t->error, sizeof t->error, "no HID interface open");
+        return TR_ERROR;
+    }
+    /* hidapi: byte 0 is the report ID, the buffer one byte longer than the report */
+    if (hid_get_feature_report(u->hid, buf, len) < 0) {
+        snprintf(t->error, sizeof t->error, "HID GET_REPORT %u: %ls", buf[0], hid_error(u->hid));
+        return TR_ERROR;
+    }
+    return TR_OK;
+}
+
+static tr_status usb_hid_set(transport_t *t, const uint8_t *buf, size_t len)
+{
+    usb_link *u = t->impl;
+    if (!u->hid || hid_send_feature_report(u->hid, buf, len) < 0) {
+        snprintf(t->error, sizeof t->error, "HID SET_REPORT %u: %ls", buf[0],
+                 u->hid ? hid_error(u->hid) : L"no HID interface open");
+        return TR_ERROR;
+    }
+    return TR_OK;
+}
+
+/* Tear down in order: cancel every transfer, handle events until all their
+ * callbacks have run, release the interface, close. */
+static void usb_close(transport_t *t)
+{
+    usb_link *u = t->impl;
+    for (unsigned i = 0; i < OUT_TRANSFERS; i++)
+        if (u->out[i].busy)
+            libusb_cancel_transfer(u->out[i].xfer);
+    for (unsigned i = 0; i < IN_TRANSFERS; i++)
+        if (u->in[i].busy)
+            libusb_cancel_transfer(u->in[i].xfer);
+    for (int spins = 0; (u->busy_out || u->busy_in) && spins < 200; spins++)
+        events(u, 10);
+    for (unsigned i = 0; i < OUT_TRANSFERS; i++) {
+        libusb_free_transfer(u->out[i].xfer);
+        free(u->out[i].buf);
+    }
+    for (unsigned i = 0; i < IN_TRANSFERS; i++) {
+        libusb_free_transfer(u->in[i].xfer);
+        free(u->in[i].buf);
+    }
+    if (u->h) {
+        libusb_release_interface(u->h, PROTO_IF_DATA);
+        libusb_close(u->h);
+    }
+    if (u->hid)
+        hid_close(u->hid);
+    hid_exit();
+    if (u->ctx)
+        libusb_exit(u->ctx);
+    free(u->rx);
+    free(u);
+    free(t);
+}
+
+static const transport_ops usb_ops = {"usb", usb_write, usb_flush, usb_read, usb_hid_get,
+                                      usb_hid_set, usb_close};
+
+static const char udev_hint[] =
+    " — no permission to open the device: install firmware/udev/70-albatros.rules into "
+    "/etc/udev/rules.d/, run 'sudo udevadm control --reload && sudo udevadm trigger', and "
+    "replug the board (docs/usb-protocol.md, \"Permissions\")";
+
+/* The first matching device (serial if given), retried for wait_ms so a board
+ * that is just arriving (hot-plug) has time to enumerate. */
+static int find_and_open(usb_link *u, uint16_t vid, uint16_t pid, const char *serial,
+                         unsigned wait_ms, char *err, size_t errlen)
+{
+    struct timespec start;
+    clock_gettime(CLOCK_MONOTONIC, &start);
+    for (;;) {
+        libusb_device **list;
+        ssize_t n = libusb_get_device_list(u->ctx, &list);
+        int rc = LIBUSB_ERROR_NOT_FOUND;
+        for (ssize_t i = 0; i < n && !u->h; i++) {
+            struct libusb_device_descriptor dd;
+            if (libusb_get_device_descriptor(list[i], &dd) || dd.idVendor != vid ||
+                dd.idProduct != pid)
+                continue;
+            libusb_device_handle *h;
+            rc = libusb_open(list[i], &h);
+            if (rc)
+                continue;
+            char sn[64] = "";
+            if (dd.iSerialNumber)
+                libusb_get_string_descriptor_ascii(h, dd.iSerialNumber, (unsigned char *)sn,
+                                                   sizeof sn);
+            if (serial && strcmp(serial, sn)) {
+                libusb_close(h);
+                rc = LIBUSB_ERROR_NOT_FOUND;
+                continue;
+            }
+            u->h = h;
+        }
+        if (n >= 0)
+            libusb_free_device_list(list, 1);
+        if (u->h)
+            return 0;
+        struct timespec now;
+        clock_gettime(CLOCK_MONOTONIC, &now);
+        long ms = (long)(now.tv_sec - start.tv_sec) * 1000 + (now.tv_nsec - start.tv_nsec) / 1000000;
+        if (rc == LIBUSB_ERROR_ACCESS || ms >= (long)wait_ms) {
+            snprintf(err, errlen, "opening USB device %04x:%04x%s%s: %s%s", vid, pid,
+                     serial ? " serial " : "", serial ? serial : "", libusb_error_name(rc),
+                     rc == LIBUSB_ERROR_ACCESS ? udev_hint
+                     : rc == LIBUSB_ERROR_NOT_FOUND ? " (is the board plugged in? 'albatros board "
+                                                      "list' shows what is)" : "");
+            return -1;
+        }
+        struct timespec nap = {0, 100 * 1000000};
+        nanosleep(&nap, NULL);
+    }
+}
+
+static int setup_transfers(usb_link *u, char *err, size_t errlen)
+{
+    for (unsigned i = 0; i < OUT_TRANSFERS; i++) {
+        u->out[i] = (slot){u, libusb_alloc_transfer(0), malloc(OUT_SIZE), false, 0};
+        if (!u->out[i].xfer || !u->out[i].buf)
+            goto nomem;
+    }
+    for (unsigned i = 0; i < IN_TRANSFERS; i++) {
+        u->in[i] = (slot){u, libusb_alloc_transfer(0), malloc(IN_SIZE), false, 0};
+        if (!u->in[i].xfer || !u->in[i].buf)
+            goto nomem;
+        libusb_fill_bulk_transfer(u->in[i].xfer, u->h, PROTO_EP_IN, u->in[i].buf, IN_SIZE, in_done,
+                                  &u->in[i], 0);
+        int rc = libusb_submit_transfer(u->in[i].xfer);
+        if (rc) {
+            snprintf(err, errlen, "submitting bulk IN transfers: %s", libusb_error_name(rc));
+            return -1;
+        }
+        u->in[i].busy = true;
+        u->busy_in++;
+    }
+    u->filling = OUT_TRANSFERS;
+    return 0;
+nomem:
+    snprintf(err, errlen, "out of memory for USB transfers");
+    return -1;
+}
+
+transport_t *transport_usb_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
+                                char *err, size_t errlen)
+{
+    transport_t *t = calloc(1, sizeof *t);
+    usb_link *u = calloc(1, sizeof *u);
+    if (!t || !u) {
+        free(t);
+        free(u);
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    t->ops = &usb_ops;
+    t->impl = u;
+    t->max_payload = PROTO_MAX_PAYLOAD;
+    /* libusb reads LIBUSB_DEBUG from the environment itself */
+    int rc = libusb_init(&u->ctx);
+    if (rc) {
+        snprintf(err, errlen, "initialising libusb: %s", libusb_error_name(rc));
+        free(u);
+        free(t);
+        return NULL;
+    }
+    if (find_and_open(u, vid, pid, serial, wait_ms, err, errlen))
+        goto fail;
+    if ((rc = libusb_claim_interface(u->h, PROTO_IF_DATA))) {
+        snprintf(err, errlen, "claiming the data interface of %04x:%04x: %s%s", vid, pid,
+                 libusb_error_name(rc), rc == LIBUSB_ERROR_BUSY ? " (another program has it)" : "");
+        libusb_close(u->h);
+        u->h = NULL;
+        goto fail;
+    }
+    if (setup_transfers(u, err, errlen))
+        goto fail;
+    if (hid_init() == 0)
+        u->hid = hid_open(vid, pid, NULL);
+    if (!u->hid) {
+        snprintf(err, errlen, "opening the HID interface of %04x:%04x with hidapi failed "
+                 "(permissions? see docs/usb-protocol.md)", vid, pid);
+        goto fail;
+    }
+    return t;
+fail:
+    usb_close(t);
+    return NULL;
+}
+
+int transport_usb_list(uint16_t vid, uint16_t pid, void *f, char *err, size_t errlen)
+{
+    libusb_context *ctx;
+    int rc = libusb_init(&ctx);
+    if (rc) {
+        snprintf(err, errlen, "initialising libusb: %s", libusb_error_name(rc));
+        return -1;
+    }
+    libusb_device **list;
+    ssize_t n = libusb_get_device_list(ctx, &list);
+    int found = 0;
+    for (ssize_t i = 0; i < n; i++) {
+        struct libusb_device_descriptor dd;
+        if (libusb_get_device_descriptor(list[i], &dd) || dd.idVendor != vid || dd.idProduct != pid)
+            continue;
+        char sn[64] = "?";
+        libusb_device_handle *h;
+        int orc = libusb_open(list[i], &h);
+        if (orc == 0) {
+            if (dd.iSerialNumber)
+                libusb_get_string_descriptor_ascii(h, dd.iSerialNumber, (unsigned char *)sn,
+                                                   sizeof sn);
+            libusb_close(h);
+        }
+        fprintf(f, "usb:%03u:%03u  %04x:%04x  serial %s%s\n", libusb_get_bus_number(list[i]),
+                libusb_get_device_address(list[i]), vid, pid, sn,
+                orc == LIBUSB_ERROR_ACCESS ? "  (no permission: see firmware/udev/)" : "");
+        found++;
+    }
+    if (n >= 0)
+        libusb_free_device_list(list, 1);
+    libusb_exit(ctx);
+    return found;
+}

@@ -1,0 +1,240 @@
+/* board.c — the simulated board: the firmware core receives the host's
+ * packets; its HAL feeds the word stream to this project's VP (the timed
+ * model, whose pixels and cycles equal the cycle model's), and reports each
+ * frame's CRC and cycle count back through the core.  The VP re-runs the
+ * stream from its start for every frame, so a frame's cycles are those of
+ * the whole stream up to it (docs/microarchitecture.md); that costs time
+ * quadratic in the frames, which the simulated board can afford. */
+#include "board.h"
+#include "../core.h"
+#include "../../common/words.h"
+#include "../../emu/bridge/link.h"
+#include "../../emu/sim.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SIM_MAX_PAYLOAD PROTO_MAX_PAYLOAD
+
+struct sim_board {
+    profile_t prof;
+    fw_core core;
+    fw_hal hal;
+    uint8_t *rxbuf;
+    /* toward the host */
+    uint8_t *tx;
+    size_t tx_len, tx_cap;
+    /* the word stream the VP has accepted */
+    uint32_t *w;
+    size_t n, cap;
+    ws_reader rd;             /* state after the last whole packet */
+    size_t frame_start;       /* word of the current frame's FRAME (or of the next packet) */
+    bool in_error;
+    /* the last frame, for a flipped-bit fault */
+    uint32_t flip_frame;
+    unsigned flip_x, flip_y, flip_ch, flip_bit;
+    bool flip;
+    /* result of the VP run */
+    uint32_t result_frame, result_crc, result_faces;
+    uint64_t result_cycles;
+    bool result_ok;
+};
+
+static void hal_send(void *ctx, const uint8_t *data, uint16_t len)
+{
+    sim_board *b = ctx;
+    if (b->tx_len + len > b->tx_cap) {
+        size_t cap = b->tx_cap ? b->tx_cap * 2 : 65536;
+        while (cap < b->tx_len + len)
+            cap *= 2;
+        uint8_t *nt = realloc(b->tx, cap);
+        if (!nt)
+            return;   /* the host sees a lost packet: a timeout, then QUERY */
+        b->tx = nt;
+        b->tx_cap = cap;
+    }
+    memcpy(b->tx + b->tx_len, data, len);
+    b->tx_len += len;
+}
+
+/* Keep the stream up to its last whole frame (or packet outside frames). */
+static void hal_restart(void *ctx)
+{
+    sim_board *b = ctx;
+    b->n = b->frame_start;
+    b->rd.pos = b->frame_start;
+    b->rd.in_frame = false;
+    b->rd.faces_in_frame = 0;
+    b->in_error = false;
+}
+
+static int take_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
+{
+    sim_board *b = ctx;
+    /* the sink sees every frame of the prefix; the last one counts */
+    size_t npix = (size_t)f->width * f->height;
+    b->result_crc = link_frame_crc(f->rgb, npix);
+    if (b->flip && f->number == b->flip_frame && b->flip_x < f->width && b->flip_y < f->height) {
+        /* the faulty VP: one bit of one pixel wrong */
+        uint16_t *rgb = malloc(3 * npix * sizeof *rgb);
+        if (!rgb)
+            return -1;
+        memcpy(rgb, f->rgb, 3 * npix * sizeof *rgb);
+        rgb[3 * ((size_t)b->flip_y * f->width + b->flip_x) + b->flip_ch % 3] ^=
+            (uint16_t)(1u << (b->flip_bit % 16));
+        b->result_crc = link_frame_crc(rgb, npix);
+        free(rgb);
+    }
+    b->result_frame = f->number;
+    b->result_cycles = sc->cycles;
+    b->result_faces = (uint32_t)vs->faces;
+    b->result_ok = true;
+    return 0;
+}
+
+/* Run the VP on the stream up to the FRAME_END that ends at word `end`. */
+static void run_frame(sim_board *b, size_t end)
+{
+    uint32_t *w = malloc((end + 1) * sizeof *w);
+    if (!w)
+        return;
+    memcpy(w, b->w, end * sizeof *w);
+    w[end] = (uint32_t)WS_OP_END << 24;
+    diag_t d;
+    diag_init(&d, NULL);
+    sim_options o = {FIDELITY_TIMED, NULL, 0, 0};
+    b->result_ok = false;
+    alb_err e = sim_run(&b->prof, w, end + 1, "board", &o, take_frame, b, &d);
+    free(w);
+    if (e || !b->result_ok) {
+        fw_vp_error(&b->core, (uint32_t)end);
+        b->in_error = true;
+        return;
+    }
+    fw_result r = {b->result_frame, b->result_crc, (uint32_t)b->result_cycles,
+                   (uint32_t)(b->result_cycles >> 32), b->result_faces};
+    fw_frame_done(&b->core, &r);
+}
+
+/* Decode whole packets from the words received; incomplete ones wait. */
+static void scan(sim_board *b)
+{
+    ws_event *ev = malloc(sizeof *ev);
+    if (!ev)
+        return;
+    while (!b->in_error && !b->rd.ended && b->rd.pos < b->n) {
+        ws_reader r = b->rd;
+        r.w = b->w;
+        r.n = b->n;
+        diag_t d;
+        diag_init(&d, NULL);
+        if (ws_next(&r, ev, &d)) {
+            if (d.offset == (long long)b->n * 4)
+                break;   /* a packet still arriving */
+            fw_vp_error(&b->core, (uint32_t)(d.offset / 4));
+            b->in_error = true;
+            break;
+        }
+        b->rd = r;
+        if (ev->kind == WS_EV_FRAME)
+            b->frame_start = ev->first;
+        if (ev->kind == WS_EV_FRAME_END) {
+            run_frame(b, r.pos);
+            b->frame_start = r.pos;
+        }
+        if (!r.in_frame && ev->kind != WS_EV_FRAME_END)
+            b->frame_start = r.pos;
+    }
+    free(ev);
+}
+
+static void hal_words(void *ctx, const uint8_t *data, uint16_t len)
+{
+    sim_board *b = ctx;
+    size_t k = len / 4;
+    if (b->n + k > b->cap) {
+        size_t cap = b->cap ? b->cap * 2 : 65536;
+        while (cap < b->n + k)
+            cap *= 2;
+        uint32_t *nw = realloc(b->w, cap * sizeof *nw);
+        if (!nw)
+            return;
+        b->w = nw;
+        b->cap = cap;
+    }
+    for (size_t i = 0; i < k; i++)
+        b->w[b->n + i] = PROTO_GET32(data + 4 * i);
+    b->n += k;
+    scan(b);
+}
+
+sim_board *sim_board_create(const profile_t *p, char *err, size_t errlen)
+{
+    sim_board *b = calloc(1, sizeof *b);
+    if (b)
+        b->rxbuf = malloc(PROTO_HEADER + SIM_MAX_PAYLOAD + PROTO_TRAILER);
+    if (!b || !b->rxbuf) {
+        snprintf(err, errlen, "out of memory for the simulated board");
+        free(b);
+        return NULL;
+    }
+    b->prof = *p;
+    b->hal = (fw_hal){b, hal_words, hal_restart, hal_send, NULL};
+    fw_init(&b->core, &b->hal, b->rxbuf, SIM_MAX_PAYLOAD);
+    b->core.width = (uint16_t)p->width;
+    b->core.height = (uint16_t)p->height;
+    b->core.colour_bits = (uint8_t)p->colour_bits;
+    b->core.serial = 1;
+    memcpy(b->core.name, "albatros-sim", 13);
+    ws_reader_init(&b->rd, NULL, 0, "board");
+    return b;
+}
+
+void sim_board_destroy(sim_board *b)
+{
+    if (!b)
+        return;
+    free(b->rxbuf);
+    free(b->tx);
+    free(b->w);
+    free(b);
+}
+
+void sim_board_rx(sim_board *b, const uint8_t *data, size_t len)
+{
+    while (len) {
+        uint16_t piece = (uint16_t)(len > 0x8000 ? 0x8000 : len);
+        fw_rx(&b->core, data, piece);
+        data += piece;
+        len -= piece;
+    }
+}
+
+size_t sim_board_tx(sim_board *b, uint8_t *buf, size_t cap)
+{
+    size_t n = b->tx_len < cap ? b->tx_len : cap;
+    memcpy(buf, b->tx, n);
+    memmove(b->tx, b->tx + n, b->tx_len - n);
+    b->tx_len -= n;
+    return n;
+}
+
+int sim_board_hid_get(sim_board *b, uint8_t *buf, size_t len)
+{
+    if (len < PROTO_HID_REPORT)
+        return -1;
+    return fw_hid_get(&b->core, buf) ? 0 : -1;
+}
+
+int sim_board_hid_set(sim_board *b, const uint8_t *buf, size_t len)
+{
+    return fw_hid_set(&b->core, buf, (uint8_t)(len > 255 ? 255 : len)) ? -1 : 0;
+}
+
+void sim_board_flip(sim_board *b, uint32_t frame, unsigned x, unsigned y, unsigned ch, unsigned bit)
+{
+    b->flip = true;
+    b->flip_frame = frame;
+    b->flip_x = x, b->flip_y = y, b->flip_ch = ch, b->flip_bit = bit;
+}

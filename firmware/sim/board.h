@@ -1,0 +1,30 @@
+/* board.h — the simulated board: the firmware core (firmware/core.c) with
+ * this project's VP behind it, in the host process, so the bridge can be
+ * exercised end to end with no hardware.  It answers with the frame CRCs
+ * and cycle counts a correct FPGA would (docs/usb-protocol.md). */
+#ifndef ALBATROS_SIM_BOARD_H
+#define ALBATROS_SIM_BOARD_H
+
+#include "../../common/profile.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct sim_board sim_board;
+
+sim_board *sim_board_create(const profile_t *p, char *err, size_t errlen);
+void sim_board_destroy(sim_board *b);
+/* Bytes from the host's bulk OUT transfers. */
+void sim_board_rx(sim_board *b, const uint8_t *data, size_t len);
+/* Bytes the board has for the host's bulk IN; returns how many were copied. */
+size_t sim_board_tx(sim_board *b, uint8_t *buf, size_t cap);
+/* HID feature reports (buf[0] = report ID, 64 bytes). */
+int sim_board_hid_get(sim_board *b, uint8_t *buf, size_t len);
+int sim_board_hid_set(sim_board *b, const uint8_t *buf, size_t len);
+
+/* A deliberately faulty VP: flip bit `bit` of channel `ch` of pixel (x, y)
+ * in frame `frame`'s frame store before its CRC. */
+void sim_board_flip(sim_board *b, uint32_t frame, unsigned x, unsigned y, unsigned ch,
+                    unsigned bit);
+
+#endif
