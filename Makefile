@@ -22,13 +22,13 @@ LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm $(EXTRA_LDLIBS)
 COMMON_SRC := common/diag.c common/profile.c common/words.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
 VP_SRC     := vp/vp.c vp/shade.c vp/frame.c
-TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools/methods.c \
+TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools/methods.c tools/sweep.c \
               $(wildcard tools/methods/*.c)
 SINK_SRC   := emu/exr.c emu/preview.c emu/sim.c emu/sim_timed.c emu/sim_cycle.c emu/vcd.c
 FW_SRC     := firmware/core.c firmware/crc32.c firmware/sim/board.c
 BRIDGE_SRC := emu/bridge/link.c emu/bridge/stream.c emu/bridge/transport_sim.c \
               emu/bridge/transport_fault.c emu/bridge/transport_usb.c
-EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cmd_render.c emu/cmd_compare.c emu/cmd_scene.c emu/cmd_stream.c \
+EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cmd_render.c emu/cmd_compare.c emu/cmd_scene.c emu/cmd_stream.c emu/cmd_stability.c \
               emu/cli.c
 LIB_SRC    := $(COMMON_SRC) $(GP_SRC) $(VP_SRC) $(TOOLS_SRC) $(SINK_SRC) $(FW_SRC) $(BRIDGE_SRC) \
               $(BUILD)/gen/builtin_scene.c
@@ -44,7 +44,7 @@ UNIT     := $(BUILD)/tests/unit
 COST     := $(BUILD)/tools/cost
 BENCH    := $(BUILD)/tools/bench
 
-.PHONY: all test unit vectors bless asan bench demo setup deps clean help crosscheck
+.PHONY: all test unit vectors bless asan bench demo setup deps clean help crosscheck sweep
 all: $(ALBATROS) $(UNIT)
 
 help:
@@ -57,11 +57,12 @@ help:
 	@echo "make asan       build and test under AddressSanitizer + UBSan"
 	@echo "make bench      print speed and work figures (docs/performance.md)"
 	@echo "make crosscheck the golden vectors from gcc -O0 and clang -O3 builds"
+	@echo "make -j sweep   the stability and speed sweeps, report in docs/stability/"
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev
+            libhidapi-dev gnuplot-nox
 setup: deps
 	$(MAKE) all
 deps:
@@ -98,9 +99,6 @@ $(COST): $(BUILD)/tools/cost.o $(LIB_OBJ)
 $(BENCH): $(BUILD)/tools/bench.o $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
-METHODS_TABLE := $(BUILD)/tools/methods-table
-$(METHODS_TABLE): $(BUILD)/tools/methods_table.o $(LIB_OBJ)
-	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 $(UNIT): $(TEST_OBJ) $(LIB_OBJ)
 	@mkdir -p $(dir $@)
@@ -131,6 +129,21 @@ crosscheck:
 	$(MAKE) BUILD=build-clang-O3 CC=clang OPT=-O3 build-clang-O3/albatros
 	build-gcc-O0/albatros vectors check test-vectors
 	build-clang-O3/albatros vectors check test-vectors
+
+# the stability sweep: one job per stress family (make -j runs them in
+# parallel), the speed sweep alone after them (its timings), then the report;
+# docs/stability/ holds the committed default sweep (docs/stability.md)
+SWEEP_DIR ?= docs/stability
+SWEEP_FAMILIES := sliver crossing-z0 far texture-far interpenetrating cyclic degenerate \
+                  tjunction deep coords
+SWEEP_CSV := $(SWEEP_FAMILIES:%=$(SWEEP_DIR)/stability-%.csv)
+sweep: $(SWEEP_CSV) $(SWEEP_DIR)/speed.csv
+	$(ALBATROS) stability --report --out $(SWEEP_DIR)
+$(SWEEP_DIR)/stability-%.csv: | $(ALBATROS)
+	@mkdir -p $(SWEEP_DIR)
+	$(ALBATROS) stability --family $* --out $(SWEEP_DIR)
+$(SWEEP_DIR)/speed.csv: $(SWEEP_CSV)
+	$(ALBATROS) stability --speed --out $(SWEEP_DIR)
 
 # figures, not tests: docs/performance.md quotes them
 bench: $(COST) $(BENCH)

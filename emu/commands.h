@@ -19,6 +19,7 @@ int cmd_accuracy(int argc, char **argv);
 int cmd_scene(int argc, char **argv);
 int cmd_stream(int argc, char **argv);
 int cmd_board(int argc, char **argv);
+int cmd_stability(int argc, char **argv);
 
 
 

@@ -17,6 +17,7 @@ static const command commands[] = {
     {"reference", cmd_reference, "render a scene with the exact double-precision reference"},
     {"compare", cmd_compare, "compare two frames: face mismatches, colour error, diff image"},
     {"accuracy", cmd_accuracy, "measure the VP against the exact reference on scenes"},
+    {"stability", cmd_stability, "methods and configurations on the stress families; speed vs accuracy"},
     {"scene", cmd_scene, "write a generated scene (random polygons, slivers)"},
     {"stream", cmd_stream, "stream to a board (USB or simulated) and check it against the emulator"},
     {"board", cmd_board, "list, inspect or reset boards over HID"},

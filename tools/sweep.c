@@ -1,0 +1,570 @@
+/* sweep.c — where each method breaks, and what accuracy costs: every classic
+ * method and several Albatros configurations over the stress families,
+ * measured against the exact reference (pixels whose face differs, colour
+ * PSNR, host time), as CSV; tables and charts from the CSVs (gnuplot). */
+#include "sweep.h"
+#include "methods.h"
+#include "ref.h"
+#include "scenegen.h"
+#include "stress.h"
+#include "../emu/sim.h"
+#include "../gp/gp.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+/* ---- families and configurations ---- */
+
+static const struct {
+    const char *family;
+    double severity[SWEEP_SEVERITIES];
+} families[] = {
+    {"sliver", {10, 1, 0.1, 0.01}},          {"crossing-z0", {0, 0.3, 0.7, 0.95}},
+    {"far", {10, 1e3, 1e4, 1e6}},             {"texture-far", {10, 1e4, 1e8, 1e12}},
+    {"interpenetrating", {45, 5, 0.5, 0.01}}, {"cyclic", {0.05, 0.1, 0.2, 0.4}},
+    {"degenerate", {0.1, 1e-3, 1e-6, 1e-9}},  {"tjunction", {2, 8, 32, 64}},
+    {"deep", {1, 8, 32, 64}},                 {"coords", {0, 10, 25, 40}},
+};
+#define NFAMILIES (sizeof families / sizeof families[0])
+
+unsigned sweep_family_count(void) { return NFAMILIES; }
+const char *sweep_family(unsigned i) { return i < NFAMILIES ? families[i].family : NULL; }
+const double *sweep_severities(unsigned i) { return i < NFAMILIES ? families[i].severity : NULL; }
+
+/* An Albatros configuration: the VP with profile changes. */
+static const struct {
+    const char *name;
+    const char *sets;        /* profile_set assignments, space separated */
+    int edge_delta;          /* added to edge_frac_bits */
+} vp_configs[] = {
+    {"vp", "", 0},
+    {"vp-bound-none", "bound=none", 0},
+    {"vp-bound-box", "bound=box", 0},
+    {"vp-bound-bisector", "bound=bisector", 0},
+    {"vp-edge-4", "", -4},
+    {"vp-depth16", "depth_bits=16", 0},
+    {"vp-aa2", "aa=2", 0},
+};
+#define NVP (sizeof vp_configs / sizeof vp_configs[0])
+
+static int config_profile(unsigned k, const profile_t *base, profile_t *q)
+{
+    char buf[128], err[200];
+    *q = *base;
+    snprintf(buf, sizeof buf, "%s", vp_configs[k].sets);
+    for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
+        if (profile_set(q, tok, err, sizeof err))
+            return -1;
+    q->edge_frac_bits = (unsigned)((int)q->edge_frac_bits + vp_configs[k].edge_delta);
+    return profile_check(q, err, sizeof err);
+}
+
+static double now_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return 1e3 * (double)t.tv_sec + 1e-6 * (double)t.tv_nsec;
+}
+
+/* ---- rendering ---- */
+
+static int keep_first(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
+{
+    (void)vs, (void)sc;
+    frame_t *out = ctx;
+    return out->face ? 0 : frame_copy(out, f);
+}
+
+/* Frame 0 through GP and VP at a fidelity; -1 if the GP refuses the scene. */
+static int vp_render(const scene_t *s, const profile_t *p, fidelity fid, frame_t *out)
+{
+    diag_t d;
+    diag_init(&d, NULL);
+    gp_t *gp = NULL;
+    ws_buf b;
+    ws_buf_init(&b);
+    memset(out, 0, sizeof *out);
+    sim_options o = {fid, NULL, 0, 0};
+    int rc = gp_create(&gp, s, p, &d) || gp_run(gp, &b, NULL, &d) ||
+             sim_run(p, b.w, b.n, "sweep", &o, keep_first, out, &d) || !out->face;
+    gp_destroy(gp);
+    ws_buf_free(&b);
+    if (rc && out->face)
+        frame_free(out);
+    return rc ? -1 : 0;
+}
+
+typedef struct {
+    double face_pct, psnr, ms;
+    unsigned runs, failed;
+} point;
+
+/* Configuration k (methods first, then vp_configs) on one scene; the host
+ * time is the best of `reps` runs. */
+static void measure(unsigned k, const scene_t *s, const profile_t *base, fidelity fid, unsigned reps,
+                    point *pt)
+{
+    unsigned nm;
+    const method *m = methods_all(&nm);
+    profile_t q = *base;
+    if (k >= nm && config_profile(k - nm, base, &q)) {
+        pt->failed++;
+        return;
+    }
+    frame_t ref, got;
+    if (ref_render(s, &q, 0, &ref)) {
+        pt->failed++;
+        return;
+    }
+    double ms = INFINITY;
+    int rc = 0;
+    for (unsigned r = 0; r < reps && !rc; r++) {
+        if (r)
+            frame_free(&got);
+        double t0 = now_ms();
+        rc = k < nm ? m[k].render(s, &q, 0, &got) : vp_render(s, &q, fid, &got);
+        ms = fmin(ms, now_ms() - t0);
+    }
+    if (rc) {
+        pt->failed++;
+    } else {
+        frame_diff df;
+        frame_compare(&ref, &got, &df);
+        pt->face_pct += 100.0 * (double)df.face_diff / (double)df.pixels;
+        pt->psnr += isinf(df.psnr) ? 99 : df.psnr;
+        pt->ms += ms;
+        pt->runs++;
+        frame_free(&got);
+    }
+    frame_free(&ref);
+}
+
+static unsigned config_count(void)
+{
+    unsigned nm;
+    methods_all(&nm);
+    return nm + (unsigned)NVP;
+}
+
+static const char *config_name(unsigned k)
+{
+    unsigned nm;
+    const method *m = methods_all(&nm);
+    return k < nm ? m[k].name : vp_configs[k - nm].name;
+}
+
+static void write_point(FILE *out, const char *family, unsigned step, double sev, const char *config,
+                        const point *pt)
+{
+    if (pt->runs)
+        fprintf(out, "%s,%u,%g,%s,%.4f,%.2f,%.3f,%u\n", family, step, sev, config,
+                pt->face_pct / pt->runs, pt->psnr / pt->runs, pt->ms / pt->runs, pt->failed);
+    else
+        fprintf(out, "%s,%u,%g,%s,,,,%u\n", family, step, sev, config, pt->failed);
+}
+
+#define CSV_HEADER "family,step,severity,config,face_diff_pct,psnr_db,ms_per_frame,failed\n"
+
+int sweep_family_run(const char *family, const profile_t *p, unsigned seeds, FILE *out,
+                     FILE *progress)
+{
+    unsigned f = 0;
+    while (f < NFAMILIES && strcmp(families[f].family, family))
+        f++;
+    if (f == NFAMILIES)
+        return -1;
+    fputs(CSV_HEADER, out);
+    unsigned nc = config_count();
+    for (unsigned j = 0; j < SWEEP_SEVERITIES; j++) {
+        double sev = families[f].severity[j];
+        for (unsigned k = 0; k < nc; k++) {
+            point pt = {0, 0, 0, 0, 0};
+            for (uint64_t seed = 1; seed <= seeds; seed++) {
+                char *text = stress_scene(family, sev, seed);
+                scene_t s;
+                diag_t d;
+                diag_init(&d, NULL);
+                if (text && !scene_parse(text, strlen(text), family, &s, &d)) {
+                    measure(k, &s, p, FIDELITY_FUNCTIONAL, 1, &pt);
+                    scene_free(&s);
+                } else {
+                    pt.failed++;
+                }
+                free(text);
+            }
+            write_point(out, family, j + 1, sev, config_name(k), &pt);
+            if (progress)
+                fprintf(progress, "\r%s: severity %u/%u, configuration %u/%u   ", family, j + 1,
+                        SWEEP_SEVERITIES, k + 1, nc);
+        }
+    }
+    if (progress)
+        fputc('\n', progress);
+    return ferror(out) ? -1 : 0;
+}
+
+/* ---- speed against accuracy ---- */
+
+int sweep_speed_run(const profile_t *p, FILE *out, FILE *progress)
+{
+    /* the scenes: 8 random ones and every family at its second severity */
+    enum { NRANDOM = 8 };
+    char *texts[NRANDOM + NFAMILIES];
+    unsigned nt = 0;
+    scenegen_params gp = scenegen_defaults();
+    gp.faces = 40;
+    for (unsigned i = 0; i < NRANDOM; i++)
+        texts[nt++] = scenegen_random(100 + i, &gp);
+    for (unsigned f = 0; f < NFAMILIES; f++)
+        texts[nt++] = stress_scene(families[f].family, families[f].severity[1], 1);
+    unsigned nm, nc = config_count();
+    methods_all(&nm);
+    fputs("config,fidelity,scenes,face_diff_pct,ms_per_frame,failed\n", out);
+    for (unsigned k = 0; k < nc; k++) {
+        unsigned nfid = k == nm ? 3 : 1;   /* the default VP at every fidelity */
+        for (unsigned fi = 0; fi < nfid; fi++) {
+            fidelity fid = fi == 0 ? FIDELITY_FUNCTIONAL : fi == 1 ? FIDELITY_TIMED : FIDELITY_CYCLE;
+            point pt = {0, 0, 0, 0, 0};
+            for (unsigned i = 0; i < nt; i++) {
+                scene_t s;
+                diag_t d;
+                diag_init(&d, NULL);
+                if (texts[i] && !scene_parse(texts[i], strlen(texts[i]), "speed", &s, &d)) {
+                    measure(k, &s, p, fid, 3, &pt);
+                    scene_free(&s);
+                } else {
+                    pt.failed++;
+                }
+            }
+            fprintf(out, "%s,%s,%u,%.4f,%.3f,%u\n", config_name(k),
+                    k < nm ? "-" : fidelity_name(fid), pt.runs,
+                    pt.runs ? pt.face_pct / pt.runs : 0.0, pt.runs ? pt.ms / pt.runs : 0.0,
+                    pt.failed);
+            if (progress)
+                fprintf(progress, "\rspeed: configuration %u/%u   ", k + 1, nc);
+        }
+    }
+    if (progress)
+        fputc('\n', progress);
+    for (unsigned i = 0; i < nt; i++)
+        free(texts[i]);
+    return ferror(out) ? -1 : 0;
+}
+
+/* ---- reports ---- */
+
+typedef struct {
+    char family[32], config[40];
+    unsigned step;
+    double severity, face, psnr, ms;
+    bool have;
+} row;
+
+static int read_rows(const char *path, row **rows, size_t *n)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return -1;
+    char line[512];
+    size_t cap = *n + 64;
+    row *r = realloc(*rows, cap * sizeof *r);
+    if (!r) {
+        fclose(f);
+        return -1;
+    }
+    *rows = r;
+    if (!fgets(line, sizeof line, f)) {   /* header */
+        fclose(f);
+        return 0;
+    }
+    while (fgets(line, sizeof line, f)) {
+        if (*n == cap) {
+            cap *= 2;
+            row *nr = realloc(*rows, cap * sizeof *nr);
+            if (!nr)
+                break;
+            *rows = nr;
+        }
+        row *x = &(*rows)[*n];
+        memset(x, 0, sizeof *x);
+        char face[32] = "", psnr[32] = "", ms[32] = "";
+        int k = sscanf(line, "%31[^,],%u,%lf,%39[^,],%31[^,],%31[^,],%31[^,]", x->family, &x->step,
+                       &x->severity, x->config, face, psnr, ms);
+        if (k < 4)
+            continue;
+        x->have = k == 7;
+        x->face = atof(face), x->psnr = atof(psnr), x->ms = atof(ms);
+        (*n)++;
+    }
+    fclose(f);
+    return 0;
+}
+
+/* The first severity at which a configuration differs from the reference on
+ * more than 1% of the pixels (or cannot render): where it breaks. */
+static void breaks_table(FILE *md, const row *r, size_t n, unsigned fam)
+{
+    unsigned nc = config_count();
+    fprintf(md, "\n| configuration | breaks at (>1%% of pixels wrong) |\n|---|---|\n");
+    for (unsigned k = 0; k < nc; k++) {
+        const char *name = config_name(k);
+        const row *hit = NULL;
+        for (size_t i = 0; i < n && !hit; i++)
+            if (!strcmp(r[i].family, families[fam].family) && !strcmp(r[i].config, name) &&
+                (!r[i].have || r[i].face > 1.0))
+                hit = &r[i];
+        if (hit)
+            fprintf(md, "| %s | severity %g%s |\n", name, hit->severity,
+                    hit->have ? "" : " (refused)");
+        else
+            fprintf(md, "| %s | holds everywhere |\n", name);
+    }
+}
+
+static void family_table(FILE *md, const row *r, size_t n, unsigned fam)
+{
+    unsigned nc = config_count();
+    fprintf(md, "\n### %s\n\nPixels whose face differs from the exact reference, %%:\n\n"
+                "| severity |", families[fam].family);
+    for (unsigned k = 0; k < nc; k++)
+        fprintf(md, " %s |", config_name(k));
+    fprintf(md, "\n|---|");
+    for (unsigned k = 0; k < nc; k++)
+        fprintf(md, "---|");
+    for (unsigned j = 0; j < SWEEP_SEVERITIES; j++) {
+        fprintf(md, "\n| %g |", families[fam].severity[j]);
+        for (unsigned k = 0; k < nc; k++) {
+            const row *x = NULL;
+            for (size_t i = 0; i < n && !x; i++)
+                if (!strcmp(r[i].family, families[fam].family) && r[i].step == j + 1 &&
+                    !strcmp(r[i].config, config_name(k)))
+                    x = &r[i];
+            if (!x)
+                fprintf(md, " – |");
+            else if (!x->have)
+                fprintf(md, " refused |");
+            else
+                fprintf(md, " %.2f |", x->face);
+        }
+    }
+    fputc('\n', md);
+    breaks_table(md, r, n, fam);
+}
+
+static int run_gnuplot(const char *script_path)
+{
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>&1", script_path);
+    int rc = system(cmd);
+    return rc == 0 ? 0 : -1;
+}
+
+/* Per family, a gnuplot data file: step, then one column per configuration
+ * (NaN where it refused), so each configuration is a connected line. */
+static int family_data(const char *dir, unsigned fam, const row *r, size_t n)
+{
+    char path[600];
+    snprintf(path, sizeof path, "%s/stability-%s.dat", dir, families[fam].family);
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return -1;
+    unsigned nc = config_count();
+    for (unsigned j = 0; j < SWEEP_SEVERITIES; j++) {
+        fprintf(f, "%u", j + 1);
+        for (unsigned k = 0; k < nc; k++) {
+            double v = NAN;
+            for (size_t i = 0; i < n; i++)
+                if (!strcmp(r[i].family, families[fam].family) && r[i].step == j + 1 &&
+                    !strcmp(r[i].config, config_name(k)) && r[i].have)
+                    v = r[i].face;
+            fprintf(f, isnan(v) ? " NaN" : " %.4f", v);
+        }
+        fputc('\n', f);
+    }
+    return fclose(f);
+}
+
+static bool family_present(unsigned fam, const row *r, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!strcmp(r[i].family, families[fam].family) && r[i].have)
+            return true;
+    return false;
+}
+
+static int stability_chart(const char *dir, const row *r, size_t n)
+{
+    char path[600];
+    unsigned present = 0;
+    for (unsigned f = 0; f < NFAMILIES; f++)
+        if (family_present(f, r, n)) {
+            present++;
+            if (family_data(dir, f, r, n))
+                return -1;
+        }
+    snprintf(path, sizeof path, "%s/stability.gp", dir);
+    FILE *g = fopen(path, "w");
+    if (!g)
+        return -1;
+    fprintf(g, "# stability chart, written by albatros stability --report\n"
+               "set terminal pngcairo size 1600,2000 font ',9' noenhanced\n"
+               "set output '%s/stability.png'\n"
+               "set multiplot layout %u,2 title 'Pixels whose face differs from the exact "
+               "reference (%%) against severity'\nset key outside right font ',7'\n"
+               "set yrange [0:*]\nset grid\nset datafile missing 'NaN'\n", dir,
+            (present + 1) / 2);
+    unsigned nc = config_count();
+    bool first = true;
+    for (unsigned f = 0; f < NFAMILIES; f++) {
+        if (!family_present(f, r, n))
+            continue;
+        fprintf(g, "set title '%s'\nset xtics (", families[f].family);
+        for (unsigned j = 0; j < SWEEP_SEVERITIES; j++)
+            fprintf(g, "%s'%g' %u", j ? ", " : "", families[f].severity[j], j + 1);
+        fprintf(g, ")\nplot ");
+        for (unsigned k = 0; k < nc; k++)
+            fprintf(g, "%s'%s/stability-%s.dat' using 1:%u with linespoints title '%s'",
+                    k ? ", \\\n     " : "", dir, families[f].family, k + 2,
+                    first ? config_name(k) : "");
+        fputc('\n', g);
+        first = false;
+    }
+    fprintf(g, "unset multiplot\n");
+    fclose(g);
+    return run_gnuplot(path);
+}
+
+static int speed_report(const char *dir)
+{
+    char path[600];
+    snprintf(path, sizeof path, "%s/speed.csv", dir);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return 0;   /* no speed sweep in this directory */
+    struct sp {
+        char config[40], fid[16];
+        double face, ms;
+        bool pareto;
+    } pts[64];
+    unsigned n = 0;
+    char line[256];
+    if (!fgets(line, sizeof line, f)) {
+        fclose(f);
+        return -1;
+    }
+    while (n < 64 && fgets(line, sizeof line, f)) {
+        unsigned scenes;
+        if (sscanf(line, "%39[^,],%15[^,],%u,%lf,%lf", pts[n].config, pts[n].fid, &scenes,
+                   &pts[n].face, &pts[n].ms) == 5 && scenes)
+            n++;
+    }
+    fclose(f);
+    /* the Pareto front: no other point both faster and more accurate */
+    for (unsigned i = 0; i < n; i++) {
+        pts[i].pareto = true;
+        for (unsigned j = 0; j < n; j++)
+            if (j != i && pts[j].ms <= pts[i].ms && pts[j].face <= pts[i].face &&
+                (pts[j].ms < pts[i].ms || pts[j].face < pts[i].face))
+                pts[i].pareto = false;
+    }
+    snprintf(path, sizeof path, "%s/speed.md", dir);
+    FILE *md = fopen(path, "w");
+    snprintf(path, sizeof path, "%s/speed-points.dat", dir);
+    FILE *dat = fopen(path, "w");
+    if (!md || !dat) {
+        if (md)
+            fclose(md);
+        if (dat)
+            fclose(dat);
+        return -1;
+    }
+    fprintf(md, "| configuration | fidelity | ms per frame | pixels wrong, %% | Pareto front |\n"
+                "|---|---|---|---|---|\n");
+    for (unsigned i = 0; i < n; i++) {
+        fprintf(md, "| %s | %s | %.2f | %.3f | %s |\n", pts[i].config, pts[i].fid, pts[i].ms,
+                pts[i].face, pts[i].pareto ? "yes" : "");
+        /* errors of 0 are drawn at 0.001 on the logarithmic axis */
+        fprintf(dat, "%g %g %d \"%s%s%s\"\n", pts[i].ms, fmax(pts[i].face, 0.001), pts[i].pareto,
+                pts[i].config, strcmp(pts[i].fid, "-") ? " " : "",
+                strcmp(pts[i].fid, "-") ? pts[i].fid : "");
+    }
+    fclose(md);
+    fclose(dat);
+    snprintf(path, sizeof path, "%s/speed.gp", dir);
+    FILE *g = fopen(path, "w");
+    if (!g)
+        return -1;
+    fprintf(g, "# speed against accuracy, written by albatros stability --report\n"
+               "set terminal pngcairo size 1100,750 noenhanced\nset output '%s/speed.png'\n"
+               "set title 'Speed against accuracy (each point: a method or configuration)'\n"
+               "set xlabel 'host milliseconds per frame (log)'\nset logscale x\n"
+               "set ylabel 'pixels whose face differs from the exact reference, %% (log; 0 drawn "
+               "at 0.001)'\nset logscale y\nset grid\nset key top right\n"
+               "plot '%s/speed-points.dat' using 1:2 with points pt 7 title 'configurations', \\\n"
+               "     '' using 1:2:4 with labels offset 0.5,0.6 left rotate by 20 font ',7' notitle, "
+               "\\\n     '' using ($3 == 1 ? $1 : NaN):2 smooth unique with linespoints lw 2 pt 6 "
+               "ps 2 title 'Pareto front'\n", dir, dir);
+    fclose(g);
+    return run_gnuplot(path);
+}
+
+int sweep_report(const char *dir)
+{
+    row *rows = NULL;
+    size_t n = 0;
+    char path[600], all[600];
+    snprintf(all, sizeof all, "%s/stability.csv", dir);
+    FILE *merged = fopen(all, "w");
+    if (!merged) {
+        fprintf(stderr, "albatros stability: cannot write %s: %s\n", all, strerror(errno));
+        return -1;
+    }
+    fputs(CSV_HEADER, merged);
+    unsigned found = 0;
+    for (unsigned f = 0; f < NFAMILIES; f++) {
+        snprintf(path, sizeof path, "%s/stability-%s.csv", dir, families[f].family);
+        size_t before = n;
+        if (read_rows(path, &rows, &n))
+            continue;
+        found++;
+        for (size_t i = before; i < n; i++) {
+            const row *x = &rows[i];
+            if (x->have)
+                fprintf(merged, "%s,%u,%g,%s,%.4f,%.2f,%.3f,0\n", x->family, x->step, x->severity,
+                        x->config, x->face, x->psnr, x->ms);
+            else
+                fprintf(merged, "%s,%u,%g,%s,,,,1\n", x->family, x->step, x->severity, x->config);
+        }
+    }
+    fclose(merged);
+    if (!found) {
+        fprintf(stderr, "albatros stability: no stability-FAMILY.csv in %s (run the jobs first)\n",
+                dir);
+        free(rows);
+        return -1;
+    }
+    snprintf(path, sizeof path, "%s/stability.md", dir);
+    FILE *md = fopen(path, "w");
+    if (!md) {
+        free(rows);
+        return -1;
+    }
+    fprintf(md, "# Stability: the methods where they fail\n\nEvery classic method and Albatros "
+                "configuration on each stress family (tools/stress.c), against the exact "
+                "reference; written by `albatros stability --report` from the CSVs beside it.\n");
+    for (unsigned f = 0; f < NFAMILIES; f++)
+        if (family_present(f, rows, n))
+            family_table(md, rows, n, f);
+    fclose(md);
+    int chart = stability_chart(dir, rows, n);
+    free(rows);
+    if (chart) {
+        fprintf(stderr, "albatros stability: gnuplot failed (is gnuplot installed? "
+                        "apt-get install gnuplot-nox)\n");
+        return -1;
+    }
+    return speed_report(dir);
+}
