@@ -1,5 +1,7 @@
 # albatros — the front door: make, make test, make asan, make bench, make demo.
-# GNU Make; dependencies through pkg-config (docs/building.md).
+# GNU Make; dependencies through pkg-config; make help lists the targets.
+
+.DEFAULT_GOAL := all
 
 CC      ?= cc
 BUILD   ?= build
@@ -41,6 +43,9 @@ TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 ALBATROS := $(BUILD)/albatros
 UNIT     := $(BUILD)/tests/unit
 
+# the FX2LP firmware (sdcc): make firmware, make firmware-size
+include firmware/fx2/fx2.mk
+
 COST     := $(BUILD)/tools/cost
 BENCH    := $(BUILD)/tools/bench
 
@@ -62,7 +67,7 @@ help:
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev gnuplot-nox
+            libhidapi-dev gnuplot-nox sdcc
 setup: deps
 	$(MAKE) all
 deps:

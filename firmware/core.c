@@ -2,8 +2,9 @@
  * packet parser with its resynchronisation, the link's sequence numbers and
  * error state, RESUME, the result memory, counters and the HID reports.
  * Portable C that sdcc compiles for the FX2's 8051 and gcc/clang for the
- * simulated board; not reentrant (one caller at a time, HAL callbacks must
- * not call back into fw_rx).
+ * simulated board.  One caller at a time; a HAL callback may report the VP's
+ * progress (fw_frame_done, fw_vp_error: a VP run inside vp_words finishes
+ * frames there) but must not call fw_rx or the HID functions.
  *
  * Decisions the protocol document leaves open, all visible in the ERRORs:
  *
@@ -190,7 +191,7 @@ static void drop(core_t *c, uint8_t code, const xbyte *q, uint16_t detail)
 }
 
 /* detail of an ERROR MODE */
-#define MODE_DETAIL(c, type) ((uint16_t)((uint16_t)(c)->mode << 8 | (type)))
+#define MODE_DETAIL(c, type) ((uint16_t)((unsigned)(c)->mode << 8 | (unsigned)(type)))
 
 /* ---- link state ---- */
 
@@ -204,7 +205,7 @@ static void link_reset(core_t *c, uint32_t next)
     c->resume_wait = 0;
     c->nresults = 0;
     c->next_result = 0;
-    c->hal->vp_restart(c->hal->ctx);
+    c->hal->vp_restart(c->hal->ctx, 1);
 }
 
 /* 1: the packet takes its place in the numbering (in order, or after a gap
@@ -273,8 +274,26 @@ static void on_resume(core_t *c, const xbyte *q, uint16_t len)
     c->resume_frame = get32(q + PROTO_HEADER);
     c->resume_wait = 1;
     c->error_state = 0;
-    c->hal->vp_restart(c->hal->ctx);
+    c->hal->vp_restart(c->hal->ctx, 0);
 }
+
+#ifndef __SDCC_mcs51
+/* READBACK: the HAL sends the frame store, or the board does not keep it.
+ * (Not on the FX2: its frames are in the FPGA; READBACK is BAD_TYPE there.) */
+static void on_readback(core_t *c, const xbyte *q, uint16_t len)
+{
+    if (!c->hal->readback) {
+        drop(c, PROTO_E_BAD_TYPE, q, PROTO_T_READBACK);
+        return;
+    }
+    if (len != 4) {
+        drop(c, PROTO_E_BAD_LENGTH, q, len);
+        return;
+    }
+    if (c->hal->readback(c->hal->ctx, get32(q + PROTO_HEADER)))
+        send_error(c, PROTO_E_OVERFLOW, get32(q + PROTO_OFF_SEQ), get32(q + PROTO_HEADER), 0);
+}
+#endif
 
 static void on_query(core_t *c, const xbyte *q, uint16_t len)
 {
@@ -353,6 +372,11 @@ static void on_packet(core_t *c, const xbyte *q, uint16_t len)
     case PROTO_T_TILE:
         on_tile(c, q, len);
         break;
+#ifndef __SDCC_mcs51
+    case PROTO_T_READBACK:
+        on_readback(c, q, len);
+        break;
+#endif
     case PROTO_T_PING:
         if (len)
             drop(c, PROTO_E_BAD_LENGTH, q, len);
@@ -481,6 +505,37 @@ void fw_rx(fw_core *core, const uint8_t *data, uint16_t len)
         }
     }
 }
+
+/* READBACK's packets are for boards that keep their frames (the simulated
+ * one); the FX2 target, whose VP frame store sits in the FPGA, leaves them
+ * out to fit its 16 KB. */
+#ifndef __SDCC_mcs51
+void fw_send_packet(fw_core *core, uint8_t type, const uint8_t *head, uint16_t head_len,
+                    const uint8_t *body, uint16_t body_len)
+{
+    core_t *c = (core_t *)core;
+    xbyte *p = c->scratch;
+    uint32_t len = (uint32_t)head_len + body_len, crc;
+
+    memcpy(p, magic, sizeof magic);
+    p[PROTO_OFF_TYPE] = type;
+    p[PROTO_OFF_FLAGS] = 0;
+    p[PROTO_OFF_RSVD] = 0;
+    p[PROTO_OFF_RSVD + 1] = 0;
+    put32(p + PROTO_OFF_SEQ, c->tx_seq);
+    put32(p + PROTO_OFF_LEN, len);
+    crc = proto_crc32(0, p, PROTO_HEADER);
+    crc = proto_crc32(crc, head, head_len);
+    crc = proto_crc32(crc, body, body_len);
+    c->tx_seq++;
+    count(c, CNT_TX);
+    c->hal->send(c->hal->ctx, p, PROTO_HEADER);
+    c->hal->send(c->hal->ctx, head, head_len);
+    c->hal->send(c->hal->ctx, body, body_len);
+    put32(p, crc);
+    c->hal->send(c->hal->ctx, p, PROTO_TRAILER);
+}
+#endif
 
 void fw_frame_done(fw_core *core, const fw_result *r)
 {

@@ -16,14 +16,19 @@ typedef struct {
     void *ctx;
     /* word-stream bytes toward the VP (a multiple of 4, whole words) */
     void (*vp_words)(void *ctx, const uint8_t *data, uint16_t len);
-    /* abandon the VP's partial frame and parser state; configuration and
-     * texture memory are kept (RESET, RESUME) */
-    void (*vp_restart)(void *ctx);
+    /* abandon the VP's partial frame and parser state (RESUME: full = 0;
+     * configuration and texture memory are kept), or its whole stream
+     * (RESET: full = 1, a new stream with its own CONFIG follows) */
+    void (*vp_restart)(void *ctx, uint8_t full);
     /* bytes toward the host on the bulk IN endpoint (one whole packet) */
     void (*send)(void *ctx, const uint8_t *data, uint16_t len);
     /* frames mode: a tile of RGB888 pixels for the display (may be NULL) */
     void (*tile)(void *ctx, uint32_t frame, uint16_t x, uint16_t y, uint16_t w, uint16_t h,
                  const uint8_t *rgb);
+    /* READBACK: send frame `frame`'s store with fw_send_packet as PIXELS
+     * packets; returns 0, or 1 if the board does not keep that frame.  May
+     * be NULL (the board answers READBACK with ERROR BAD_TYPE). */
+    uint8_t (*readback)(void *ctx, uint32_t frame);
 } fw_hal;
 
 #define FW_RESULTS 16   /* RESULTs kept for QUERY */
@@ -64,6 +69,10 @@ void fw_rx(fw_core *c, const uint8_t *data, uint16_t len);
 void fw_frame_done(fw_core *c, const fw_result *r);
 /* The VP found the word stream malformed at word `word` of the frame. */
 void fw_vp_error(fw_core *c, uint32_t word);
+/* Send one packet of the board's numbering from two pieces of payload (for
+ * a HAL's READBACK answer); the pieces go out through hal->send as they are. */
+void fw_send_packet(fw_core *c, uint8_t type, const uint8_t *head, uint16_t head_len,
+                    const uint8_t *body, uint16_t body_len);
 /* HID: fill a GET_REPORT (report[0] = id on entry; 64 bytes); returns the
  * length, 0 for an unknown report.  SET_REPORT: returns 0 if accepted. */
 uint8_t fw_hid_get(fw_core *c, uint8_t *report);

@@ -132,6 +132,21 @@ rc=$?
 [[ $rc -eq 130 ]] && grep -q 'interrupted at cycle' "$tmp/int.out" && ok || bad "SIGINT: exit $rc: $(cat "$tmp/int.out")"
 grep -q '^\$enddefinitions' "$tmp/int.vcd" && tail -n 1 "$tmp/int.vcd" | grep -q '^#[0-9]*$' && ok || bad "interrupted trace incomplete"
 
+# the bridge through the simulated board
+expect 0 "1 of 1 frames match the emulator" "$bin" stream --sim --profile a256 "$tmp/t.scene"
+expect 0 "hardware agrees with the emulator" "$bin" stream --sim --profile a256 "$tmp/t.scene"
+expect 0 '"result": "match"' "$bin" stream --sim --profile a256 --stream "$tmp/ts.stream" --json
+expect 0 "restarting the stream" "$bin" stream --sim --profile a256 "$tmp/t.scene" --fault corrupt=60
+expect 0 "hardware agrees" "$bin" stream --sim --profile a256 --fault swap=3
+expect 0 "resuming from frame 2" "$bin" stream --sim --profile a256 --fault drop=6
+expect 1 "frame 0: the board's frame CRC .* first at pixel \(5, 7\) channel G" "$bin" stream --sim --profile a256 "$tmp/t.scene" --fault flip=0
+expect 3 "the board stopped answering" "$bin" stream --sim --profile a256 "$tmp/t.scene" --fault silence=1 --timeout 50
+expect 3 "device disconnected" "$bin" stream --sim --profile a256 "$tmp/t.scene" --fault disconnect=100
+expect 0 "albatros-sim: protocol 1, .* VP 256x256 8-bit colour" "$bin" board info --sim --profile a256
+expect 0 "board reset" "$bin" board reset --sim
+expect 0 "sim:0" "$bin" board list --sim
+expect 2 "expected corrupt" "$bin" stream --sim --fault bogus=1
+
 # the stability sweep: one family job, the report (CSV, Markdown, gnuplot PNG)
 expect 0 "albatros stability .* --family sliver" "$bin" stability --jobs --out "$tmp/st"
 expect 0 "" "$bin" stability --family cyclic --seeds 1 --out "$tmp/st"

@@ -26,5 +26,6 @@ run() {
 run unit "$build/tests/unit" --bindir "$build"
 run cli bash tests/cli.sh "$build/albatros"
 run vectors "$build/albatros" vectors check test-vectors
+run firmware bash tests/firmware.sh "$build"
 echo "$total_pass passed, $total_fail failed"
 [[ $status -eq 0 && $total_fail -eq 0 ]]

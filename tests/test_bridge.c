@@ -166,10 +166,10 @@ TEST(bridge_link_faults_detected_and_recovered)
         const char *what;
         tr_faults f;
     } cases[] = {
-        {"corrupted byte", {.corrupt_byte = 3000}},
-        {"dropped packet", {.drop_packet = 12}},
-        {"duplicated packet", {.duplicate_packet = 9}},
-        {"swapped packets", {.swap_packet = 15}},
+        {"corrupted byte", {.corrupt_byte = 700}},
+        {"dropped packet", {.drop_packet = 5}},
+        {"duplicated packet", {.duplicate_packet = 4}},
+        {"swapped packets", {.swap_packet = 6}},
         {"corrupted reply", {.corrupt_reply = 30}},
         {"last packet dropped", {.drop_packet = 0}},   /* filled in below */
     };

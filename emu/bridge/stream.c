@@ -282,8 +282,17 @@ static void resume(streamer *s)
         s->failed = true;
         return;
     }
-    note(s, "resuming from frame %u", s->f[i].number);
     s->r->resumes++;
+    if (i == 0) {
+        /* nothing confirmed yet: the loss may be in the preamble (CONFIG,
+         * textures), which RESUME would not resend — start the stream over */
+        note(s, "restarting the stream (no frame confirmed yet)");
+        if (!send_packet(s, PROTO_T_RESET, NULL, 0))
+            send_words(s, 0, s->nf ? s->f[0].first_word : s->n);
+        s->next = 0;
+        return;
+    }
+    note(s, "resuming from frame %u", s->f[i].number);
     if (!send_u32(s, PROTO_T_RESUME, s->f[i].number))
         s->next = i;
 }

@@ -39,6 +39,13 @@ struct sim_board {
     uint32_t result_frame, result_crc, result_faces;
     uint64_t result_cycles;
     bool result_ok;
+    /* the last frames' stores, for READBACK */
+    struct kept_frame {
+        uint32_t number;
+        uint16_t *rgb;        /* NULL: empty */
+        size_t pixels;
+    } kept[4];
+    unsigned next_kept;
 };
 
 static void hal_send(void *ctx, const uint8_t *data, uint16_t len)
@@ -58,34 +65,41 @@ static void hal_send(void *ctx, const uint8_t *data, uint16_t len)
     b->tx_len += len;
 }
 
-/* Keep the stream up to its last whole frame (or packet outside frames). */
-static void hal_restart(void *ctx)
+/* RESUME: keep the stream up to its last whole frame (configuration and
+ * textures stay loaded); RESET: a new stream from its CONFIG. */
+static void hal_restart(void *ctx, uint8_t full)
 {
     sim_board *b = ctx;
-    b->n = b->frame_start;
-    b->rd.pos = b->frame_start;
-    b->rd.in_frame = false;
-    b->rd.faces_in_frame = 0;
+    if (full) {
+        b->n = 0;
+        b->frame_start = 0;
+        ws_reader_init(&b->rd, NULL, 0, "board");
+    } else {
+        b->n = b->frame_start;
+        b->rd.pos = b->frame_start;
+        b->rd.in_frame = false;
+        b->rd.faces_in_frame = 0;
+    }
     b->in_error = false;
 }
 
 static int take_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
 {
     sim_board *b = ctx;
-    /* the sink sees every frame of the prefix; the last one counts */
+    /* the sink sees every frame of the prefix; the last one counts, and is
+     * kept (as the board's VP wrote it) for READBACK */
     size_t npix = (size_t)f->width * f->height;
-    b->result_crc = link_frame_crc(f->rgb, npix);
-    if (b->flip && f->number == b->flip_frame && b->flip_x < f->width && b->flip_y < f->height) {
+    struct kept_frame *k = &b->kept[b->next_kept];
+    uint16_t *rgb = realloc(k->rgb, 3 * npix * sizeof *rgb);
+    if (!rgb)
+        return -1;
+    memcpy(rgb, f->rgb, 3 * npix * sizeof *rgb);
+    if (b->flip && f->number == b->flip_frame && b->flip_x < f->width && b->flip_y < f->height)
         /* the faulty VP: one bit of one pixel wrong */
-        uint16_t *rgb = malloc(3 * npix * sizeof *rgb);
-        if (!rgb)
-            return -1;
-        memcpy(rgb, f->rgb, 3 * npix * sizeof *rgb);
         rgb[3 * ((size_t)b->flip_y * f->width + b->flip_x) + b->flip_ch % 3] ^=
             (uint16_t)(1u << (b->flip_bit % 16));
-        b->result_crc = link_frame_crc(rgb, npix);
-        free(rgb);
-    }
+    *k = (struct kept_frame){f->number, rgb, npix};
+    b->result_crc = link_frame_crc(rgb, npix);
     b->result_frame = f->number;
     b->result_cycles = sc->cycles;
     b->result_faces = (uint32_t)vs->faces;
@@ -114,6 +128,7 @@ static void run_frame(sim_board *b, size_t end)
     }
     fw_result r = {b->result_frame, b->result_crc, (uint32_t)b->result_cycles,
                    (uint32_t)(b->result_cycles >> 32), b->result_faces};
+    b->next_kept = (b->next_kept + 1) % 4;
     fw_frame_done(&b->core, &r);
 }
 
@@ -169,6 +184,31 @@ static void hal_words(void *ctx, const uint8_t *data, uint16_t len)
     scan(b);
 }
 
+/* READBACK: the kept frame store in PIXELS packets of up to 2048 pixels. */
+static uint8_t hal_readback(void *ctx, uint32_t frame)
+{
+    sim_board *b = ctx;
+    const struct kept_frame *k = NULL;
+    for (unsigned i = 0; i < 4; i++)
+        if (b->kept[i].rgb && b->kept[i].number == frame)
+            k = &b->kept[i];
+    if (!k)
+        return 1;
+    uint8_t head[12], body[6 * 2048];
+    for (size_t first = 0; first < k->pixels; first += 2048) {
+        size_t count = k->pixels - first < 2048 ? k->pixels - first : 2048;
+        PROTO_PUT32(head, frame);
+        PROTO_PUT32(head + 4, (uint32_t)first);
+        PROTO_PUT32(head + 8, (uint32_t)count);
+        for (size_t i = 0; i < 3 * count; i++) {
+            body[2 * i] = (uint8_t)k->rgb[3 * first + i];
+            body[2 * i + 1] = (uint8_t)(k->rgb[3 * first + i] >> 8);
+        }
+        fw_send_packet(&b->core, PROTO_T_PIXELS, head, 12, body, (uint16_t)(6 * count));
+    }
+    return 0;
+}
+
 sim_board *sim_board_create(const profile_t *p, char *err, size_t errlen)
 {
     sim_board *b = calloc(1, sizeof *b);
@@ -180,7 +220,7 @@ sim_board *sim_board_create(const profile_t *p, char *err, size_t errlen)
         return NULL;
     }
     b->prof = *p;
-    b->hal = (fw_hal){b, hal_words, hal_restart, hal_send, NULL};
+    b->hal = (fw_hal){b, hal_words, hal_restart, hal_send, NULL, hal_readback};
     fw_init(&b->core, &b->hal, b->rxbuf, SIM_MAX_PAYLOAD);
     b->core.width = (uint16_t)p->width;
     b->core.height = (uint16_t)p->height;
@@ -198,6 +238,8 @@ void sim_board_destroy(sim_board *b)
     free(b->rxbuf);
     free(b->tx);
     free(b->w);
+    for (unsigned i = 0; i < 4; i++)
+        free(b->kept[i].rgb);
     free(b);
 }
 
