@@ -23,7 +23,7 @@ LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm $(EXTRA_LDLIBS)
 
 COMMON_SRC := common/diag.c common/profile.c common/words.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
-VP_SRC     := vp/vp.c vp/shade.c vp/frame.c
+VP_SRC     := vp/vp.c vp/fill.c vp/shade.c vp/frame.c
 TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools/methods.c tools/sweep.c \
               $(wildcard tools/methods/*.c)
 SINK_SRC   := emu/exr.c emu/preview.c emu/sim.c emu/sim_timed.c emu/sim_cycle.c emu/vcd.c

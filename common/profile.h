@@ -38,6 +38,8 @@ typedef struct {
     unsigned gp_face_cycles;  /* GP time per face packet, before its words */
     unsigned gp_edge_cycles;  /* ... plus this per edge */
     unsigned gp_frame_cycles; /* ... per FRAME packet */
+    /* the emulator, not the hardware */
+    unsigned all_units;       /* 1: every shading unit for every sample (same pixels, slower) */
 } profile_t;
 
 /* Fill *p with the named profile; returns 0, or -1 if unknown. */

@@ -107,11 +107,14 @@ static void stats_json(FILE *f, const frame_t *fr, const vp_stats *st, unsigned 
         fprintf(f, "%s%llu", l ? ", " : "", (unsigned long long)st->cells[l]);
     fprintf(f, "], \"cells_inside\": %llu, \"cells_outside\": %llu, \"cells_split\": %llu, "
                "\"samples_tested\": %llu, \"samples_covered\": %llu, \"samples_written\": %llu, "
-               "\"depth_saturated\": %llu, \"depth_underflow\": %llu",
+               "\"depth_saturated\": %llu, \"depth_underflow\": %llu, \"faces_shaded\": %llu, "
+               "\"faces_textured\": %llu, \"faces_fogged\": %llu",
             (unsigned long long)st->cells_inside, (unsigned long long)st->cells_outside,
             (unsigned long long)st->cells_split, (unsigned long long)st->samples_tested,
             (unsigned long long)st->samples_covered, (unsigned long long)st->samples_written,
-            (unsigned long long)st->depth_saturated, (unsigned long long)st->depth_underflow);
+            (unsigned long long)st->depth_saturated, (unsigned long long)st->depth_underflow,
+            (unsigned long long)st->faces_shaded, (unsigned long long)st->faces_textured,
+            (unsigned long long)st->faces_fogged);
     if (sc) {
         fprintf(f, ", \"timing\": ");
         sim_counters_json(f, sc, p);
@@ -186,9 +189,13 @@ static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st, const 
     } else if (!a->quiet && !st) {
         fprintf(stderr, "%sreference frame %u\n", a->progress ? "\r" : "", f->number);
     } else if (!a->quiet) {
-        fprintf(stderr, "%sframe %u: %llu faces, %llu cells visited, %llu samples written\n",
+        /* the units the frame ran: the fill loops skip the others (docs/vp.md §8) */
+        fprintf(stderr, "%sframe %u: %llu faces (%llu shaded, %llu textured, %llu fogged), "
+                        "%llu cells visited, %llu samples written\n",
                 a->progress ? "\r" : "", f->number, (unsigned long long)st->faces,
-                (unsigned long long)total_cells(st), (unsigned long long)st->samples_written);
+                (unsigned long long)st->faces_shaded, (unsigned long long)st->faces_textured,
+                (unsigned long long)st->faces_fogged, (unsigned long long)total_cells(st),
+                (unsigned long long)st->samples_written);
         if (sc)
             sim_counters_text(stderr, sc, &a->prof);
     }

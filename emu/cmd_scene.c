@@ -10,7 +10,7 @@
 typedef struct {
     const char *output;
     unsigned long long seed, faces, per_angle;
-    bool help;
+    bool help, flat;
 } scene_args;
 
 static int scene_opt(void *ctx, const char *name, const char *value)
@@ -20,8 +20,8 @@ static int scene_opt(void *ctx, const char *name, const char *value)
         a->output = value;
         return 0;
     }
-    if (strcmp(name, "help") == 0) {
-        a->help = true;
+    if (strcmp(name, "help") == 0 || strcmp(name, "flat") == 0) {
+        *(name[0] == 'h' ? &a->help : &a->flat) = true;
         return 0;
     }
     char *end;
@@ -41,17 +41,19 @@ static int scene_opt(void *ctx, const char *name, const char *value)
 
 int cmd_scene(int argc, char **argv)
 {
-    static const char *const spec[] = {"output=", "seed=", "faces=", "per-angle=", "help", NULL};
-    scene_args a = {NULL, 1, 12, 6, false};
+    static const char *const spec[] = {"output=", "seed=", "faces=", "per-angle=", "flat", "help",
+                                       NULL};
+    scene_args a = {NULL, 1, 12, 6, false, false};
     const char *pos[1];
     int npos;
     if (cli_parse("scene", argc, argv, spec, scene_opt, &a, NULL, pos, 1, &npos))
         return 2;
     if (a.help || npos != 1 || (strcmp(pos[0], "random") && strcmp(pos[0], "slivers"))) {
-        printf("usage: albatros scene random [--faces N] [--seed S] [-o FILE]\n"
+        printf("usage: albatros scene random [--faces N] [--seed S] [--flat] [-o FILE]\n"
                "       albatros scene slivers [--per-angle K] [--seed S] [-o FILE]\n\n"
                "Write a generated scene (docs/scene-format.md) to FILE or stdout:\n"
-               "  random   N convex polygons, overlapping, some crossing Z = 0 or back-facing\n"
+               "  random   N convex polygons, overlapping, some crossing Z = 0 or back-facing;\n"
+               "           intensity per vertex, or one colour per face with --flat\n"
                "  slivers  K triangles for each tip angle from 10 down to 0.01 degrees\n");
         return a.help ? 0 : 2;
     }
@@ -59,6 +61,7 @@ int cmd_scene(int argc, char **argv)
     if (pos[0][0] == 'r') {
         scenegen_params p = scenegen_defaults();
         p.faces = (unsigned)a.faces;
+        p.flat = a.flat;
         text = scenegen_random(a.seed, &p);
     } else {
         text = scenegen_slivers(a.seed, (unsigned)a.per_angle);

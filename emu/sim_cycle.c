@@ -297,8 +297,7 @@ static void engine_tick(machine *m, int64_t t, uint64_t queue_start)
             return;
         e->busy = true;
         e->slot = m->faces_started % m->p->face_slots;
-        m->vp->st.faces++;
-        m->vp->st.edges += s->face.n;
+        vp_count_face(m->vp, &s->face);
         vp_walk_begin(&e->walk, m->vp, &s->face);
         engine_next(m, t);   /* the first step starts this cycle */
     }

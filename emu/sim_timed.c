@@ -107,8 +107,7 @@ static void run_face(timed *t, const vp_loaded_face *lf, int64_t loaded)
     t->first_face_of_frame = false;
     vp_walk w;
     vp_step step;
-    t->vp->st.faces++;
-    t->vp->st.edges += lf->n;
+    vp_count_face(t->vp, lf);
     vp_walk_begin(&w, t->vp, lf);
     while (vp_walk_next(t->vp, &w, &step)) {
         uint64_t c = step_cycles(step.edges, p->edge_units);

@@ -3,6 +3,7 @@
 #include "t.h"
 #include "gp_helpers.h"
 #include "../tools/ref.h"
+#include "../tools/scenegen.h"
 
 #include <math.h>
 #include <png.h>
@@ -162,4 +163,65 @@ TEST(colours_agree_with_reference)
     frame_free(&ref);
     scene_free(&s);
     free(copy);
+}
+
+/* Render text both ways — only the units each face uses, and every unit for
+ * every sample (all_units=1) — and require the same frame and statistics. */
+static void same_with_all_units(const char *what, const char *text, const char *sets,
+                                vp_stats *st)
+{
+    frame_t a, b;
+    vp_stats sb;
+    char err[300], all_sets[200];
+    snprintf(all_sets, sizeof all_sets, "%s all_units=1", sets);
+    if (render_text(text, "a256", sets, &a, st, NULL, err, sizeof err) ||
+        render_text(text, "a256", all_sets, &b, &sb, NULL, err, sizeof err)) {
+        CHECK_MSG(0, "%s: %s", what, err);
+        return;
+    }
+    size_t np = (size_t)a.width * a.height, diff = 0;
+    for (size_t i = 0; i < np; i++)
+        diff += memcmp(a.rgb + 3 * i, b.rgb + 3 * i, 3 * sizeof *a.rgb) || a.depth[i] != b.depth[i] ||
+                a.face[i] != b.face[i] || a.level[i] != b.level[i] ||
+                a.coverage[i] != b.coverage[i];
+    CHECK_MSG(diff == 0, "%s: %zu of %zu pixels differ with all_units=1", what, diff, np);
+    CHECK_MSG(memcmp(st, &sb, sizeof sb) == 0, "%s: statistics differ with all_units=1", what);
+    CHECK_MSG(st->samples_written > 1000, "%s: only %llu samples written", what,
+              (unsigned long long)st->samples_written);
+    frame_free(&a);
+    frame_free(&b);
+}
+
+/* The fill loops specialised per set of units (vp/fill.c) against the
+ * all-units path, over every combination: the built-in scene has shaded,
+ * textured and flat faces, all fogged; without its fog line none is; a
+ * random scene gives Gouraud faces, and --flat faces with no unit at all. */
+TEST(units_a_scene_needs_change_no_pixel)
+{
+    size_t len;
+    const char *builtin = scene_builtin_text(&len);
+    char *text = malloc(len + 1);
+    memcpy(text, builtin, len);
+    text[len] = 0;
+    vp_stats st;
+    same_with_all_units("built-in", text, "", &st);
+    CHECK(st.faces_fogged == st.faces && st.faces_textured > 0 && st.faces_shaded > 0 &&
+          st.faces_shaded < st.faces);
+    same_with_all_units("built-in, aa=1", text, "aa=1", &st);
+    char *fog = strstr(text, "\nfog ");
+    CHECK(fog != NULL);
+    if (fog)
+        fog[1] = '#';   /* comment the fog out */
+    same_with_all_units("built-in without fog", text, "", &st);
+    CHECK(st.faces_fogged == 0 && st.faces_textured > 0);
+    free(text);
+    for (int flat = 0; flat < 2; flat++) {
+        scenegen_params p = scenegen_defaults();
+        p.faces = 200;
+        p.flat = flat;
+        text = scenegen_random(11, &p);
+        same_with_all_units(flat ? "random, flat" : "random", text, "", &st);
+        CHECK(st.faces_shaded == (flat ? 0 : st.faces) && st.faces_textured == 0);
+        free(text);
+    }
 }

@@ -21,15 +21,33 @@ static double now(void)
 typedef struct {
     uint64_t cycles;
     unsigned frames;
+    bool hashing;             /* hash the frames (untimed runs only) */
+    uint64_t hash;            /* FNV-1a over every frame's colour, depth and face */
+    uint64_t shaded, textured, fogged, faces;
 } totals;
+
+static uint64_t fnv(uint64_t h, const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ b[i]) * 0x100000001b3ull;
+    return h;
+}
 
 static int count(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
 {
-    (void)f, (void)vs;
     totals *t = ctx;
     t->frames++;
     if (sc)
         t->cycles += sc->cycles;
+    t->faces += vs->faces, t->shaded += vs->faces_shaded;
+    t->textured += vs->faces_textured, t->fogged += vs->faces_fogged;
+    if (!t->hashing)
+        return 0;
+    size_t np = (size_t)f->width * f->height;
+    t->hash = fnv(t->hash, f->rgb, 3 * np * sizeof *f->rgb);
+    t->hash = fnv(t->hash, f->depth, np * sizeof *f->depth);
+    t->hash = fnv(t->hash, f->face, np * sizeof *f->face);
     return 0;
 }
 
@@ -53,20 +71,26 @@ static double time_run(const profile_t *p, const ws_buf *b, fidelity fid, totals
     return best;
 }
 
-static void bench_scene(const char *label, scene_t *s, const profile_t *p)
+/* The GP's stream of scene s, and the seconds it took. */
+static double gp_stream(scene_t *s, const profile_t *p, ws_buf *b)
 {
     diag_t d;
     diag_init(&d, stderr);
     gp_t *gp = NULL;
-    ws_buf b;
-    ws_buf_init(&b);
+    ws_buf_init(b);
     double t0 = now();
-    if (gp_create(&gp, s, p, &d) || gp_run(gp, &b, NULL, &d)) {
+    if (gp_create(&gp, s, p, &d) || gp_run(gp, b, NULL, &d)) {
         diag_print(&d, stderr);
         exit(1);
     }
-    double gp_s = now() - t0;
     gp_destroy(gp);
+    return now() - t0;
+}
+
+static void bench_scene(const char *label, scene_t *s, const profile_t *p)
+{
+    ws_buf b;
+    double gp_s = gp_stream(s, p, &b);
     totals tf, tt, tc;
     double sf = time_run(p, &b, FIDELITY_FUNCTIONAL, &tf);
     double st = time_run(p, &b, FIDELITY_TIMED, &tt);
@@ -78,6 +102,38 @@ static void bench_scene(const char *label, scene_t *s, const profile_t *p)
            label, tf.frames, (unsigned long long)tc.cycles, tf.frames / sf, tf.frames / (sf + gp_s),
            (double)tt.cycles / st / 1e6, (double)tc.cycles / sc / 1e6, sc / st,
            ot > 0 ? (double)tt.cycles / ot / 1e6 : 0.0, oc > 0 ? (double)tc.cycles / oc / 1e6 : 0.0);
+    ws_buf_free(&b);
+}
+
+/* The hash of every frame of the stream, functional. */
+static uint64_t frames_hash(const profile_t *p, const ws_buf *b)
+{
+    diag_t d;
+    diag_init(&d, stderr);
+    sim_options o = {FIDELITY_FUNCTIONAL, NULL, 0, 0};
+    totals t = {.hashing = true, .hash = 0xcbf29ce484222325ull};
+    if (sim_run(p, b->w, b->n, "bench", &o, count, &t, &d)) {
+        diag_print(&d, stderr);
+        exit(1);
+    }
+    return t.hash;
+}
+
+/* Only the units a scene uses against every unit on (all_units=1). */
+static void bench_units(const char *label, scene_t *s, const profile_t *p)
+{
+    ws_buf b;
+    gp_stream(s, p, &b);
+    profile_t all = *p;
+    all.all_units = 1;
+    totals tu, ta;
+    double su = time_run(p, &b, FIDELITY_FUNCTIONAL, &tu);
+    double sa = time_run(&all, &b, FIDELITY_FUNCTIONAL, &ta);
+    printf("| %s | %.1f%% / %.1f%% / %.1f%% | %.2f | %.2f | %.2fx | %s |\n", label,
+           100.0 * (double)tu.shaded / (double)tu.faces,
+           100.0 * (double)tu.textured / (double)tu.faces,
+           100.0 * (double)tu.fogged / (double)tu.faces, 1e3 * su / tu.frames,
+           1e3 * sa / ta.frames, sa / su, frames_hash(p, &b) == frames_hash(&all, &b) ? "identical" : "DIFFERENT");
     ws_buf_free(&b);
 }
 
@@ -97,7 +153,7 @@ int main(void)
         return 1;
     }
     bench_scene("built-in", &s, &p);
-    scene_free(&s);
+    scene_t builtin = s;
     scenegen_params gp = scenegen_defaults();
     gp.faces = 3000;
     gp.size = 0.05;
@@ -108,6 +164,21 @@ int main(void)
     }
     free(text);
     bench_scene("random 3000 faces", &s, &p);
+    printf("\n## Units a scene needs (functional, profile a1024)\n\n"
+           "| scene | faces shaded / textured / fogged | ms/frame, its units | "
+           "ms/frame, all_units=1 | speed-up | pixels |\n|---|---|---|---|---|---|\n");
+    bench_units("built-in", &builtin, &p);
+    bench_units("random 3000 faces", &s, &p);
+    scene_free(&s);
+    gp.flat = true;
+    text = scenegen_random(7, &gp);
+    if (!text || scene_parse(text, strlen(text), "flat", &s, &d)) {
+        diag_print(&d, stderr);
+        return 1;
+    }
+    free(text);
+    bench_units("the same, flat", &s, &p);
+    scene_free(&builtin);
     scene_free(&s);
     return 0;
 }

@@ -56,7 +56,7 @@ static double uniform(uint64_t *s, double lo, double hi)
 
 scenegen_params scenegen_defaults(void)
 {
-    scenegen_params p = {12, 0.1, 0.1, 6, 0.3};
+    scenegen_params p = {12, 0.1, 0.1, 6, 0.3, false};
     return p;
 }
 
@@ -105,7 +105,11 @@ static bool polygon(text_buf *b, uint64_t *s, const scenegen_params *p, unsigned
     put(b, "object f%u\n", id);
     for (unsigned k = 0; k < n; k++) {
         const vec3 *q = &v[flip ? n - 1 - k : k];
-        put(b, " v %.9g %.9g %.9g i %.3f\n", q->x, q->y, q->z, uniform(s, 0.2, 1));
+        double i = uniform(s, 0.2, 1);   /* drawn either way: flat keeps the geometry */
+        if (p->flat)
+            put(b, " v %.9g %.9g %.9g\n", q->x, q->y, q->z);
+        else
+            put(b, " v %.9g %.9g %.9g i %.3f\n", q->x, q->y, q->z, i);
     }
     put(b, " f");
     for (unsigned k = 0; k < n; k++)

@@ -154,37 +154,6 @@ void vp_form_setup(const vp_t *vp, const ws_form *f, vp_form_fn *fn)
 
 /* ---- the subdivision engine ---- */
 
-static inline void write_sample(vp_t *vp, const vp_face_setup *fs, uint32_t c, uint32_t r,
-                                unsigned level, int64_t nz)
-{
-    size_t idx = (size_t)r * vp->sw + c;
-    uint32_t dv = vp_depth_value(vp, nz, fs->depth.exp);
-    vp->st.depth_underflow += dv == 0 && nz > 0;
-    vp->st.depth_saturated += dv == (uint32_t)(((uint64_t)1 << vp->prof.depth_bits) - 1);
-    /* a later face wins only if strictly nearer: equal depths keep the
-     * earlier face (docs/vp.md §4); 0 is "no surface" (behind or too far) */
-    if (dv == 0 || dv <= vp->s_depth[idx])
-        return;
-    vp->st.samples_written++;
-    vp->s_depth[idx] = dv;
-    vp->s_face[idx] = fs->id;
-    vp->s_level[idx] = (uint8_t)level;
-    vp_shade_sample(vp, fs, nz, c, r, vp->s_rgb + 3 * idx);
-}
-
-void vp_fill(vp_t *vp, const vp_face_setup *fs, const vp_cell *k)
-{
-    uint32_t cw = 1u << k->wl, ch = 1u << k->hl;
-    vp->st.samples_covered += (uint64_t)cw * ch;
-    int64_t row_nz = fs->depth.origin + (int64_t)k->c0 * fs->depth.step_c +
-                     (int64_t)k->r0 * fs->depth.step_r;
-    for (uint32_t r = k->r0; r < k->r0 + ch; r++, row_nz += fs->depth.step_r) {
-        int64_t nz = row_nz;   /* the depth form, stepped exactly along the row */
-        for (uint32_t c = k->c0; c < k->c0 + cw; c++, nz += fs->depth.step_c)
-            write_sample(vp, fs, c, r, k->level, nz);
-    }
-}
-
 /* Classify cell k against its active edges: -1 outside, 1 inside (every
  * edge holds it wholly), 0 crossing; k->active loses the edges that hold it. */
 static int classify(const vp_edge_fn *e, vp_cell *k)
@@ -294,7 +263,18 @@ alb_err vp_load_face(vp_t *vp, const ws_face *f, vp_loaded_face *out, diag_t *d)
     for (unsigned i = 0; i < f->n_edges; i++)
         vp_edge_setup(vp, &f->edge[i], &out->e[i]);
     out->n = f->n_edges;
+    fs->units = vp_face_units(fs);
+    vp_flat_colour(vp, fs, fs->flat);
     return ALB_OK;
+}
+
+void vp_count_face(vp_t *vp, const vp_loaded_face *f)
+{
+    vp->st.faces++;
+    vp->st.edges += f->n;
+    vp->st.faces_shaded += (f->fs.flags & WS_FACE_SHADE) != 0;
+    vp->st.faces_textured += (f->fs.flags & WS_FACE_TEXTURE) != 0;
+    vp->st.faces_fogged += vp->frame.fog && (f->fs.flags & WS_FACE_FOG);
 }
 
 alb_err vp_face(vp_t *vp, const ws_face *f, diag_t *d)
@@ -303,8 +283,7 @@ alb_err vp_face(vp_t *vp, const ws_face *f, diag_t *d)
     alb_err err = vp_load_face(vp, f, &lf, d);
     if (err)
         return err;
-    vp->st.faces++;
-    vp->st.edges += f->n_edges;
+    vp_count_face(vp, &lf);
     vp_walk w;
     vp_step step;
     vp_walk_begin(&w, vp, &lf);

@@ -28,6 +28,9 @@ typedef struct {
     uint64_t depth_underflow;        /* covered samples too far for the store (d = 0) */
     uint64_t faces;                  /* FACE packets drawn */
     uint64_t edges;                  /* edges of those faces */
+    uint64_t faces_shaded;           /* ... using the intensity unit (eq. 7) */
+    uint64_t faces_textured;         /* ... using texture */
+    uint64_t faces_fogged;           /* ... fogged (the face's flag, in a fogged frame) */
 } vp_stats;
 
 alb_err vp_create(vp_t **vp, const profile_t *prof, diag_t *d);

@@ -31,6 +31,8 @@ typedef struct {
     vp_form_fn depth, shade, tex_u, tex_v;
     const uint32_t *texels;
     unsigned tex_log2;
+    unsigned units;          /* the shading units the face uses (fill.c) */
+    uint16_t flat[3];        /* its colour where it uses neither intensity nor texture */
 } vp_face_setup;
 
 struct vp {
@@ -93,8 +95,14 @@ void vp_walk_begin(vp_walk *w, const vp_t *vp, const vp_loaded_face *f);
 /* The next cell step in the engine's order; false when the face is done.
  * Counts the cell in vp->st. */
 bool vp_walk_next(vp_t *vp, vp_walk *w, vp_step *step);
-/* Write the samples of a FILL or SAMPLE_IN cell (depth test, shading). */
+/* Write the samples of a FILL or SAMPLE_IN cell (depth test, shading), with
+ * only the shading units the face uses (fill.c). */
 void vp_fill(vp_t *vp, const vp_face_setup *fs, const vp_cell *k);
+/* The units a face's flags ask for, and its colour with none of them. */
+unsigned vp_face_units(const vp_face_setup *fs);
+void vp_flat_colour(const vp_t *vp, const vp_face_setup *fs, uint16_t rgb[3]);
+/* Count a face the engine takes in the frame's statistics. */
+void vp_count_face(vp_t *vp, const vp_loaded_face *f);
 /* The edge store's set-up of a FACE packet; ALB_ERR_STREAM for a texture
  * never loaded. */
 alb_err vp_load_face(vp_t *vp, const ws_face *f, vp_loaded_face *out, diag_t *d);

@@ -1,0 +1,94 @@
+/* units.h — the VP's per-sample arithmetic units as inline functions, shared
+ * by the specialised fill loops (fill.c) and the all-units path (shade.c):
+ * the depth store format, the reciprocal ROM, the ratio of two forms, the
+ * texture fraction, fog visibility and the colour output stage
+ * (docs/vp.md §4-§6).  Integer arithmetic only. */
+#ifndef ALBATROS_VP_UNITS_H
+#define ALBATROS_VP_UNITS_H
+
+#include "vp_internal.h"
+#include "../common/fix.h"
+
+/* N of a form at sample (c, r). */
+static inline int64_t units_form_at(const vp_form_fn *f, int64_t c, int64_t r)
+{
+    return f->origin + c * f->step_c + r * f->step_r;
+}
+
+/* The shift from a depth form's N to the store: near/Z = N 2^(exp - P),
+ * stored as unsigned 0.depth_bits. */
+static inline int units_depth_shift(const vp_t *vp, int exp)
+{
+    return exp - (int)vp->p + (int)vp->prof.depth_bits;
+}
+
+/* The stored depth: truncated, saturating at max (nearer than `near`), 0 for
+ * a plane behind the observer here (n <= 0). */
+static inline uint32_t units_depth(int64_t n, int sh, int64_t max)
+{
+    if (n <= 0)
+        return 0;
+    int64_t v = sh >= 0 ? fix_shl_sat(n, (unsigned)sh, 0, max) : fix_floor_shr(n, (unsigned)-sh);
+    return (uint32_t)(v > max ? max : v);
+}
+
+/* 1/n for n > 0 through the reciprocal ROM (or the divider, wider units). */
+static inline vp_recip units_recip(const vp_t *vp, int64_t n)
+{
+    unsigned rb = vp->prof.recip_bits;
+    if (!vp->recip_rom)
+        return vp_reciprocal(n, rb);
+    unsigned nb = fix_bitlen((uint64_t)n);
+    int64_t dm = nb > rb ? n >> (nb - rb) : n << (rb - nb);
+    vp_recip r = {vp->recip_rom[dm - ((int64_t)1 << (rb - 1))], (int)nb - (int)rb};
+    return r;
+}
+
+/* The exponent of 2 that turns num * rm into the fixed-point result. */
+static inline int units_ratio_shift(int e_num, vp_recip r, int e_den, unsigned rb, int frac)
+{
+    return e_num - e_den - (2 * (int)rb - 1) - r.shift + frac;
+}
+
+/* floor(num/den 2^(e_num - e_den + bits)) mod 2^bits: the fraction of a
+ * texture coordinate; wrap-around (periodic texture) makes overflow harmless. */
+static inline unsigned units_fraction(int64_t num, int e_num, vp_recip r, int e_den,
+                                      unsigned rb, unsigned bits)
+{
+    int64_t p = num * r.rm;
+    int k = units_ratio_shift(e_num, r, e_den, rb, (int)bits);
+    uint64_t v = k >= 64  ? 0
+                 : k >= 0 ? (uint64_t)p << k
+                          : (uint64_t)fix_floor_shr(p, (unsigned)-k);
+    return (unsigned)(v & ((1u << bits) - 1));
+}
+
+/* Fog visibility in 0..one of a sample at distance zq (Z/near, 24.8):
+ * linear between the frame's fog near and far, truncated. */
+static inline int64_t units_fog_visibility(const ws_frame *fr, int64_t zq, int64_t one)
+{
+    if (zq <= fr->fog_near)
+        return one;
+    if (zq >= fr->fog_far)
+        return 0;
+    return ((int64_t)fr->fog_far - zq) * one / ((int64_t)fr->fog_far - fr->fog_near);
+}
+
+/* The output stage: base x texel x intensity (m, in units of 255 * 255 *
+ * 2^FI) scaled to the frame store, round half up: (2 m (2^CB - 1) + D) / 2D
+ * with D = 255 * 255 * 2^FI, computed as floor(floor(x / 2^(FI+1)) / 65025) —
+ * the same integer, a shift and a division by a constant. */
+static inline uint16_t units_output(uint64_t m, uint64_t top, unsigned fi)
+{
+    const uint64_t den = (uint64_t)255 * 255 << fi;
+    return (uint16_t)(((2 * m * top + den) >> (fi + 1)) / 65025u);
+}
+
+/* Blend toward the fog colour, round half up. */
+static inline uint16_t units_fog_blend(int64_t c, int64_t fog_c, int64_t vis, unsigned fi)
+{
+    int64_t one = (int64_t)1 << fi;
+    return (uint16_t)((c * vis + fog_c * (one - vis) + one / 2) >> fi);
+}
+
+#endif
