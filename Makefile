@@ -52,6 +52,9 @@ BENCH    := $(BUILD)/tools/bench
 .PHONY: all test unit vectors bless asan bench demo setup deps clean help crosscheck sweep
 all: $(ALBATROS) $(UNIT)
 
+# libFuzzer harnesses and their replay over the seeds and regressions
+include fuzz/fuzz.mk
+
 help:
 	@echo "make            build $(ALBATROS) and the tests"
 	@echo "make setup      install missing Debian packages (apt-get), then build"
@@ -110,7 +113,7 @@ $(UNIT): $(TEST_OBJ) $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 # ---- tests: every runner prints "N passed, N failed"; tests/summary adds them ----
-test: $(ALBATROS) $(UNIT)
+test: $(ALBATROS) $(UNIT) $(REPLAYS)
 	@bash tests/run-all.sh $(BUILD)
 
 unit: $(UNIT)
@@ -122,10 +125,11 @@ vectors: $(ALBATROS)
 bless: $(ALBATROS)
 	$(ALBATROS) vectors bless test-vectors
 
+# float-cast-overflow: gcc's -fsanitize=undefined leaves it out
 asan:
 	$(MAKE) BUILD=build-asan OPT=-O1 \
-	  EXTRA_CFLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
-	  EXTRA_LDLIBS="-fsanitize=address,undefined" test
+	  EXTRA_CFLAGS="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer" \
+	  EXTRA_LDLIBS="-fsanitize=address,undefined,float-cast-overflow" test
 
 # bit-exact across compilers and optimisation: every golden vector (streams
 # and frames) from gcc -O0 and clang -O3 builds
@@ -160,6 +164,6 @@ demo: $(ALBATROS)
 	$(ALBATROS) render -o out/builtin.exr --png out/builtin.png --stream out/builtin.stream
 
 clean:
-	rm -rf $(BUILD) build-asan build-gcc-O0 build-clang-O3 build-clang out vector-diffs
+	rm -rf $(BUILD) $(FUZZ_BUILD) build-asan build-gcc-O0 build-clang-O3 build-clang out vector-diffs
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)

@@ -88,8 +88,11 @@ ws_form gp_quantise_form(double a, double b, double c, unsigned coef_bits, int *
     }
     f.exp = e;
     for (int i = 0; i < 3; i++) {
-        int64_t q = round_away(ldexp(v[i], -e));
-        f.m[i] = (int32_t)fix_clamp(q, -lim, lim);
+        /* clamped as a double: past the exponent's range a value may exceed
+         * int64, and converting it first would be undefined (on x86 it
+         * turns the largest positive value into the most negative) */
+        double s = ldexp(v[i], -e);
+        f.m[i] = (int32_t)(s >= (double)lim ? lim : s <= -(double)lim ? -lim : round_away(s));
     }
     return f;
 }

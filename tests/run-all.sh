@@ -26,6 +26,8 @@ run() {
 run unit "$build/tests/unit" --bindir "$build"
 run cli bash tests/cli.sh "$build/albatros"
 run vectors "$build/albatros" vectors check test-vectors
+run fuzz-replay bash tests/fuzz-replay.sh "$build"
+run malformed bash tests/malformed.sh "$build/albatros"
 run firmware bash tests/firmware.sh "$build"
 echo "$total_pass passed, $total_fail failed"
 [[ $status -eq 0 && $total_fail -eq 0 ]]

@@ -256,6 +256,8 @@ void sim_board_rx(sim_board *b, const uint8_t *data, size_t len)
 size_t sim_board_tx(sim_board *b, uint8_t *buf, size_t cap)
 {
     size_t n = b->tx_len < cap ? b->tx_len : cap;
+    if (!n)
+        return 0;   /* nothing queued: b->tx may not exist yet */
     memcpy(buf, b->tx, n);
     memmove(b->tx, b->tx + n, b->tx_len - n);
     b->tx_len -= n;
