@@ -3,7 +3,7 @@
 # make fuzz-build                    build every fuzzer (build-fuzz/fuzz_TARGET)
 # make fuzz-replay                   the harnesses without libFuzzer, over the
 #                                    seeds and the regression inputs (make test)
-FUZZ_TARGETS := scene obj stream png options
+FUZZ_TARGETS := scene obj stream png options fw link
 FUZZ_BUILD   ?= build-fuzz
 FUZZ_TIME    ?= 600
 FUZZ_ARGS    ?=

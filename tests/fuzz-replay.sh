@@ -6,7 +6,7 @@
 set -u
 build=${1:-build}
 pass=0 fail=0
-for t in scene obj stream png options; do
+for t in scene obj stream png options fw link; do
     bin=$build/fuzz/replay_$t
     dirs=()
     for d in fuzz/corpus/$t fuzz/regress/$t; do [[ -d $d ]] && dirs+=("$d"); done
