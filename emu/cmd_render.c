@@ -25,6 +25,7 @@ typedef struct {
     unsigned nviews;
     bool json, quiet, help;
     fidelity fid;
+    unsigned threads;         /* 0: one per core */
     const char *vcd;
     uint64_t vcd_from, vcd_to;
     profile_t prof;
@@ -64,6 +65,15 @@ static int render_opt(void *ctx, const char *name, const char *value)
                     a->cmd, value);
             return -1;
         }
+    } else if (strcmp(name, "threads") == 0) {
+        char *end;
+        unsigned long v = strtoul(value, &end, 10);
+        if (end == value || *end || value[0] == '-' || v > VP_MAX_THREADS) {
+            fprintf(stderr, "albatros %s: --threads %s: expected 0 (one per core) to %d\n",
+                    a->cmd, value, VP_MAX_THREADS);
+            return -1;
+        }
+        a->threads = (unsigned)v;
     } else if (strcmp(name, "vcd") == 0) {
         a->vcd = value;
     } else if (strcmp(name, "vcd-window") == 0) {
@@ -225,7 +235,8 @@ static int run_vp(render_args *a, const profile_t *prof, const uint32_t *w, size
 {
     diag_t d;
     diag_init(&d, stderr);
-    sim_options opt = {a->fid, NULL, a->vcd_from, a->vcd_to ? a->vcd_to : UINT64_MAX};
+    sim_options opt = {a->fid, NULL, a->vcd_from, a->vcd_to ? a->vcd_to : UINT64_MAX,
+                       a->threads ? a->threads : vp_cores()};
     a->prof = *prof;
     if (a->vcd) {
         if (a->fid != FIDELITY_CYCLE) {
@@ -267,6 +278,8 @@ static const char render_help[] =
     "  --stream FILE       also write the GP's word stream\n"
     "  --fidelity F        functional (default: pixels only), timed or cycle (cycle\n"
     "                      counts, unit counters, vp.cycles; docs/microarchitecture.md)\n"
+    "  --threads N         threads of the functional renderer (default 0: one per\n"
+    "                      core); the frames are bit-identical for every N\n"
     "  --vcd FILE          VCD waveform of the cycle model (with --fidelity cycle)\n"
     "  --vcd-window A:B    trace only cycles A to B\n"
     "  --json              per-frame VP statistics as JSON on stdout\n"
@@ -277,7 +290,8 @@ static const char vp_help[] =
     "                   [--json] [--profile NAME] [--set KEY=VALUE]\n\n"
     "Run the VP alone on a word stream (as written by albatros gp), as an RTL test\n"
     "bench replays it.  The profile must match the stream's CONFIG formats.\n"
-    "Options as for render: -o, --png, --view, --json, --fidelity, --vcd, --vcd-window.\n\n";
+    "Options as for render: -o, --png, --view, --json, --fidelity, --threads, --vcd,\n"
+    "--vcd-window.\n\n";
 
 static int check_outputs(render_args *a)
 {
@@ -292,7 +306,8 @@ static int check_outputs(render_args *a)
 int cmd_render(int argc, char **argv)
 {
     static const char *const spec[] = {"output=", "png=", "view=", "stream=", "json", "quiet",
-                                       "q", "help", "fidelity=", "vcd=", "vcd-window=", NULL};
+                                       "q", "help", "fidelity=", "threads=", "vcd=", "vcd-window=",
+                                       NULL};
     render_args a = {.cmd = "render", .progress = cli_isatty_stderr()};
     run_opts o;
     run_opts_init(&o);
@@ -338,7 +353,7 @@ int cmd_render(int argc, char **argv)
 int cmd_vp(int argc, char **argv)
 {
     static const char *const spec[] = {"output=", "png=", "view=", "json", "quiet", "q", "help",
-                                       "fidelity=", "vcd=", "vcd-window=", NULL};
+                                       "fidelity=", "threads=", "vcd=", "vcd-window=", NULL};
     render_args a = {.cmd = "vp", .progress = cli_isatty_stderr()};
     run_opts o;
     run_opts_init(&o);

@@ -257,7 +257,7 @@ int cmd_stream(int argc, char **argv)
     /* what the emulator says */
     uint16_t **keep = calloc(nf ? nf : 1, sizeof *keep);
     expect_ctx ec = {frames, nf, 0, keep};
-    sim_options so = {FIDELITY_TIMED, NULL, 0, 0};
+    sim_options so = {FIDELITY_TIMED, NULL, 0, 0, 1};
     int rc = 3;
     transport_t *t = NULL;
     if (!keep || sim_run(&o.prof, b.w, b.n, "stream", &so, expect_frame, &ec, &d)) {

@@ -184,6 +184,8 @@ alb_err sim_run(const profile_t *p, const uint32_t *w, size_t n, const char *nam
     vp_t *vp = NULL;
     alb_err e = vp_create(&vp, p, d);
     functional_ctx fc = {sink, ctx};
+    if (!e && opt->threads > 1 && vp_set_threads(vp, opt->threads))
+        e = diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory for %u threads", opt->threads);
     if (!e)
         e = vp_run_stream(vp, w, n, name, functional_sink, &fc, d);
     vp_destroy(vp);

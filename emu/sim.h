@@ -38,6 +38,7 @@ typedef struct {
     fidelity fid;
     struct vcd *vcd;          /* cycle fidelity only; NULL = no trace */
     uint64_t vcd_from, vcd_to;/* cycle window of the trace */
+    unsigned threads;         /* functional fidelity: threads (0 or 1: one; vp/parallel.c) */
 } sim_options;
 
 /* sc is NULL in functional fidelity; f->cycles is filled in the others. */

@@ -17,15 +17,16 @@
 typedef struct {
     unsigned n;
     sim_counters c[MAX_FRAMES];
+    vp_stats s[MAX_FRAMES];
     frame_t f[MAX_FRAMES];
 } run_log;
 
 static int log_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
 {
-    (void)vs;
     run_log *l = ctx;
     if (l->n == MAX_FRAMES)
         return 0;
+    l->s[l->n] = *vs;
     if (sc)
         l->c[l->n] = *sc;
     if (frame_copy(&l->f[l->n], f))
@@ -41,16 +42,22 @@ static void log_free(run_log *l)
     l->n = 0;
 }
 
-static alb_err run(const profile_t *p, const ws_buf *b, fidelity fid, run_log *l, vcd_t *v)
+static alb_err run_threads(const profile_t *p, const ws_buf *b, fidelity fid, unsigned threads,
+                           run_log *l, vcd_t *v)
 {
     diag_t d;
     diag_init(&d, NULL);
-    sim_options o = {fid, v, 0, UINT64_MAX};
+    sim_options o = {fid, v, 0, UINT64_MAX, threads};
     memset(l, 0, sizeof *l);
     alb_err e = sim_run(p, b->w, b->n, "test", &o, log_frame, l, &d);
     if (e)
         fprintf(stderr, "sim_run: %s\n", d.msg);
     return e;
+}
+
+static alb_err run(const profile_t *p, const ws_buf *b, fidelity fid, run_log *l, vcd_t *v)
+{
+    return run_threads(p, b, fid, 1, l, v);
 }
 
 static profile_t t32_fast_gp(void)
@@ -206,8 +213,33 @@ static bool frames_equal(const frame_t *a, const frame_t *b, bool cycles)
            (!cycles || !memcmp(a->cycles, b->cycles, n * sizeof *a->cycles));
 }
 
+/* The functional renderer on several threads (vp/parallel.c) against one:
+ * every plane of every frame and every statistic the same. */
+static void check_threads(const profile_t *p, const ws_buf *b, const run_log *lf,
+                          const char *what)
+{
+    static const unsigned counts[] = {2, 3, 5, 8};
+    for (unsigned k = 0; k < sizeof counts / sizeof counts[0]; k++) {
+        run_log lm;
+        if (run_threads(p, b, FIDELITY_FUNCTIONAL, counts[k], &lm, NULL)) {
+            CHECK_MSG(0, "%s: the run on %u threads failed", what, counts[k]);
+            continue;
+        }
+        CHECK_MSG(lm.n == lf->n, "%s: %u frames on %u threads, %u on one", what, lm.n,
+                  counts[k], lf->n);
+        for (unsigned i = 0; i < lm.n && i < lf->n; i++) {
+            CHECK_MSG(frame_count_differences(&lm.f[i], &lf->f[i]) == 0,
+                      "%s frame %u: %zu pixels differ on %u threads", what, i,
+                      frame_count_differences(&lm.f[i], &lf->f[i]), counts[k]);
+            CHECK_MSG(!memcmp(&lm.s[i], &lf->s[i], sizeof lm.s[i]),
+                      "%s frame %u: statistics differ on %u threads", what, i, counts[k]);
+        }
+        log_free(&lm);
+    }
+}
+
 /* cycle == timed (counters, frames, per-pixel cycles); functional == both
- * on pixels. */
+ * on pixels, on any number of threads. */
 static void check_fidelities(const profile_t *p, const ws_buf *b, const char *what)
 {
     run_log lf, lt, lc;
@@ -224,6 +256,7 @@ static void check_fidelities(const profile_t *p, const ws_buf *b, const char *wh
         CHECK_MSG(frames_equal(&lt.f[i], &lc.f[i], true), "%s frame %u: timed/cycle frames", what, i);
         CHECK_MSG(frames_equal(&lf.f[i], &lc.f[i], false), "%s frame %u: functional/cycle", what, i);
     }
+    check_threads(p, b, &lf, what);
     log_free(&lf);
     log_free(&lt);
     log_free(&lc);

@@ -56,7 +56,7 @@ static double time_run(const profile_t *p, const ws_buf *b, fidelity fid, totals
 {
     diag_t d;
     diag_init(&d, stderr);
-    sim_options o = {fid, NULL, 0, 0};
+    sim_options o = {fid, NULL, 0, 0, 1};
     double best = 1e9;
     for (int rep = 0; rep < 3; rep++) {
         memset(t, 0, sizeof *t);
@@ -110,7 +110,7 @@ static uint64_t frames_hash(const profile_t *p, const ws_buf *b)
 {
     diag_t d;
     diag_init(&d, stderr);
-    sim_options o = {FIDELITY_FUNCTIONAL, NULL, 0, 0};
+    sim_options o = {FIDELITY_FUNCTIONAL, NULL, 0, 0, 1};
     totals t = {.hashing = true, .hash = 0xcbf29ce484222325ull};
     if (sim_run(p, b->w, b->n, "bench", &o, count, &t, &d)) {
         diag_print(&d, stderr);

@@ -76,8 +76,8 @@ fill_cell(vp_t *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned un
                     if (units & (U_SHADE | U_TEXTURE)) {
                         int64_t intensity = one;
                         if (units & U_SHADE)
-                            intensity = fix_clamp(vp_ratio(ns, fs->shade.exp, rc, ez, rb, (int)fi),
-                                                  0, one);
+                            intensity = fix_clamp(
+                                units_ratio(ns, fs->shade.exp, rc, ez, rb, (int)fi), 0, one);
                         uint32_t texel = 0xFFFFFF;
                         if (units & U_TEXTURE) {
                             unsigned u = units_fraction(nu, fs->tex_u.exp, rc, ez, rb, lg);
@@ -91,7 +91,7 @@ fill_cell(vp_t *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned un
                                                   top, fi);
                     }
                     if (units & U_FOG) {
-                        int64_t zq = vp_ratio(1, (int)vp->p, rc, ez, rb, 8);
+                        int64_t zq = units_ratio(1, (int)vp->p, rc, ez, rb, 8);
                         int64_t vis = units_fog_visibility(&vp->frame, zq, one);
                         for (int i = 0; i < 3; i++)
                             out[i] = units_fog_blend(out[i], vp->fog_rgb[i], vis, fi);

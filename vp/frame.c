@@ -92,3 +92,17 @@ void frame_compare(const frame_t *a, const frame_t *b, frame_diff *r)
     double peak = ldexp(1, (int)a->colour_bits) - 1, mse = sq / (3.0 * (double)n);
     r->psnr = mse > 0 ? 10 * log10(peak * peak / mse) : INFINITY;
 }
+
+size_t frame_count_differences(const frame_t *a, const frame_t *b)
+{
+    if (a->width != b->width || a->height != b->height || a->colour_bits != b->colour_bits ||
+        a->depth_bits != b->depth_bits || a->aa_levels != b->aa_levels)
+        return (size_t)-1;
+    size_t n = (size_t)a->width * a->height, diff = 0;
+    for (size_t i = 0; i < n; i++)
+        diff += memcmp(a->rgb + 3 * i, b->rgb + 3 * i, 3 * sizeof *a->rgb) ||
+                a->depth[i] != b->depth[i] || a->face[i] != b->face[i] ||
+                a->level[i] != b->level[i] || a->coverage[i] != b->coverage[i] ||
+                (a->cycles && b->cycles && a->cycles[i] != b->cycles[i]);
+    return diff;
+}

@@ -45,5 +45,8 @@ typedef struct {
     double psnr;                /* dB against 2^colour_bits - 1; +inf if equal */
 } frame_diff;
 void frame_compare(const frame_t *a, const frame_t *b, frame_diff *r);
+/* Pixels where any plane differs — colour, depth, face, level, coverage, and
+ * cycles where both have them; (size_t)-1 if the sizes or formats differ. */
+size_t frame_count_differences(const frame_t *a, const frame_t *b);
 
 #endif

@@ -43,11 +43,7 @@ vp_recip vp_reciprocal_rom(const vp_t *vp, int64_t n) { return units_recip(vp, n
 
 int64_t vp_ratio(int64_t num, int e_num, vp_recip r, int e_den, unsigned rb, int frac)
 {
-    int64_t p = num * r.rm;
-    int k = units_ratio_shift(e_num, r, e_den, rb, frac);
-    if (k >= 0)
-        return fix_shl_sat(p, (unsigned)k, -((int64_t)1 << 62), (int64_t)1 << 62);
-    return fix_floor_shr(p, (unsigned)-k);   /* truncate toward minus infinity */
+    return units_ratio(num, e_num, r, e_den, rb, frac);
 }
 
 uint16_t vp_scale_colour8(const vp_t *vp, unsigned c8)

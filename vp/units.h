@@ -50,6 +50,18 @@ static inline int units_ratio_shift(int e_num, vp_recip r, int e_den, unsigned r
     return e_num - e_den - (2 * (int)rb - 1) - r.shift + frac;
 }
 
+/* floor(num / den * 2^(e_num - e_den + frac)) through the reciprocal r of
+ * den: truncated toward minus infinity, saturated at +-2^62. */
+static inline int64_t units_ratio(int64_t num, int e_num, vp_recip r, int e_den, unsigned rb,
+                                  int frac)
+{
+    int64_t p = num * r.rm;
+    int k = units_ratio_shift(e_num, r, e_den, rb, frac);
+    if (k >= 0)
+        return fix_shl_sat(p, (unsigned)k, -((int64_t)1 << 62), (int64_t)1 << 62);
+    return fix_floor_shr(p, (unsigned)-k);
+}
+
 /* floor(num/den 2^(e_num - e_den + bits)) mod 2^bits: the fraction of a
  * texture coordinate; wrap-around (periodic texture) makes overflow harmless. */
 static inline unsigned units_fraction(int64_t num, int e_num, vp_recip r, int e_den,

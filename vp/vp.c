@@ -45,6 +45,7 @@ void vp_destroy(vp_t *vp)
     for (unsigned i = 0; i < WS_MAX_TEXTURES; i++)
         free(vp->tex[i]);
     free(vp->recip_rom);
+    free(vp->batch);
     free(vp->s_depth);
     free(vp->s_face);
     free(vp->s_level);
@@ -192,8 +193,30 @@ void vp_walk_begin(vp_walk *w, const vp_t *vp, const vp_loaded_face *f)
 {
     w->e = f->e;
     w->top = 0;
+    w->clipped = false;
     w->stack[w->top++] = (vp_cell){0, 0, (uint8_t)vp->lw, (uint8_t)vp->lh, 0,
                                    f->n == 64 ? ~0ull : (1ull << f->n) - 1};
+}
+
+void vp_walk_begin_tile(vp_walk *w, const vp_t *vp, const vp_loaded_face *f, const vp_cell *tile)
+{
+    vp_walk_begin(w, vp, f);
+    w->clipped = true;
+    w->tile = *tile;
+}
+
+static bool meets_tile(const vp_walk *w, const vp_cell *k)
+{
+    const vp_cell *t = &w->tile;
+    return k->c0 < t->c0 + (1u << t->wl) && t->c0 < k->c0 + (1u << k->wl) &&
+           k->r0 < t->r0 + (1u << t->hl) && t->r0 < k->r0 + (1u << k->hl);
+}
+
+/* Whether this walk counts cell k: the tile holding its top-left sample. */
+static bool owns(const vp_walk *w, const vp_cell *k)
+{
+    const vp_cell *t = &w->tile;
+    return !w->clipped || (k->c0 - t->c0 < (1u << t->wl) && k->r0 - t->r0 < (1u << t->hl));
 }
 
 bool vp_walk_next(vp_t *vp, vp_walk *w, vp_step *step)
@@ -201,7 +224,8 @@ bool vp_walk_next(vp_t *vp, vp_walk *w, vp_step *step)
     if (!w->top)
         return false;
     vp_cell k = w->stack[--w->top];
-    vp->st.cells[k.level]++;
+    bool own = owns(w, &k);
+    vp->st.cells[k.level] += own;
     step->edges = (unsigned)__builtin_popcountll(k.active);
     step->cell = k;
     if (k.wl == 0 && k.hl == 0) {
@@ -214,16 +238,21 @@ bool vp_walk_next(vp_t *vp, vp_walk *w, vp_step *step)
     int cls = classify(w->e, &k);
     step->cell = k;
     if (cls < 0) {
-        vp->st.cells_outside++;
+        vp->st.cells_outside += own;
         step->kind = VP_STEP_OUT;
         return true;
     }
     if (cls > 0) {
-        vp->st.cells_inside++;
+        vp->st.cells_inside += own;
         step->kind = VP_STEP_FILL;
+        if (w->clipped && (k.wl > w->tile.wl || k.hl > w->tile.hl)) {
+            /* fill only the tile's part, as decided at this cell's level */
+            step->cell = w->tile;
+            step->cell.level = k.level;
+        }
         return true;
     }
-    vp->st.cells_split++;
+    vp->st.cells_split += own;
     step->kind = VP_STEP_SPLIT;
     /* children, visited top-left, top-right, bottom-left, bottom-right;
      * a side already one sample long is not split */
@@ -231,9 +260,12 @@ bool vp_walk_next(vp_t *vp, vp_walk *w, vp_step *step)
     vp_cell kids[4];
     unsigned nk = 0;
     for (unsigned dy = 0; dy < (k.hl ? 2u : 1u); dy++)
-        for (unsigned dx = 0; dx < (k.wl ? 2u : 1u); dx++)
-            kids[nk++] = (vp_cell){k.c0 + (dx << wl), k.r0 + (dy << hl), wl, hl,
-                                   (uint8_t)(k.level + 1), k.active};
+        for (unsigned dx = 0; dx < (k.wl ? 2u : 1u); dx++) {
+            vp_cell c = {k.c0 + (dx << wl), k.r0 + (dy << hl), wl, hl, (uint8_t)(k.level + 1),
+                         k.active};
+            if (!w->clipped || meets_tile(w, &c))
+                kids[nk++] = c;
+        }
     while (nk)
         w->stack[w->top++] = kids[--nk];
     return true;
@@ -279,6 +311,16 @@ void vp_count_face(vp_t *vp, const vp_loaded_face *f)
 
 alb_err vp_face(vp_t *vp, const ws_face *f, diag_t *d)
 {
+    if (vp->batch) {
+        /* threaded: load now (the stream's order of errors), draw in batches */
+        alb_err err = vp_load_face(vp, f, &vp->batch[vp->nbatch], d);
+        if (err)
+            return err;
+        vp_count_face(vp, &vp->batch[vp->nbatch]);
+        if (++vp->nbatch == VP_BATCH)
+            vp_flush_batch(vp);
+        return ALB_OK;
+    }
     vp_loaded_face lf;
     alb_err err = vp_load_face(vp, f, &lf, d);
     if (err)
@@ -297,6 +339,7 @@ alb_err vp_face(vp_t *vp, const ws_face *f, diag_t *d)
 
 void vp_frame_end(vp_t *vp, frame_t *out)
 {
+    vp_flush_batch(vp);
     unsigned aa = vp->prof.aa_levels, n = 1u << aa;
     out->number = vp->frame.number;
     out->near = vp->cfg.near;

@@ -46,6 +46,15 @@ alb_err vp_face(vp_t *vp, const ws_face *f, diag_t *d);
 void vp_frame_end(vp_t *vp, frame_t *out);
 const vp_stats *vp_stats_get(const vp_t *vp);
 
+/* Threads of the functional renderer (vp_face, vp_run_stream): 1 draws
+ * face by face on the caller's thread; more split the screen into tiles
+ * (vp/parallel.c), with bit-identical frames and statistics; 0 means one per
+ * core.  -1 if out of memory (the VP stays on one thread). */
+#define VP_MAX_THREADS 64
+int vp_set_threads(vp_t *vp, unsigned n);
+unsigned vp_threads(const vp_t *vp);
+unsigned vp_cores(void);
+
 /* Allocate a frame of this VP's screen size. */
 int vp_frame_alloc(const vp_t *vp, frame_t *f, bool with_cycles);
 

@@ -52,11 +52,15 @@ struct vp {
     uint16_t bg[3];          /* background in frame-store units */
     uint16_t fog_rgb[3];
     vp_stats st;
-    uint32_t *recip_rom;     /* floor(2^(2RB-1) / dm) for dm in [2^(RB-1), 2^RB) */
+    uint32_t *recip_rom;
+    /* the threaded functional renderer (parallel.c) */
+    unsigned threads;
+    struct vp_loaded_face *batch;   /* faces loaded, waiting for the workers */
+    unsigned nbatch;     /* floor(2^(2RB-1) / dm) for dm in [2^(RB-1), 2^RB) */
 };
 
 /* A face as the edge store holds it: shading set-up and edge functions. */
-typedef struct {
+typedef struct vp_loaded_face {
     vp_face_setup fs;
     vp_edge_fn e[WS_MAX_EDGES];
     unsigned n;
@@ -89,9 +93,18 @@ typedef struct {
     const vp_edge_fn *e;
     vp_cell stack[3 * VP_MAX_LEVELS + 4];
     unsigned top;
+    /* A walk clipped to one tile — a cell of the same quadtree, so any cell
+     * holds it, lies in it, or misses it: only the cells meeting the tile are
+     * visited, a FILL larger than the tile fills the tile (at the cell's
+     * level), and a cell is counted in vp->st only by the tile holding its
+     * top-left sample.  The tiles of a level partition the screen, so their
+     * walks together do and count exactly what the whole walk does. */
+    bool clipped;
+    vp_cell tile;
 } vp_walk;
 
 void vp_walk_begin(vp_walk *w, const vp_t *vp, const vp_loaded_face *f);
+void vp_walk_begin_tile(vp_walk *w, const vp_t *vp, const vp_loaded_face *f, const vp_cell *tile);
 /* The next cell step in the engine's order; false when the face is done.
  * Counts the cell in vp->st. */
 bool vp_walk_next(vp_t *vp, vp_walk *w, vp_step *step);
@@ -101,6 +114,14 @@ void vp_fill(vp_t *vp, const vp_face_setup *fs, const vp_cell *k);
 /* The units a face's flags ask for, and its colour with none of them. */
 unsigned vp_face_units(const vp_face_setup *fs);
 void vp_flat_colour(const vp_t *vp, const vp_face_setup *fs, uint16_t rgb[3]);
+/* Faces loaded before the threads draw them, and the most tiles a screen
+ * is cut into (parallel.c). */
+#define VP_BATCH 1024
+#define VP_MAX_TILES 1024
+/* Draw the batched faces (parallel.c); nothing if the batch is empty. */
+void vp_flush_batch(vp_t *vp);
+/* dst += src, field by field. */
+void vp_stats_add(vp_stats *dst, const vp_stats *src);
 /* Count a face the engine takes in the frame's statistics. */
 void vp_count_face(vp_t *vp, const vp_loaded_face *f);
 /* The edge store's set-up of a FACE packet; ALB_ERR_STREAM for a texture

@@ -117,7 +117,7 @@ static void run_frame(sim_board *b, size_t end)
     w[end] = (uint32_t)WS_OP_END << 24;
     diag_t d;
     diag_init(&d, NULL);
-    sim_options o = {FIDELITY_TIMED, NULL, 0, 0};
+    sim_options o = {FIDELITY_TIMED, NULL, 0, 0, 1};
     b->result_ok = false;
     alb_err e = sim_run(&b->prof, w, end + 1, "board", &o, take_frame, b, &d);
     free(w);

@@ -1,0 +1,150 @@
+/* parallel.c — the functional VP on several threads, bit-identical to one.
+ *
+ * The screen is cut into tiles, the cells of one level of the subdivision
+ * quadtree, and each tile belongs to one thread at a time.  Faces are loaded
+ * in stream order into a batch; then every tile draws every face of the
+ * batch, in stream order, with a walk clipped to the tile (vp.c).  A sample
+ * lies in one tile only, so it sees the same faces in the same order as on
+ * one thread: the same depth tests, the same winner, the same colour and
+ * decision level.  Each thread counts into its own statistics, and a cell is
+ * counted by the tile holding its top-left sample only, so the sums are the
+ * single-threaded counts too (tests/test_vp.c checks all of it). */
+#include "vp_internal.h"
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+unsigned vp_cores(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > VP_MAX_THREADS ? VP_MAX_THREADS : (unsigned)n;
+}
+
+int vp_set_threads(vp_t *vp, unsigned n)
+{
+    vp_flush_batch(vp);
+    n = n ? n : vp_cores();
+    vp->threads = n > VP_MAX_THREADS ? VP_MAX_THREADS : n;
+    if (vp->threads > 1 && !vp->batch) {
+        vp->batch = malloc(VP_BATCH * sizeof *vp->batch);
+        if (!vp->batch) {
+            vp->threads = 1;
+            return -1;
+        }
+    } else if (vp->threads == 1) {
+        free(vp->batch);
+        vp->batch = NULL;
+    }
+    return 0;
+}
+
+unsigned vp_threads(const vp_t *vp) { return vp->threads ? vp->threads : 1; }
+
+void vp_stats_add(vp_stats *dst, const vp_stats *src)
+{
+    for (unsigned l = 0; l < VP_MAX_LEVELS; l++)
+        dst->cells[l] += src->cells[l];
+#define ADD(f) dst->f += src->f;
+    ADD(cells_inside) ADD(cells_outside) ADD(cells_split) ADD(samples_tested)
+    ADD(samples_covered) ADD(samples_written) ADD(depth_saturated) ADD(depth_underflow)
+    ADD(faces) ADD(edges) ADD(faces_shaded) ADD(faces_textured) ADD(faces_fogged)
+#undef ADD
+}
+
+typedef struct {
+    vp_t *vp;
+    vp_cell tiles[VP_MAX_TILES];
+    unsigned ntiles;
+    atomic_uint next;         /* the next tile to take */
+} job;
+
+typedef struct {
+    job *j;
+    vp_t local;               /* the VP's state, with statistics of its own */
+} worker;
+
+static void *work(void *arg)
+{
+    worker *wk = arg;
+    job *j = wk->j;
+    for (;;) {
+        unsigned t = atomic_fetch_add(&j->next, 1);
+        if (t >= j->ntiles)
+            return NULL;
+        for (unsigned i = 0; i < j->vp->nbatch; i++) {
+            const vp_loaded_face *f = &j->vp->batch[i];
+            vp_walk w;
+            vp_step step;
+            vp_walk_begin_tile(&w, &wk->local, f, &j->tiles[t]);
+            while (vp_walk_next(&wk->local, &w, &step))
+                if (step.kind == VP_STEP_FILL || step.kind == VP_STEP_SAMPLE_IN)
+                    vp_fill(&wk->local, &f->fs, &step.cell);
+        }
+    }
+}
+
+/* The tiles: the cells of the first level with at least 8 per thread (for
+ * balance; threads take them as they finish), at most VP_MAX_TILES. */
+static void make_tiles(const vp_t *vp, job *j)
+{
+    unsigned want = 8 * vp->threads, l = 0, wl = vp->lw, hl = vp->lh;
+    while (l < vp->p && (1u << ((vp->lw - wl) + (vp->lh - hl))) < want &&
+           (4u << ((vp->lw - wl) + (vp->lh - hl))) <= VP_MAX_TILES) {
+        l++;
+        wl -= wl > 0;
+        hl -= hl > 0;
+    }
+    j->ntiles = 0;
+    for (uint32_t r = 0; r < vp->sh; r += 1u << hl)
+        for (uint32_t c = 0; c < vp->sw; c += 1u << wl)
+            j->tiles[j->ntiles++] = (vp_cell){c, r, (uint8_t)wl, (uint8_t)hl, (uint8_t)l, 0};
+}
+
+void vp_flush_batch(vp_t *vp)
+{
+    if (!vp->nbatch)
+        return;
+    job *j = malloc(sizeof *j);
+    worker *wk = calloc(vp->threads, sizeof *wk);
+    pthread_t tid[VP_MAX_THREADS];
+    bool started[VP_MAX_THREADS] = {false};
+    unsigned nw = j && wk ? vp->threads : 0;
+    if (j) {
+        j->vp = vp;
+        make_tiles(vp, j);
+        atomic_init(&j->next, 0);
+    }
+    for (unsigned i = 0; i < nw; i++) {
+        wk[i].j = j;
+        wk[i].local = *vp;
+        memset(&wk[i].local.st, 0, sizeof wk[i].local.st);
+    }
+    /* workers 1.. on threads of their own, worker 0 here; a thread that
+     * cannot be started leaves its tiles to the others */
+    for (unsigned i = 1; i < nw; i++)
+        started[i] = pthread_create(&tid[i], NULL, work, &wk[i]) == 0;
+    if (nw) {
+        work(&wk[0]);
+    } else {
+        /* no memory for the job: one thread, the whole screen */
+        for (unsigned i = 0; i < vp->nbatch; i++) {
+            vp_walk w;
+            vp_step step;
+            vp_walk_begin(&w, vp, &vp->batch[i]);
+            while (vp_walk_next(vp, &w, &step))
+                if (step.kind == VP_STEP_FILL || step.kind == VP_STEP_SAMPLE_IN)
+                    vp_fill(vp, &vp->batch[i].fs, &step.cell);
+        }
+    }
+    for (unsigned i = 0; i < nw; i++) {
+        if (i && started[i])
+            pthread_join(tid[i], NULL);
+        vp_stats_add(&vp->st, &wk[i].local.st);
+    }
+    free(wk);
+    free(j);
+    vp->nbatch = 0;
+}
