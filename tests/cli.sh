@@ -158,5 +158,27 @@ grep -q '^### cyclic' "$tmp/st/stability.md" && grep -q '| painter | severity' "
 expect 2 "unknown \(known:" "$bin" stability --family nope
 expect 1 "no stability-FAMILY.csv" "$bin" stability --report --out "$tmp/empty"
 
+# same input, same output: the environment, the locale, the working directory
+# and the thread count change no byte of any file written
+abin=$(realpath "$bin")
+det() {   # det DIR THREADS: every output of render, gp and the cycle model into DIR
+    mkdir -p "$1" && cd "$1" || return 1
+    "$abin" render --threads "$2" -q -o f.exr --png f.png --view level:l.png --stream f.stream \
+        --json > f.json &&
+    "$abin" gp -q --hex f.hex -o g.stream &&
+    "$abin" render --profile t32 --fidelity cycle --vcd c.vcd -q -o c.exr --view cycles:c.png
+    local rc=$?
+    cd - > /dev/null
+    return $rc
+}
+(env -i PATH="$PATH" HOME=/nonexistent bash -c "$(declare -f det); abin='$abin'; det '$tmp/det1' 1") &&
+    (LC_ALL=C.utf8 LANG=fr_FR.UTF-8 LC_NUMERIC=de_DE.UTF-8 TZ=Asia/Novosibirsk OMP_NUM_THREADS=7 \
+     MALLOC_PERTURB_=165 det "$tmp/det2" 3) && ok || bad "determinism runs failed"
+ndet=0
+for f in "$tmp"/det1/*; do
+    cmp -s "$f" "$tmp/det2/${f##*/}" && ndet=$((ndet + 1)) || bad "determinism: ${f##*/} differs"
+done
+[[ $ndet -ge 14 ]] && ok || bad "determinism: only $ndet files compared"
+
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

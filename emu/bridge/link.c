@@ -78,6 +78,8 @@ static uint32_t crc_of(const uint8_t *p, size_t n)
 
 int link_rx_next(link_rx *rx, link_packet *p)
 {
+    if (!rx->buf)
+        return 0;   /* nothing fed yet (and no buffer to point into) */
     for (;;) {
         size_t avail = rx->len - rx->start;
         const uint8_t *b = rx->buf + rx->start;
