@@ -60,6 +60,8 @@ int bound_method_parse(const char *s, bound_method *m)
     return -1;
 }
 
+/* Decimal digits only (strtoul would take a sign and spaces); -1 if not
+ * such, -2 if above PROFILE_MAX_VALUE. */
 static int parse_uint(const char *s, unsigned *out)
 {
     char *end;
@@ -67,8 +69,10 @@ static int parse_uint(const char *s, unsigned *out)
     if (*s < '0' || *s > '9')
         return -1;
     unsigned long v = strtoul(s, &end, 10);
-    if (errno || *end || v > 1u << 20)
+    if (*end)
         return -1;
+    if (errno == ERANGE || v > PROFILE_MAX_VALUE)
+        return -2;
     *out = (unsigned)v;
     return 0;
 }
@@ -101,8 +105,13 @@ int profile_set(profile_t *p, const char *assignment, char *err, size_t errlen)
         if (strlen(uint_fields[i].key) == klen &&
             strncmp(uint_fields[i].key, assignment, klen) == 0) {
             unsigned v;
-            if (parse_uint(val, &v)) {
-                snprintf(err, errlen, "'%s': expected a non-negative integer", assignment);
+            int bad = parse_uint(val, &v);
+            if (bad) {
+                if (bad == -2)
+                    snprintf(err, errlen, "'%s': out of range (at most %u)", assignment,
+                             PROFILE_MAX_VALUE);
+                else
+                    snprintf(err, errlen, "'%s': expected a non-negative integer", assignment);
                 return -1;
             }
             *(unsigned *)((char *)p + uint_fields[i].offset) = v;
@@ -144,9 +153,9 @@ int profile_check(const profile_t *p, char *err, size_t errlen)
 {
 #define BAD(...) do { snprintf(err, errlen, __VA_ARGS__); return -1; } while (0)
     if (!fix_is_pow2(p->width) || !fix_is_pow2(p->height) || p->width < 2 ||
-        p->height < 2 || p->width > 8192 || p->height > 8192)
-        BAD("screen %ux%u: width and height must be powers of two in 2..8192",
-            p->width, p->height);
+        p->height < 2 || p->width > PROFILE_MAX_SIDE || p->height > PROFILE_MAX_SIDE)
+        BAD("screen %ux%u: width and height must be powers of two in 2..%d",
+            p->width, p->height, PROFILE_MAX_SIDE);
     if (p->aa_levels > 3)
         BAD("aa=%u: at most 3 anti-aliasing levels (64 samples per pixel)", p->aa_levels);
     if (p->edge_frac_bits < EDGE_FRAC_MIN || p->edge_frac_bits > EDGE_FRAC_MAX)
@@ -169,10 +178,12 @@ int profile_check(const profile_t *p, char *err, size_t errlen)
             p->edge_frac_bits);
     /* A form evaluated at a sample is below 2^(coef_bits + levels + 1); times a
      * reciprocal of recip_bits + 1 bits it must stay inside int64
-     * (docs/number-formats.md §4). */
-    if (p->coef_bits + profile_levels(p) + 2 + p->recip_bits + 1 > 63)
-        BAD("coef_bits + levels + recip_bits = %u: the product would not fit 63 bits",
-            p->coef_bits + profile_levels(p) + p->recip_bits);
+     * (docs/number-formats.md §4): the sum plus 3 at most 63. */
+    if (p->coef_bits + profile_levels(p) + p->recip_bits > 60)
+        BAD("coef_bits + levels + recip_bits = %u: must be at most 60 (levels = %u: log2 of "
+            "the larger screen side plus aa), so that the VP's form-times-reciprocal "
+            "products fit 64-bit integers", p->coef_bits + profile_levels(p) + p->recip_bits,
+            profile_levels(p));
     if (p->clock_khz < 1 || p->clock_khz > 10000000)
         BAD("clock_khz=%u: must be in 1..10000000", p->clock_khz);
     if (p->fifo_depth < 1 || p->fifo_depth > (1u << 20))

@@ -14,6 +14,11 @@ typedef enum {
     BOUND_BISECTOR    /* perpendicular to each vertex bisector, 90 degrees */
 } bound_method;
 
+/* The largest screen side (profile_check), and the largest value --set
+ * takes for any numeric field. */
+#define PROFILE_MAX_SIDE 8192
+#define PROFILE_MAX_VALUE (1u << 20)
+
 typedef struct {
     char name[32];
     unsigned width, height;   /* pixels; powers of two */

@@ -265,9 +265,11 @@ alb_err ws_next(ws_reader *r, ws_event *ev, diag_t *d)
     }
     case WS_OP_TEXTURE: {
         unsigned lg = head >> 8 & 0xFF;
-        if ((head & 0xFF) || lg > WS_TEX_LOG2_MAX)
-            return bad(r, d, at, "TEXTURE header 0x%08x: size 2^%u (at most 2^%d) "
-                            "or reserved bits 7..0 set", head, lg, WS_TEX_LOG2_MAX);
+        if (lg > WS_TEX_LOG2_MAX)
+            return bad(r, d, at, "TEXTURE header 0x%08x: size 2^%u, at most 2^%d", head, lg,
+                       WS_TEX_LOG2_MAX);
+        if (head & 0xFF)
+            return bad(r, d, at, "TEXTURE header 0x%08x has reserved bits 7..0 set", head);
         size_t count = (size_t)1 << (2 * lg);
         r->pos++;
         if ((e = need(r, d, count, "TEXTURE texels")))

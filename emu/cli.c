@@ -49,6 +49,50 @@ static int parse_vec(const char *s, vec3 *v)
     return 0;
 }
 
+/* One side of --size at *s: decimal digits (sscanf's %u would take "-1" as
+ * 4294967295 and wrap 4294967298 to 2).  *v saturates above the largest
+ * side, so any length of digits is safe. */
+static bool parse_side(const char **s, unsigned long *v)
+{
+    const char *p = *s;
+    *v = 0;
+    for (; *p >= '0' && *p <= '9'; p++)
+        if (*v <= PROFILE_MAX_SIDE)
+            *v = *v * 10 + (unsigned long)(*p - '0');
+    if (p == *s)
+        return false;
+    *s = p;
+    return true;
+}
+
+static int parse_size(run_opts *o, const char *value, char *err, size_t len)
+{
+    const char *s = value, *hs = NULL;
+    unsigned long w, h;
+    bool ok = parse_side(&s, &w) && *s == 'x';
+    if (ok) {
+        hs = ++s;
+        ok = parse_side(&s, &h) && *s == 0;
+    }
+    if (!ok) {
+        snprintf(err, len, "--size %s: expected WIDTHxHEIGHT, e.g. 512x512", value);
+        return -1;
+    }
+    if (w > PROFILE_MAX_SIDE || h > PROFILE_MAX_SIDE) {   /* quoted as written */
+        if (w > PROFILE_MAX_SIDE)
+            snprintf(err, len, "--size %s: width %.*s is too large (at most %d)", value,
+                     (int)(hs - 1 - value), value, PROFILE_MAX_SIDE);
+        else
+            snprintf(err, len, "--size %s: height %s is too large (at most %d)", value, hs,
+                     PROFILE_MAX_SIDE);
+        return -1;
+    }
+    o->cam.width = o->prof.width = (unsigned)w;
+    o->cam.height = o->prof.height = (unsigned)h;
+    o->size_given = true;
+    return 1;
+}
+
 int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, size_t len)
 {
     if (strcmp(name, "profile") == 0) {
@@ -93,18 +137,8 @@ int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, 
         o->cam_given = true;
         return 1;
     }
-    if (strcmp(name, "size") == 0) {
-        unsigned w, h;
-        char tail;
-        if (sscanf(value, "%ux%u%c", &w, &h, &tail) != 2) {
-            snprintf(err, len, "--size %s: expected WIDTHxHEIGHT, e.g. 512x512", value);
-            return -1;
-        }
-        o->cam.width = o->prof.width = w;
-        o->cam.height = o->prof.height = h;
-        o->size_given = true;
-        return 1;
-    }
+    if (strcmp(name, "size") == 0)
+        return parse_size(o, value, err, len);
     return 0;
 }
 
@@ -182,6 +216,16 @@ int cli_parse(const char *cmd, int argc, char **argv, const char *const *spec, o
                 fprintf(stderr, "albatros %s: %s\n", cmd, err);
                 return -1;
             }
+        }
+    }
+    /* The camera as a whole (--up along --eye..--at, say) is an option error
+     * like any other, reported here rather than when an OBJ is read. */
+    if (o) {
+        diag_t d;
+        diag_init(&d, NULL);
+        if (scene_camera_check(&o->cam, &d)) {
+            fprintf(stderr, "albatros %s: %s\n", cmd, d.msg);
+            return -1;
         }
     }
     return 0;

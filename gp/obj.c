@@ -138,7 +138,8 @@ static alb_err next_line(reader *r, bool *got)
     for (size_t i = 0; i < r->lnlen; i++) {
         unsigned char c = (unsigned char)r->ln[i];
         if (c == 0 || c >= 0x80)
-            return rerr(r, (unsigned)i + 1, "byte 0x%02x: expected ASCII text", c);
+            return rerr(r, (unsigned)i + 1, "byte 0x%02x: expected ASCII text%s", c,
+                        scene_byte_hint(r->text, r->len, (size_t)(r->ln - r->text) + i));
     }
     return ALB_OK;
 }
@@ -198,31 +199,6 @@ static alb_err expect_end(reader *r)
     return next_tok(r, &t) ? expected(r, &t, "end of line") : ALB_OK;
 }
 
-/* Plain decimal only: strtod would also take hex, "nan", "inf". */
-static bool decimal_syntax(const char *s)
-{
-    bool digits = false;
-    if (*s == '+' || *s == '-')
-        s++;
-    for (; *s >= '0' && *s <= '9'; s++)
-        digits = true;
-    if (*s == '.')
-        for (s++; *s >= '0' && *s <= '9'; s++)
-            digits = true;
-    if (!digits)
-        return false;
-    if (*s == 'e' || *s == 'E') {
-        s++;
-        if (*s == '+' || *s == '-')
-            s++;
-        if (!(*s >= '0' && *s <= '9'))
-            return false;
-        while (*s >= '0' && *s <= '9')
-            s++;
-    }
-    return *s == 0;
-}
-
 static alb_err parse_num(reader *r, const otok *t, double *out)
 {
     char buf[128];
@@ -236,7 +212,8 @@ static alb_err parse_num(reader *r, const otok *t, double *out)
     bool whole = end != buf && *end == 0;
     if (whole && (isnan(v) || (isinf(v) && errno != ERANGE)))
         return rerr(r, t->col, "number '%s' is NaN or infinite; expected a finite number", buf);
-    if (!whole || !decimal_syntax(buf))
+    /* plain decimal only: strtod would also take hexadecimal */
+    if (!whole || !scene_decimal_syntax(buf, t->len))
         return expected(r, t, "a number");
     if (isinf(v))
         return rerr(r, t->col, "number '%s' is out of range", buf);
@@ -535,9 +512,9 @@ static alb_err parse_index(reader *r, const char *p, size_t len, unsigned col, u
     if (v == 0)
         return rerr(r, col, "%s index 0 is invalid: OBJ indices start at 1 (or at -1 for the "
                     "latest)", what);
-    if (v > count)
-        return rerr(r, col, "%s index %s%llu is out of range: %u defined so far", what,
-                    neg ? "-" : "", v, count);
+    if (v > count)   /* quoted as written: v stops growing past UINT_MAX */
+        return rerr(r, col, "%s index %.*s is out of range: %u defined so far", what,
+                    clip_len((unsigned)len), p, count);
     *out = neg ? count - (unsigned)v : (unsigned)v - 1;
     return ALB_OK;
 }
@@ -1026,7 +1003,7 @@ static bool finite3(vec3 v)
     return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
 }
 
-static alb_err camera_check(const scene_camera *c, diag_t *d)
+alb_err scene_camera_check(const scene_camera *c, diag_t *d)
 {
     if (!finite3(c->eye) || !finite3(c->at) || !finite3(c->up))
         return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--eye, --at and --up must be finite");
@@ -1044,6 +1021,11 @@ static alb_err camera_check(const scene_camera *c, diag_t *d)
     if (!(c->fov_y > 0 && c->fov_y < 180))
         return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--fov %g: the vertical field of view must "
                        "be in (0, 180) degrees", c->fov_y);
+    return ALB_OK;
+}
+
+static alb_err camera_size_check(const scene_camera *c, diag_t *d)
+{
     if (!c->width || !c->height)
         return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--size %ux%u: width and height must be "
                        "positive", c->width, c->height);
@@ -1084,13 +1066,15 @@ alb_err scene_load_obj(const char *path, const scene_camera *cam_obj, scene_t *s
     scene_init(s, path);
     char *text;
     size_t len;
+    /* checked as the user gave it, so that the messages quote what was typed
+     * (negating z changes no length and no angle) */
+    alb_err e = scene_camera_check(cam_obj, d);
+    if (e || (e = camera_size_check(cam_obj, d)) || (e = read_file(path, &text, &len, d)))
+        return e;
     scene_camera c = *cam_obj, *cam = &c;
     c.eye.z = -c.eye.z;
     c.at.z = -c.at.z;
     c.up.z = -c.up.z;
-    alb_err e = camera_check(cam, d);
-    if (e || (e = read_file(path, &text, &len, d)))
-        return e;
     importer im;
     memset(&im, 0, sizeof im);
     im.s = s;

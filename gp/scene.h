@@ -121,6 +121,14 @@ static inline vec3 scene_face_vertex(const scene_object *o, const scene_face *f,
     return o->v[o->idx[f->first + k]].p;
 }
 
+/* Plain decimal number syntax, `[+-]digits[.digits][(e|E)[+-]digits]` (a
+ * digit on at least one side of the point): what the scene and OBJ formats
+ * accept where strtod would also take hexadecimal, "nan" and "inf". */
+bool scene_decimal_syntax(const char *s, size_t len);
+/* What to add to "byte 0x..: not ASCII" for the byte at offset `at` of a
+ * text: a hint if it starts a UTF-8 byte-order mark, else "". */
+const char *scene_byte_hint(const char *text, size_t len, size_t at);
+
 /* Building blocks for importers: append and grow; NULL/-1 on allocation failure. */
 scene_object *scene_add_object(scene_t *s, const char *name);
 scene_face *scene_add_face(scene_t *s, scene_object *o, const unsigned *vidx, unsigned n);
@@ -160,5 +168,9 @@ typedef struct {
  * camera is in the file's own coordinates, converted alike.  On error *s is
  * freed and d says where. */
 alb_err scene_load_obj(const char *path, const scene_camera *cam, scene_t *s, diag_t *d);
+/* The view part of a camera (finite eye, at and up; eye != at; up not along
+ * the view; fov in (0, 180)), in the caller's coordinates: what the command
+ * line checks before any file is read.  The messages name the options. */
+alb_err scene_camera_check(const scene_camera *cam, diag_t *d);
 
 #endif

@@ -5,6 +5,7 @@
 
 #include <errno.h>
 #include <png.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -26,13 +27,24 @@ alb_err scene_texture_checker(scene_texture *t, unsigned log2size, const uint8_t
     return ALB_OK;
 }
 
-alb_err scene_texture_png(scene_texture *t, const char *path, diag_t *d)
+/* libpng reports every short read as "Read Error": a read that failed at
+ * the end of the file means the file was cut short. */
+static alb_err png_failed(diag_t *d, const char *path, FILE *f, const char *doing,
+                          const char *libpng_msg)
+{
+    if (feof(f))
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "'%s' is truncated: the file ends after %ld "
+                       "bytes, before the PNG image is complete", path, ftell(f));
+    return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot %s PNG: %s", doing, libpng_msg);
+}
+
+static alb_err png_read(scene_texture *t, const char *path, FILE *f, diag_t *d)
 {
     png_image img;
     memset(&img, 0, sizeof img);
     img.version = PNG_IMAGE_VERSION;
-    if (!png_image_begin_read_from_file(&img, path))
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read PNG: %s", img.message);
+    if (!png_image_begin_read_from_stdio(&img, f))
+        return png_failed(d, path, f, "read", img.message);
     if (img.width != img.height || img.width < 2 || img.width > 1024 ||
         (img.width & (img.width - 1))) {
         unsigned w = img.width, h = img.height;
@@ -58,7 +70,7 @@ alb_err scene_texture_png(scene_texture *t, const char *path, diag_t *d)
         free(rgb);
         free(t->texels);
         t->texels = NULL;
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot decode PNG: %s", img.message);
+        return png_failed(d, path, f, "decode", img.message);
     }
     for (size_t i = 0; i < n; i++)
         t->texels[i] = (uint32_t)rgb[3 * i] << 16 | (uint32_t)rgb[3 * i + 1] << 8 | rgb[3 * i + 2];
@@ -68,4 +80,30 @@ alb_err scene_texture_png(scene_texture *t, const char *path, diag_t *d)
         lg++;
     t->log2size = lg;
     return ALB_OK;
+}
+
+alb_err scene_texture_png(scene_texture *t, const char *path, diag_t *d)
+{
+    /* Opened here rather than by libpng, so that the messages can name the
+     * path and the system's reason, and tell an empty file from a bad one. */
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open '%s': %s", path, strerror(errno));
+    png_byte sig[8];
+    size_t got = fread(sig, 1, sizeof sig, f);
+    alb_err e;
+    if (ferror(f))   /* a directory, for one */
+        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read '%s': %s", path, strerror(errno));
+    else if (got == 0)
+        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "'%s' is empty (0 bytes); expected a PNG image",
+                    path);
+    else if (got < sizeof sig && png_sig_cmp(sig, 0, got) == 0)
+        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "'%s' is truncated: the file ends after %zu "
+                    "bytes, inside the PNG signature", path, got);
+    else if (fseek(f, 0, SEEK_SET))
+        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read '%s': %s", path, strerror(errno));
+    else
+        e = png_read(t, path, f, d);
+    fclose(f);
+    return e;
 }

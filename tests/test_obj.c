@@ -134,6 +134,16 @@ TEST(obj_errors_are_located)
         {"v 1 nan 3\n", 1, 5, "nan"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", 4, 7, "4"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", 4, 7, "0"},
+        /* quoted as written, beyond what an unsigned holds */
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 99999999999999999999 3\n", 4, 5,
+         "vertex index 99999999999999999999 is out of range: 3 defined so far"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2/-00000000000000000000000009 3\n", 4, 7,
+         "texture vertex index -00000000000000000000000009 is out of range: 0 defined"},
+        {"v 0x1 0 0\n", 1, 3, "expected a number, found '0x1'"},
+        {"\xef\xbb\xbfv 0 0 0\n", 1, 1, "byte 0xef: expected ASCII text (this is a UTF-8 "
+                                     "byte-order mark"},
+        {"v 0 0 0 \xef\xbb\xbf\n", 1, 9, "byte 0xef: expected ASCII text"},
+        {"v 1 2 3.5e\n", 1, 7, "expected a number, found '3.5e'"},
         {"v 0 0 0\nv 1 0 0\nf 1 2\n", 3, 0, "3"},
         {"v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0.5\nv 1 2 0\nv 0 2 0\n"
          "f 1 2 3 4 5 6\n", 7, 0, "non-convex and non-planar"},
@@ -196,5 +206,12 @@ TEST(obj_camera_orientation)
     cam = default_camera();
     cam.up = v3(0, 0, 1);
     CHECK(scene_load_obj(path, &cam, &s, &d) == ALB_ERR_CONFIG);
-    CHECK_STR_CONTAINS(d.msg, "--up");
+    /* as the user gave it, not with z negated as the importer works */
+    CHECK_STR_CONTAINS(d.msg, "--up (0,0,1) is parallel");
+    /* the command line checks the view before any file is read */
+    CHECK(scene_camera_check(&cam, &d) == ALB_ERR_CONFIG);
+    CHECK_STR_CONTAINS(d.msg, "--up (0,0,1) is parallel");
+    cam = default_camera();
+    cam.width = 0;   /* the size is the profile's to check */
+    CHECK(scene_camera_check(&cam, &d) == ALB_OK);
 }

@@ -3,6 +3,9 @@
 #include "t.h"
 #include "../gp/scene.h"
 
+#include <png.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define HDR "albatros-scene 1\n"
@@ -71,11 +74,20 @@ TEST(scene_errors_name_line_column_and_expectation)
          "not convex at vertex 3"},
         {HDR "object t\n v 0 0 5\n v 1 0 5\n v 1 1 5\n v 0 0 5\n f 1 2 3 4\nend\n", 7, 0,
          "coincide"},
-        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n f 1 1 3\nend\n", 6, 0, "coincide"},
+        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n f 1 1 3\nend\n", 6, 0,
+         "vertex 1 is given twice in a row"},
+        /* vertices named by the numbers written on the f line, not positions */
+        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n v 1 0 5\n f 1 2 4 3\nend\n", 7, 0,
+         "vertices 2 and 4 coincide"},
+        {HDR "object t\n v 0 0 5\n v 2 0 5\n v 1 0.2 5\n v 1 2 5\n f 4 1 2 3\nend\n", 7, 0,
+         "not convex at vertex 3"},
         {HDR "object t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n f 1 2 3\n", 6, 1, "has no 'end'"},
         {HDR "object t\nend\n", 3, 1, "has no faces"},
         {HDR TRI "object t\n", 8, 8, "defined twice"},
-        {HDR TRI "frame\nobject u\n", 9, 1, "expected observer, light, pose or frame"},
+        {HDR TRI "frame\nobject u\n", 9, 1, "objects must be declared before the first 'frame'"},
+        {HDR TRI "frame\nnear 1\n", 9, 1, "'near' is a global statement: it must come before"},
+        {HDR TRI "frame\nend\n", 9, 1, "expected observer, light, pose or frame"},
+        {HDR "object t\n v 0 0 5\nobject u\n", 4, 1, "'object' inside object 't' (missing 'end'?)"},
         {HDR TRI "pose t at 1 2 3\n", 8, 1, "belongs inside a frame"},
         {HDR TRI "frame\n pose q at 1 2 3\n", 9, 7, "the name of an object"},
         {HDR "object t\n v 0 0 5 t 0 0\n v 1 0 5\n v 0 1 5\n f 1 2 3 texture nope\nend\n", 6, 18,
@@ -83,11 +95,32 @@ TEST(scene_errors_name_line_column_and_expectation)
         {HDR "texture c checker 4 0 0 0 1 1 1\nobject t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n"
              " f 1 2 3 texture c\nend\n", 7, 2, "no mapping"},
         {HDR "texture c checker 11 0 0 0 1 1 1\n" TRI, 2, 19, "2^1 .. 2^10"},
-        {HDR "texture c file /nonexistent/x.png\n" TRI, 2, 16, "texture 'c'"},
+        {HDR "texture c file /nonexistent/x.png\n" TRI, 2, 16,
+         "texture 'c': cannot open '/nonexistent/x.png': No such file or directory"},
         {HDR "observer fov 180\n" TRI, 2, 14, "(0, 180)"},
         {HDR "object t\n v 0 0 5 n 0 0 0\nend\n", 3, 10, "zero length"},
         {HDR "near 1\xff\n" TRI, 2, 7, "byte 0xff"},
+        {"\xef\xbb\xbf" HDR TRI, 1, 1, "byte 0xef: scene files are ASCII text (this is a UTF-8 "
+                                    "byte-order mark"},
+        /* classic Mac line ends would read as one line */
+        {"albatros-scene 1\robject t\r", 1, 17, "bare carriage return (CR)"},
+        {HDR "near 1\r\r\n" TRI, 2, 7, "bare carriage return"},
+        /* numbers are decimal: strtod's other syntaxes are not numbers, or not finite */
+        {HDR "near 0x10\n" TRI, 2, 6, "expected a number, found '0x10'"},
+        {HDR "near 0x1p99999\n" TRI, 2, 6, "expected a number, found '0x1p99999'"},
+        {HDR "near 1e\n" TRI, 2, 6, "expected a number, found '1e'"},
+        {HDR "near infinity\n" TRI, 2, 6, "number 'infinity' is not finite"},
+        {HDR "near NAN(1)\n" TRI, 2, 6, "number 'NAN(1)' is not finite"},
+        {HDR "near 1111111111111111111111111111111111111111111111111111111111111111\n" TRI, 2, 6,
+         "is too long: 64 characters, at most 63"},
+        {HDR "near 1111111111111111111111111111111111111111111111111111111111111111x\n" TRI, 2, 6,
+         "expected a number, found '1111"},
         {HDR TRI, 0, 0, NULL},   /* valid */
+        {"albatros-scene 1\r\nnear +.5e-1\r\nbackground 1. 2 3\r\n" TRI, 0, 0, NULL},
+        /* 63 characters, the longest number taken */
+        {HDR "near 0.0000000000000000000000000000000000000000000000000000000000001\n" TRI, 0, 0,
+         NULL},
+        {HDR TRI "near 1\r", 0, 0, NULL},   /* cut after the CR of a CRLF */
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         scene_t s;
@@ -106,6 +139,75 @@ TEST(scene_errors_name_line_column_and_expectation)
                   cases[i].col, d.msg);
         CHECK_STR_CONTAINS(d.msg, cases[i].msg);
         CHECK(strcmp(d.file, "x.scene") == 0);
+    }
+}
+
+static const char *tmp_path(const char *name)
+{
+    static char path[4][600];
+    static unsigned next;
+    char *p = path[next++ % 4];
+    snprintf(p, sizeof path[0], "%s/%s", t_tmpdir(), name);
+    return p;
+}
+
+/* The first `len` bytes of a valid 4x4 PNG in `name`; the whole file if len
+ * is SIZE_MAX.  Returns its full size, 0 on failure. */
+static size_t write_png_prefix(const char *name, size_t len)
+{
+    uint8_t rgb[4 * 4 * 3] = {0};
+    png_image img;
+    memset(&img, 0, sizeof img);
+    img.version = PNG_IMAGE_VERSION;
+    img.width = img.height = 4;
+    img.format = PNG_FORMAT_RGB;
+    static uint8_t buf[4096];
+    png_alloc_size_t size = sizeof buf;
+    if (!png_image_write_to_memory(&img, buf, &size, 0, rgb, 0, NULL))
+        return 0;
+    FILE *f = fopen(tmp_path(name), "wb");
+    if (!f)
+        return 0;
+    fwrite(buf, 1, len < size ? len : size, f);
+    fclose(f);
+    return size;
+}
+
+/* libpng's own message for a file that ends early is "Read Error". */
+TEST(texture_png_errors_say_why)
+{
+    size_t size = write_png_prefix("ok.png", SIZE_MAX);
+    CHECK(size > 60);
+    write_png_prefix("empty.png", 0);
+    write_png_prefix("sig.png", 4);
+    write_png_prefix("header.png", 20);
+    write_png_prefix("data.png", size - 20);
+    static const struct {
+        const char *file, *msg;
+    } cases[] = {
+        {"ok.png", NULL},
+        {"missing.png", "cannot open '"},
+        {"empty.png", "is empty (0 bytes)"},
+        {"sig.png", "is truncated: the file ends after 4 bytes, inside the PNG signature"},
+        {"header.png", "is truncated: the file ends after 20 bytes"},
+        {"data.png", "is truncated"},
+        {".", "Is a directory"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        scene_texture t = {0};
+        diag_t d;
+        diag_init(&d, NULL);
+        const char *path = tmp_path(cases[i].file);
+        alb_err e = scene_texture_png(&t, path, &d);
+        if (!cases[i].msg) {
+            CHECK_MSG(e == ALB_OK && t.log2size == 2, "%s: %s", cases[i].file, d.msg);
+            free(t.texels);
+            continue;
+        }
+        CHECK_MSG(e != ALB_OK, "%s accepted", cases[i].file);
+        CHECK_STR_CONTAINS(d.msg, cases[i].msg);
+        CHECK_MSG(strstr(d.msg, path) != NULL, "%s: the path is not named", d.msg);
+        CHECK(t.texels == NULL);
     }
 }
 

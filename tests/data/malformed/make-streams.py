@@ -58,6 +58,7 @@ def main():
     write("stream-face-colour-high-bits.stream", patched(w10=0x01ff0000))
     write("stream-end-reserved-bits.stream", patched(w43=0xff000001))
     write("stream-texture-too-big.stream", BASE[:3] + [0xa7000b00] + BASE[3:])
+    write("stream-texture-reserved-bits.stream", BASE[:3] + [0xa7000101] + BASE[3:])
     # a FACE with the T flag: u and v forms after depth, and no TEXTURE packet
     face_t = [0xfa050200] + BASE[FACE0 + 1:FACE0 + 7] + [0, 0, 0, 0] * 2 + BASE[FACE0 + 7:FACE0 + 17]
     write("stream-texture-not-loaded.stream", BASE[:FACE0] + face_t + [0xfe000001, 0xff000000])
