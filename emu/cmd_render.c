@@ -13,6 +13,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #define MAX_VIEWS 8
 
@@ -263,6 +264,11 @@ static int run_vp(render_args *a, const profile_t *prof, const uint32_t *w, size
     }
     if (e && (e != ALB_ERR_IO || d.msg[0]))
         diag_print(&d, stderr);
+    struct rusage ru;
+    if (!e && !a->quiet && !getrusage(RUSAGE_SELF, &ru))
+        /* not in --json: it differs between runs, the JSON must not */
+        fprintf(stderr, "%u frames, peak memory %.1f MB resident\n", a->done,
+                (double)ru.ru_maxrss / 1024);
     return e == ALB_ERR_INTERRUPTED ? 130 : e ? 1 : 0;
 }
 

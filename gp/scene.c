@@ -30,6 +30,11 @@ typedef struct {
     scene_frame init;         /* state before the first frame line */
     scene_frame *cur;         /* state being modified */
     bool in_frames;
+    unsigned cap_poses;       /* of init.poses */
+    /* object names -> index + 1, open addressing, at most half full: a
+     * lookup by name costs the same in a scene of a million objects */
+    unsigned *names;
+    size_t cap_names;
 } parser;
 
 /* ---- allocation helpers ---- */
@@ -136,6 +141,13 @@ vec3 scene_face_newell(const scene_object *o, const scene_face *f)
 #define TOL_PLANE  1e-6    /* distance from the plane / L above this: non-planar */
 #define TOL_TURN   1e-9    /* radians: a turn this far negative is a reflex vertex */
 
+/* The number by which the face's k-th vertex is written: 1-based in its
+ * object, as on an `f` line (the index itself for OBJ's positive indices). */
+static unsigned vertex_number(const scene_object *o, const scene_face *f, unsigned k)
+{
+    return o->idx[f->first + k] + 1;
+}
+
 alb_err scene_check_face(const scene_t *s, const scene_object *o, const scene_face *f, diag_t *d)
 {
     const char *file = s->file;
@@ -151,14 +163,19 @@ alb_err scene_check_face(const scene_t *s, const scene_object *o, const scene_fa
     double L = 0;
     for (unsigned k = 0; k < n; k++) {
         vec3 a = scene_face_vertex(o, f, k), b = scene_face_vertex(o, f, (k + 1) % n);
+        unsigned va = vertex_number(o, f, k), vb = vertex_number(o, f, (k + 1) % n);
         if (!isfinite(a.x) || !isfinite(a.y) || !isfinite(a.z))
             return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
-                           "face %u: vertex %u is not finite", f->id, k + 1);
+                           "face %u of object '%s': vertex %u is not finite", f->id, o->name, va);
         double len = v3_len(v3_sub(b, a));
+        if (len == 0 && va == vb)
+            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+                           "face %u of object '%s': vertex %u is given twice in a row "
+                           "(zero-length edge)", f->id, o->name, va);
         if (len == 0)
             return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
                            "face %u of object '%s': vertices %u and %u coincide (zero-length edge)",
-                           f->id, o->name, k + 1, (k + 1) % n + 1);
+                           f->id, o->name, va, vb);
         if (len > L)
             L = len;
     }
@@ -181,7 +198,8 @@ alb_err scene_check_face(const scene_t *s, const scene_object *o, const scene_fa
         if (dist > TOL_PLANE * L)
             return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
                            "face %u of object '%s' is not planar: vertex %u is %.3g from the "
-                           "face plane (tolerance %.3g)", f->id, o->name, k + 1, dist, TOL_PLANE * L);
+                           "face plane (tolerance %.3g)", f->id, o->name, vertex_number(o, f, k),
+                           dist, TOL_PLANE * L);
     }
     /* Convex and simple: every turn is non-negative about the Newell normal
      * and the turns add up to one full revolution. */
@@ -193,7 +211,8 @@ alb_err scene_check_face(const scene_t *s, const scene_object *o, const scene_fa
         double turn = atan2(v3_dot(v3_cross(e1, e2), u), v3_dot(e1, e2));
         if (turn < -TOL_TURN)
             return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
-                           "face %u of object '%s' is not convex at vertex %u", f->id, o->name, k + 1);
+                           "face %u of object '%s' is not convex at vertex %u", f->id, o->name,
+                           vertex_number(o, f, k));
         total += turn;
     }
     if (fabs(total - 2 * VEC3_PI) > 1e-6)
@@ -259,24 +278,68 @@ static alb_err err_tok(parser *p, unsigned i, const char *expected)
                    "expected %s, found '%s'", expected, got);
 }
 
+bool scene_decimal_syntax(const char *s, size_t len)
+{
+    const char *e = s + len;
+    bool digits = false;
+    if (s < e && (*s == '+' || *s == '-'))
+        s++;
+    for (; s < e && *s >= '0' && *s <= '9'; s++)
+        digits = true;
+    if (s < e && *s == '.')
+        for (s++; s < e && *s >= '0' && *s <= '9'; s++)
+            digits = true;
+    if (!digits)
+        return false;
+    if (s < e && (*s == 'e' || *s == 'E')) {
+        s++;
+        if (s < e && (*s == '+' || *s == '-'))
+            s++;
+        if (!(s < e && *s >= '0' && *s <= '9'))
+            return false;
+        while (s < e && *s >= '0' && *s <= '9')
+            s++;
+    }
+    return s == e;
+}
+
+const char *scene_byte_hint(const char *text, size_t len, size_t at)
+{
+    if (at == 0 && len >= 3 && memcmp(text, "\xef\xbb\xbf", 3) == 0)
+        return " (this is a UTF-8 byte-order mark: save the file without one)";
+    return "";
+}
+
+/* A number is copied to the stack for strtod; no coordinate, angle or colour
+ * needs more characters than this (a double round-trips in 24). */
+#define NUM_MAX_CHARS 63
+
 static alb_err num(parser *p, unsigned i, double *out)
 {
     if (i >= p->ntok)
         return err_tok(p, i, "a number");
-    char buf[64];
+    char buf[NUM_MAX_CHARS + 1];
     const token *t = &p->tok[i];
-    if (t->len >= sizeof buf)
-        return err_tok(p, i, "a number");
+    if (t->len > NUM_MAX_CHARS) {
+        if (!scene_decimal_syntax(t->s, t->len))
+            return err_tok(p, i, "a number");
+        return perr(p, t->col, "number '%.40s...' is too long: %u characters, at most %d",
+                    t->s, t->len, NUM_MAX_CHARS);
+    }
     memcpy(buf, t->s, t->len);
     buf[t->len] = 0;
     char *end;
     errno = 0;
     double v = strtod(buf, &end);
-    if (end == buf || *end)
+    bool whole = end != buf && *end == 0;
+    /* strtod also reads "nan", "inf" and "infinity" (named as what they
+     * are) and hexadecimal (not a scene number at all). */
+    if (whole && (isnan(v) || (isinf(v) && errno != ERANGE)))
+        return perr(p, t->col, "number '%s' is not finite or out of range", buf);
+    if (!whole || !scene_decimal_syntax(buf, t->len))
         return err_tok(p, i, "a number");
     if (!isfinite(v) || errno == ERANGE)
-        return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, t->col,
-                       "number '%s' is not finite or out of range", buf);
+        return perr(p, t->col, "number '%s' is not finite or out of range", buf);
     *out = v;
     return ALB_OK;
 }
@@ -348,12 +411,58 @@ static alb_err pose_options(parser *p, unsigned i, scene_pose *pose, unsigned *n
     return ALB_OK;
 }
 
-static scene_object *find_object(scene_t *s, const token *t)
+/* Give back what doubling reserved beyond a finished object's size: most
+ * objects of big generated scenes are one small face. */
+static void shrink_object(scene_object *o)
 {
-    for (unsigned i = 0; i < s->nobj; i++)
-        if (tok_is(t, s->obj[i].name))
-            return &s->obj[i];
+    void *q;
+    if (o->nv < o->cap_v && (q = realloc(o->v, o->nv * sizeof *o->v)))
+        o->v = q, o->cap_v = o->nv;
+    if (o->nf < o->cap_f && (q = realloc(o->f, o->nf * sizeof *o->f)))
+        o->f = q, o->cap_f = o->nf;
+    if (o->nidx < o->cap_idx && (q = realloc(o->idx, o->nidx * sizeof *o->idx)))
+        o->idx = q, o->cap_idx = o->nidx;
+}
+
+static size_t name_hash(const char *s, size_t n)
+{
+    uint64_t h = 0xcbf29ce484222325ull;   /* FNV-1a */
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ (unsigned char)s[i]) * 0x100000001b3ull;
+    return (size_t)h;
+}
+
+static scene_object *find_object(const parser *p, const token *t)
+{
+    if (!p->cap_names)
+        return NULL;
+    size_t mask = p->cap_names - 1;
+    for (size_t i = name_hash(t->s, t->len) & mask; p->names[i]; i = (i + 1) & mask)
+        if (tok_is(t, p->s->obj[p->names[i] - 1].name))
+            return &p->s->obj[p->names[i] - 1];
     return NULL;
+}
+
+/* Enter object k into the name index; -1 if out of memory. */
+static int index_object(parser *p, unsigned k)
+{
+    if (2 * ((size_t)k + 1) > p->cap_names) {
+        size_t cap = p->cap_names ? 2 * p->cap_names : 64;
+        unsigned *n = calloc(cap, sizeof *n);
+        if (!n)
+            return -1;
+        free(p->names);
+        p->names = n;
+        p->cap_names = cap;
+        for (unsigned j = 0; j < k; j++)
+            index_object(p, j);   /* fits: cap > 2 k */
+    }
+    const char *name = p->s->obj[k].name;
+    size_t mask = p->cap_names - 1, i = name_hash(name, strlen(name)) & mask;
+    while (p->names[i])
+        i = (i + 1) & mask;
+    p->names[i] = k + 1;
+    return 0;
 }
 
 static int find_texture(scene_t *s, const token *t)
@@ -459,7 +568,10 @@ static alb_err st_texture(parser *p)
         int dirlen = slash ? (int)(slash - s->file + 1) : 0;
         if (p->tok[3].s[0] == '/')
             dirlen = 0;
-        snprintf(path, sizeof path, "%.*s%.*s", dirlen, s->file, (int)p->tok[3].len, p->tok[3].s);
+        if (snprintf(path, sizeof path, "%.*s%.*s", dirlen, s->file, (int)p->tok[3].len,
+                     p->tok[3].s) >= (int)sizeof path)
+            return perr(p, p->tok[3].col, "texture path longer than %zu characters",
+                        sizeof path - 1);
         diag_t inner;
         diag_init(&inner, NULL);
         if ((e = scene_texture_png(&t, path, &inner)))
@@ -482,10 +594,10 @@ static alb_err st_object(parser *p)
     alb_err e = name_tok(p, 1, name);
     if (e)
         return e;
-    if (find_object(p->s, &p->tok[1]))
+    if (find_object(p, &p->tok[1]))
         return perr(p, p->tok[1].col, "object '%s' defined twice", name);
     scene_object *o = scene_add_object(p->s, name);
-    if (!o)
+    if (!o || index_object(p, p->s->nobj - 1))
         return ALB_ERR_NOMEM;
     o->line = p->line;
     unsigned i = 2;
@@ -498,11 +610,9 @@ static alb_err st_object(parser *p)
     if ((e = pose_options(p, i, &pose, &next, NULL)))
         return e;
     /* the initial pose, copied into every frame */
-    scene_pose *poses = realloc(p->init.poses, p->s->nobj * sizeof *poses);
-    if (!poses)
+    if (grow((void **)&p->init.poses, &p->cap_poses, p->s->nobj, sizeof *p->init.poses))
         return ALB_ERR_NOMEM;
-    poses[p->s->nobj - 1] = pose;
-    p->init.poses = poses;
+    p->init.poses[p->s->nobj - 1] = pose;
     p->obj = o;
     p->colour[0] = p->colour[1] = p->colour[2] = 200;
     p->texture = -1;
@@ -642,7 +752,7 @@ static alb_err st_pose(parser *p)
         return perr(p, p->tok[0].col, "'pose' belongs inside a frame (after a 'frame' line)");
     if (p->ntok < 2)
         return err_tok(p, 1, "an object name");
-    scene_object *o = find_object(p->s, &p->tok[1]);
+    scene_object *o = find_object(p, &p->tok[1]);
     if (!o)
         return err_tok(p, 1, "the name of an object defined above");
     unsigned next;
@@ -707,9 +817,12 @@ static alb_err statement(parser *p)
         if (tok_is(k, "end")) {
             if (p->obj->nf == 0)
                 return perr(p, k->col, "object '%s' has no faces", p->obj->name);
+            shrink_object(p->obj);
             p->obj = NULL;
             return p->ntok > 1 ? err_tok(p, 1, "end of line") : ALB_OK;
         }
+        if (tok_is(k, "object"))   /* says what is missing */
+            return st_object(p);
         return err_tok(p, 0, "v, f, colour, texture or end (inside an object)");
     }
     if (tok_is(k, "observer"))
@@ -720,10 +833,17 @@ static alb_err statement(parser *p)
         return st_frame(p);
     if (tok_is(k, "pose"))
         return st_pose(p);
-    if (p->in_frames)
-        return err_tok(p, 0, "observer, light, pose or frame (inside frames)");
-    if (tok_is(k, "object"))
+    if (tok_is(k, "object"))   /* says why it cannot come after a frame */
         return st_object(p);
+    if (p->in_frames) {
+        static const char *const global[] = {"texture", "screenspace", "near", "background",
+                                             "fog"};
+        for (size_t g = 0; g < sizeof global / sizeof global[0]; g++)
+            if (tok_is(k, global[g]))
+                return perr(p, k->col, "'%s' is a global statement: it must come before the "
+                                       "first 'frame'", global[g]);
+        return err_tok(p, 0, "observer, light, pose or frame (inside frames)");
+    }
     if (tok_is(k, "texture"))
         return st_texture(p);
     if (tok_is(k, "screenspace")) {
@@ -785,6 +905,24 @@ alb_err scene_finish(scene_t *s, diag_t *d)
     return ALB_OK;
 }
 
+/* The line text[pos, end) holds only ASCII and no carriage return but the
+ * one before its LF.  A bare CR is most likely a file with classic Mac (CR
+ * only) line ends, which would otherwise read as one long line. */
+static alb_err check_bytes(parser *p, const char *text, size_t len, size_t pos, size_t end)
+{
+    for (size_t i = pos; i < end; i++) {
+        unsigned char c = (unsigned char)text[i];
+        unsigned col = (unsigned)(i - pos) + 1;
+        if (c == '\r' && i + 1 < end)
+            return perr(p, col, "line ends with a bare carriage return (CR): use LF or CRLF "
+                                "line ends");
+        if (c == 0 || c >= 0x80)
+            return perr(p, col, "byte 0x%02x: scene files are ASCII text%s", c,
+                        scene_byte_hint(text, len, i));
+    }
+    return ALB_OK;
+}
+
 alb_err scene_parse(const char *text, size_t len, const char *name, scene_t *s, diag_t *d)
 {
     parser p;
@@ -804,15 +942,7 @@ alb_err scene_parse(const char *text, size_t len, const char *name, scene_t *s, 
         while (end < len && text[end] != '\n')
             end++;
         p.line++;
-        for (size_t i = pos; i < end; i++) {
-            unsigned char c = (unsigned char)text[i];
-            if (c == 0 || c >= 0x80) {
-                e = diag_at(d, ALB_ERR_PARSE, p.file, p.line, (unsigned)(i - pos) + 1,
-                            "byte 0x%02x: scene files are ASCII text", c);
-                break;
-            }
-        }
-        if (e)
+        if ((e = check_bytes(&p, text, len, pos, end)))
             break;
         tokenize(&p, text + pos, end - pos);
         pos = end + 1;
@@ -851,6 +981,7 @@ alb_err scene_parse(const char *text, size_t len, const char *name, scene_t *s, 
             s->nframes = 1;
     }
     free(p.init.poses);
+    free(p.names);
     if (!e)
         e = scene_finish(s, d);
     if (e == ALB_ERR_NOMEM)

@@ -103,13 +103,16 @@ static bool polygon(text_buf *b, uint64_t *s, const scenegen_params *p, unsigned
         side += v3_dot(v3_cross(v[k], v[(k + 1) % n]), c);
     bool flip = (side < 0) != back;
     put(b, "object f%u\n", id);
+    /* 9 digits keep the planarity check's tolerance (relative to the face's
+     * size) for the usual sizes; small faces far away need every digit */
+    int dig = p->size >= 0.05 ? 9 : 17;
     for (unsigned k = 0; k < n; k++) {
         const vec3 *q = &v[flip ? n - 1 - k : k];
         double i = uniform(s, 0.2, 1);   /* drawn either way: flat keeps the geometry */
         if (p->flat)
-            put(b, " v %.9g %.9g %.9g\n", q->x, q->y, q->z);
+            put(b, " v %.*g %.*g %.*g\n", dig, q->x, dig, q->y, dig, q->z);
         else
-            put(b, " v %.9g %.9g %.9g i %.3f\n", q->x, q->y, q->z, i);
+            put(b, " v %.*g %.*g %.*g i %.3f\n", dig, q->x, dig, q->y, dig, q->z, i);
     }
     put(b, " f");
     for (unsigned k = 0; k < n; k++)
