@@ -14,7 +14,7 @@
  * edge units and a 4-sample fill for 512x512, twice the clock and fill rate
  * for 1024x1024, a 512-word FIFO, two face slots, a 4-cell fill queue, an
  * 8-stage divider; the GP spends 24 + 6 per edge clocks per face. */
-#define CLOCKED(khz, fill) khz, 512, 2, 8, fill, 4, 8, 4, 24, 6, 16, 0
+#define CLOCKED(khz, fill) khz, 512, 2, 8, fill, 4, 8, 4, 24, 6, 16, 16777215, 0
 static const profile_t builtin[] = {
     {"a512", 512, 512, 0, 14, 24, 24, 8, 16, 12, BOUND_ALBATROS, true, CLOCKED(40000, 4)},
     {"a1024", 1024, 1024, 0, 15, 24, 24, 8, 16, 12, BOUND_ALBATROS, true, CLOCKED(80000, 8)},
@@ -89,7 +89,7 @@ static const uint_field uint_fields[] = {
     FIELD(colour_bits), FIELD(recip_bits), FIELD(shade_frac_bits), FIELD(clock_khz),
     FIELD(fifo_depth), FIELD(face_slots), FIELD(edge_units), FIELD(fill_rate), FIELD(fill_queue),
     FIELD(divider_latency), FIELD(shade_latency), FIELD(gp_face_cycles), FIELD(gp_edge_cycles),
-    FIELD(gp_frame_cycles), FIELD(all_units),
+    FIELD(gp_frame_cycles), FIELD(frame_faces), FIELD(all_units),
 };
 
 int profile_set(profile_t *p, const char *assignment, char *err, size_t errlen)
@@ -199,6 +199,9 @@ int profile_check(const profile_t *p, char *err, size_t errlen)
     if (p->divider_latency > 1000 || p->shade_latency > 1000 || p->gp_face_cycles > 1000000 ||
         p->gp_edge_cycles > 1000000 || p->gp_frame_cycles > 1000000)
         BAD("latencies must be at most 1000 (divider, shade) and 1000000 (GP)");
+    if (p->frame_faces < 1 || p->frame_faces > 16777215)
+        BAD("frame_faces=%u: must be in 1..16777215 (the 24-bit face count of FRAME_END)",
+            p->frame_faces);
     if (p->all_units > 1)
         BAD("all_units=%u: must be 0 (the units a face uses) or 1 (every unit)", p->all_units);
     return 0;
@@ -213,11 +216,11 @@ void profile_describe(const profile_t *p, char *buf, size_t len)
              "shade_frac_bits=%u\nbound=%s\nbackface=%d\nclock_khz=%u\nfifo_depth=%u\n"
              "face_slots=%u\nedge_units=%u\nfill_rate=%u\nfill_queue=%u\n"
              "divider_latency=%u\nshade_latency=%u\ngp_face_cycles=%u\ngp_edge_cycles=%u\n"
-             "gp_frame_cycles=%u\nall_units=%u\n",
+             "gp_frame_cycles=%u\nframe_faces=%u\nall_units=%u\n",
              p->name, p->width, p->height, p->aa_levels, p->edge_frac_bits,
              p->coef_bits, p->depth_bits, p->colour_bits, p->recip_bits,
              p->shade_frac_bits, bound_method_name(p->bound), p->cull_backfaces, p->clock_khz,
              p->fifo_depth, p->face_slots, p->edge_units, p->fill_rate, p->fill_queue,
              p->divider_latency, p->shade_latency, p->gp_face_cycles, p->gp_edge_cycles,
-             p->gp_frame_cycles, p->all_units);
+             p->gp_frame_cycles, p->frame_faces, p->all_units);
 }

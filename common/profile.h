@@ -17,7 +17,7 @@ typedef enum {
 /* The largest screen side (profile_check), and the largest value --set
  * takes for any numeric field. */
 #define PROFILE_MAX_SIDE 8192
-#define PROFILE_MAX_VALUE (1u << 20)
+#define PROFILE_MAX_VALUE 16777215u   /* 2^24 - 1: the largest frame_faces */
 
 typedef struct {
     char name[32];
@@ -43,6 +43,7 @@ typedef struct {
     unsigned gp_face_cycles;  /* GP time per face packet, before its words */
     unsigned gp_edge_cycles;  /* ... plus this per edge */
     unsigned gp_frame_cycles; /* ... per FRAME packet */
+    unsigned frame_faces;     /* FACE packets a frame may carry (docs/limits.md) */
     /* the emulator, not the hardware */
     unsigned all_units;       /* 1: every shading unit for every sample (same pixels, slower) */
 } profile_t;

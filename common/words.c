@@ -109,6 +109,7 @@ void ws_reader_init(ws_reader *r, const uint32_t *w, size_t n, const char *name)
     r->w = w;
     r->n = n;
     r->name = name ? name : "<stream>";
+    r->max_faces = 0xFFFFFF;
 }
 
 /* Fail at word `word`: the message names the word index; the diag the byte offset. */
@@ -308,6 +309,9 @@ alb_err ws_next(ws_reader *r, ws_event *ev, diag_t *d)
         break;
     }
     case WS_OP_FACE:
+        if (r->in_frame && r->faces_in_frame >= r->max_faces)
+            return bad(r, d, at, "frame has more than %u faces (frame_faces=%u, docs/limits.md)",
+                       r->max_faces, r->max_faces);
         if ((e = read_face(r, d, &ev->u.face, head)))
             return e;
         r->faces_in_frame++;

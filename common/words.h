@@ -122,6 +122,8 @@ typedef struct {
     ws_config config;
     bool have_config, in_frame, ended;
     uint32_t faces_in_frame;
+    uint32_t max_faces;       /* FACE packets a frame may carry (the profile's
+                                 frame_faces; 2^24 - 1 after ws_reader_init) */
 } ws_reader;
 
 void ws_reader_init(ws_reader *r, const uint32_t *w, size_t n, const char *name);

@@ -19,13 +19,15 @@ typedef struct {
     unsigned nframes;
 } packets;
 
-static alb_err decode_all(const uint32_t *w, size_t n, const char *name, packets *ps, diag_t *d)
+static alb_err decode_all(const uint32_t *w, size_t n, const char *name, uint32_t max_faces,
+                          packets *ps, diag_t *d)
 {
     ws_reader r;
     size_t cap = 64;
     ps->n = 0;
     ps->ev = malloc(cap * sizeof *ps->ev);
     ws_reader_init(&r, w, n, name);
+    r.max_faces = max_faces;
     while (ps->ev && !r.ended) {
         if (ps->n == cap) {
             ws_event *ne = realloc(ps->ev, 2 * cap * sizeof *ne);
@@ -497,7 +499,7 @@ alb_err sim_run_cycle(const profile_t *p, const uint32_t *w, size_t n, const cha
     machine m;
     alb_err e = machine_init(&m, p, d);
     if (!e)
-        e = decode_all(w, n, name, &m.ps, d);
+        e = decode_all(w, n, name, p->frame_faces, &m.ps, d);
     m.sink = sink;
     m.ctx = ctx;
     vcd_t *v = opt->vcd;

@@ -250,6 +250,7 @@ alb_err sim_run_timed(const profile_t *p, const uint32_t *w, size_t n, const cha
     if (!e && (!ev || !lf))
         e = diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
     ws_reader_init(&r, w, n, name);
+    r.max_faces = p->frame_faces;
     while (!e && !r.ended) {
         if ((e = ws_next(&r, ev, d)))
             break;

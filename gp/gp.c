@@ -498,6 +498,13 @@ alb_err gp_frame(gp_t *gp, unsigned frame, ws_buf *out, gp_stats *st, diag_t *d)
         for (unsigned j = 0; j < o->nf; j++) {
             st->faces_in++;
             if (build_face(gp, o, &o->f[j], &gp->db[oi][j], &x, face, st)) {
+                if (st->faces_out == gp->prof.frame_faces) {
+                    free(face);
+                    return diag_at(d, ALB_ERR_LIMIT, s->file, o->f[j].line, 0,
+                                   "frame %u has more than %u faces (frame_faces=%u; "
+                                   "docs/limits.md)", frame, gp->prof.frame_faces,
+                                   gp->prof.frame_faces);
+                }
                 ws_put_face(out, face);
                 st->faces_out++;
             }
@@ -507,10 +514,6 @@ alb_err gp_frame(gp_t *gp, unsigned frame, ws_buf *out, gp_stats *st, diag_t *d)
     ws_put_frame_end(out, st->faces_out);
     if (out->oom)
         return diag_at(d, ALB_ERR_NOMEM, s->file, 0, 0, "out of memory for the word stream");
-    if (st->faces_out > 0xFFFFFF)
-        return diag_at(d, ALB_ERR_LIMIT, s->file, 0, 0,
-                       "frame %u has %u faces; a frame carries at most 16777215", frame,
-                       st->faces_out);
     st->words = out->n - start;
     return ALB_OK;
 }

@@ -393,6 +393,7 @@ alb_err vp_run_stream(vp_t *vp, const uint32_t *w, size_t n, const char *name,
     if (!ev)
         return diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
     ws_reader_init(&r, w, n, name);
+    r.max_faces = vp->prof.frame_faces;
     alb_err e = ALB_OK;
     while (!e && !r.ended) {
         if ((e = ws_next(&r, ev, d)))
