@@ -42,6 +42,7 @@ TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 
 ALBATROS := $(BUILD)/albatros
 UNIT     := $(BUILD)/tests/unit
+USB_DESC := $(BUILD)/tests/usb_descriptors
 
 # the FX2LP firmware (sdcc): make firmware, make firmware-size
 include firmware/fx2/fx2.mk
@@ -50,7 +51,7 @@ COST     := $(BUILD)/tools/cost
 BENCH    := $(BUILD)/tools/bench
 
 .PHONY: all test unit vectors bless asan bench demo setup deps clean help crosscheck sweep
-all: $(ALBATROS) $(UNIT)
+all: $(ALBATROS) $(UNIT) $(USB_DESC)
 
 # libFuzzer harnesses and their replay over the seeds and regressions
 include fuzz/fuzz.mk
@@ -70,7 +71,7 @@ help:
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev gnuplot-nox sdcc
+            libhidapi-dev gnuplot-nox sdcc umockdev
 setup: deps
 	$(MAKE) all
 deps:
@@ -108,12 +109,17 @@ $(BENCH): $(BUILD)/tools/bench.o $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 
+# the FX2 firmware's descriptors, on the host, for tests/usb-umockdev.sh
+$(USB_DESC): tests/usb_descriptors.c firmware/fx2/descriptors.c firmware/fx2/usb.h firmware/proto.h
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -D__xdata= tests/usb_descriptors.c firmware/fx2/descriptors.c -o $@ $(EXTRA_LDLIBS)
+
 $(UNIT): $(TEST_OBJ) $(LIB_OBJ)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 # ---- tests: every runner prints "N passed, N failed"; tests/summary adds them ----
-test: $(ALBATROS) $(UNIT) $(REPLAYS)
+test: $(ALBATROS) $(UNIT) $(REPLAYS) $(USB_DESC)
 	@bash tests/run-all.sh $(BUILD)
 
 unit: $(UNIT)

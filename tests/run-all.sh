@@ -29,5 +29,6 @@ run vectors "$build/albatros" vectors check test-vectors
 run fuzz-replay bash tests/fuzz-replay.sh "$build"
 run malformed bash tests/malformed.sh "$build/albatros"
 run firmware bash tests/firmware.sh "$build"
+run usb-umockdev bash tests/usb-umockdev.sh "$build"
 echo "$total_pass passed, $total_fail failed"
 [[ $status -eq 0 && $total_fail -eq 0 ]]
