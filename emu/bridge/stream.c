@@ -287,6 +287,7 @@ static void resume(streamer *s)
         /* nothing confirmed yet: the loss may be in the preamble (CONFIG,
          * textures), which RESUME would not resend — start the stream over */
         note(s, "restarting the stream (no frame confirmed yet)");
+        s->rx.have_seq = false;   /* the board numbers from 0 again after RESET */
         if (!send_packet(s, PROTO_T_RESET, NULL, 0))
             send_words(s, 0, s->nf ? s->f[0].first_word : s->n);
         s->next = 0;
