@@ -21,7 +21,7 @@ ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -pthread $(WARN) $(FPFLAGS) $(CF
              $(shell pkg-config --cflags $(PKGS)) $(EXR_CFLAGS)
 LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm -pthread $(EXTRA_LDLIBS)
 
-COMMON_SRC := common/diag.c common/profile.c common/words.c
+COMMON_SRC := common/diag.c common/file.c common/profile.c common/words.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
 VP_SRC     := vp/vp.c vp/fill.c vp/parallel.c vp/shade.c vp/frame.c
 TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools/methods.c tools/sweep.c \
@@ -50,7 +50,7 @@ include firmware/fx2/fx2.mk
 COST     := $(BUILD)/tools/cost
 BENCH    := $(BUILD)/tools/bench
 
-.PHONY: all test unit vectors bless asan bench demo setup deps clean help crosscheck sweep
+.PHONY: all test unit vectors bless asan memcheck bench demo setup deps clean help crosscheck sweep
 all: $(ALBATROS) $(UNIT) $(USB_DESC)
 
 # libFuzzer harnesses and their replay over the seeds and regressions
@@ -64,6 +64,7 @@ help:
 	@echo "make vectors    check the golden vectors only"
 	@echo "make bless      regenerate the golden vectors' expected outputs"
 	@echo "make asan       build and test under AddressSanitizer + UBSan"
+	@echo "make memcheck   the tests under valgrind memcheck (slow)"
 	@echo "make bench      print speed and work figures (docs/performance.md)"
 	@echo "make crosscheck the golden vectors from gcc -O0 and clang -O3 builds"
 	@echo "make -j sweep   the stability and speed sweeps, report in docs/stability/"
@@ -130,6 +131,11 @@ vectors: $(ALBATROS)
 
 bless: $(ALBATROS)
 	$(ALBATROS) vectors bless test-vectors
+
+# the unit, CLI, vector and malformed-input runners under valgrind memcheck:
+# errors and definite/indirect leaks fail (slow: not part of make test)
+memcheck: $(ALBATROS) $(UNIT)
+	@bash tests/run-all.sh $(BUILD) --memcheck
 
 # float-cast-overflow: gcc's -fsanitize=undefined leaves it out
 asan:

@@ -2,6 +2,7 @@
  * The layouts are those of docs/word-format.md; tests/test_words.c checks
  * every packet by round trip and every malformation by its message. */
 #include "words.h"
+#include "file.h"
 #include "fix.h"
 
 #include <errno.h>
@@ -493,48 +494,30 @@ alb_err ws_read_file(const char *path, uint32_t **w, size_t *n, diag_t *d)
     FILE *f = fopen(path, "rb");
     if (!f)
         return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
-    size_t cap = 4096, len = 0;
-    uint8_t *bytes = malloc(cap);
-    if (!bytes) {
-        fclose(f);
-        return ALB_ERR_NOMEM;
-    }
-    for (;;) {
-        if (len == cap) {
-            uint8_t *nb = realloc(bytes, cap * 2);
-            if (!nb) {
-                free(bytes);
-                fclose(f);
-                return ALB_ERR_NOMEM;
-            }
-            bytes = nb;
-            cap *= 2;
-        }
-        size_t got = fread(bytes + len, 1, cap - len, f);
-        len += got;
-        if (got == 0)
-            break;
-    }
-    int err = ferror(f);
+    char *text;
+    size_t len;
+    int rc = file_read_all(f, &text, &len);
+    int err = errno;
     fclose(f);
-    if (err) {
-        free(bytes);
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "read error");
-    }
+    if (rc == -2)
+        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "stream too large for memory");
+    if (rc)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
+    const uint8_t *bytes = (const uint8_t *)text;
     if (len % 4) {
-        free(bytes);
+        free(text);
         return diag_off(d, ALB_ERR_STREAM, path, (long long)(len - len % 4),
                         "file length %zu is not a whole number of 32-bit words", len);
     }
     uint32_t *words = malloc(len ? len : 4);
     if (!words) {
-        free(bytes);
+        free(text);
         return ALB_ERR_NOMEM;
     }
     for (size_t i = 0; i < len / 4; i++)
         words[i] = (uint32_t)bytes[4 * i] | (uint32_t)bytes[4 * i + 1] << 8 |
                    (uint32_t)bytes[4 * i + 2] << 16 | (uint32_t)bytes[4 * i + 3] << 24;
-    free(bytes);
+    free(text);
     *w = words;
     *n = len / 4;
     return ALB_OK;

@@ -5,6 +5,7 @@
  * outputs on purpose. */
 #include "cli.h"
 #include "commands.h"
+#include "../common/file.h"
 #include "exr.h"
 #include "preview.h"
 #include "sim.h"
@@ -300,28 +301,12 @@ static char **read_lines(const char *path, char **text, unsigned *n)
     FILE *f = fopen(path, "r");
     if (!f)
         return NULL;
-    size_t cap = 1 << 16, len = 0;
-    char *buf = malloc(cap);
-    while (buf) {
-        size_t got = fread(buf + len, 1, cap - len - 1, f);
-        len += got;
-        if (got == 0)
-            break;
-        if (len + 1 == cap) {
-            char *nb = realloc(buf, cap * 2);
-            if (!nb) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = nb;
-            cap *= 2;
-        }
-    }
+    char *buf;
+    size_t len;
+    int rc = file_read_all(f, &buf, &len);
     fclose(f);
-    if (!buf)
+    if (rc)
         return NULL;
-    buf[len] = 0;
     char **lines = malloc((len / 2 + 2) * sizeof *lines);
     if (!lines) {
         free(buf);

@@ -5,6 +5,7 @@
  * 0) within REPLAY_TIMEOUT seconds; the sanitizers of `make asan` turn
  * memory errors and leaks into failures.  Ends with "N passed, N failed". */
 #include "fuzz.h"
+#include "../common/file.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -27,33 +28,11 @@ static int read_all(const char *path, uint8_t **data, size_t *size)
     FILE *f = fopen(path, "rb");
     if (!f)
         return -1;
-    size_t cap = 4096, n = 0;
-    uint8_t *buf = malloc(cap);
-    while (buf) {
-        if (n == cap) {
-            uint8_t *nb = realloc(buf, cap * 2);
-            if (!nb) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = nb;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (!got)
-            break;
-    }
-    int bad = ferror(f);
+    char *buf;
+    int rc = file_read_all(f, &buf, size);
     fclose(f);
-    if (!buf || bad) {
-        free(buf);
-        return -1;
-    }
-    *data = buf;
-    *size = n;
-    return 0;
+    *data = (uint8_t *)buf;
+    return rc ? -1 : 0;
 }
 
 /* The harness on one file, in a child: 0 if it returned. */

@@ -2,6 +2,7 @@
  * convex planar faces (split or rejected where needed), MTL Kd colours become
  * face colours, and an eye/at/up camera becomes the single frame's observer. */
 #include "scene.h"
+#include "../common/file.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -47,35 +48,13 @@ static alb_err read_file(const char *path, char **out, size_t *len, diag_t *d)
     FILE *f = fopen(path, "rb");
     if (!f)
         return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
-    size_t cap = 1 << 16, n = 0;
-    char *buf = malloc(cap);
-    alb_err e = buf ? ALB_OK : ALB_ERR_NOMEM;
-    while (!e) {
-        if (n == cap) {
-            char *nb = cap <= SIZE_MAX / 2 ? realloc(buf, cap * 2) : NULL;
-            if (!nb) {
-                e = ALB_ERR_NOMEM;
-                break;
-            }
-            buf = nb;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (!got)
-            break;
-    }
-    if (!e && ferror(f))
-        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(errno));
+    int rc = file_read_all(f, out, len);
+    int err = errno;
     fclose(f);
-    if (e == ALB_ERR_NOMEM)
-        diag_at(d, e, path, 0, 0, "file too large for memory");
-    if (e) {
-        free(buf);
-        return e;
-    }
-    *out = buf;
-    *len = n;
+    if (rc == -2)
+        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "file too large for memory");
+    if (rc)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
     return ALB_OK;
 }
 

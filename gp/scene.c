@@ -2,6 +2,7 @@
  * parser whose every error names file:line:column and what was expected, and
  * the degenerate-face checks shared with the OBJ importer. */
 #include "scene.h"
+#include "../common/file.h"
 
 #include <errno.h>
 #include <math.h>
@@ -996,32 +997,15 @@ alb_err scene_load(const char *path, scene_t *s, diag_t *d)
     FILE *f = fopen(path, "rb");
     if (!f)
         return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open scene: %s", strerror(errno));
-    size_t cap = 1 << 16, len = 0;
-    char *buf = malloc(cap);
-    while (buf) {
-        if (len == cap) {
-            char *nb = cap < ((size_t)1 << 31) ? realloc(buf, cap * 2) : NULL;
-            if (!nb) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = nb;
-            cap *= 2;
-        }
-        size_t got = fread(buf + len, 1, cap - len, f);
-        len += got;
-        if (!got)
-            break;
-    }
-    int rerr = ferror(f);
+    char *buf;
+    size_t len;
+    int rc = file_read_all(f, &buf, &len);
+    int err = errno;
     fclose(f);
-    if (!buf)
+    if (rc == -2)
         return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "scene too large for memory");
-    if (rerr) {
-        free(buf);
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "read error");
-    }
+    if (rc)
+        return diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
     alb_err e = scene_parse(buf, len, path, s, d);
     free(buf);
     return e;

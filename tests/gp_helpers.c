@@ -142,3 +142,15 @@ int render_text(const char *text, const char *profile_name, const char *sets, fr
     scene_free(&s);
     return e || !ff.got ? -1 : 0;
 }
+
+char *builtin_scene_copy(void)
+{
+    size_t len;
+    const char *text = scene_builtin_text(&len);
+    char *copy = malloc(len + 1);
+    if (copy) {
+        memcpy(copy, text, len);
+        copy[len] = 0;
+    }
+    return copy;
+}

@@ -30,4 +30,8 @@ void gp_run_free(gp_run_result *r);
 int render_text(const char *text, const char *profile_name, const char *sets, frame_t *out,
                 vp_stats *st, profile_t *prof_out, char *err, size_t errlen);
 
+/* The built-in scene's text as a NUL-terminated malloc'd copy (NULL if out of
+ * memory), for tests that edit or render it. */
+char *builtin_scene_copy(void);
+
 #endif

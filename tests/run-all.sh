@@ -1,11 +1,22 @@
 #!/usr/bin/env bash
-# run-all.sh BUILD — every test runner of the project, then the total.
-# Each runner ends with "N passed, N failed"; this sums them.
+# run-all.sh BUILD [--memcheck] — every test runner of the project, then the
+# total.  Each runner ends with "N passed, N failed"; this sums them.
+# --memcheck (tests/memcheck.sh): the unit tests and every albatros process
+# of the CLI, vector and malformed-input runners under valgrind.
 set -u
 build=${1:-build}
+bin=$build/albatros unit=()
+if [[ ${2:-} == --memcheck ]]; then
+    vg=(valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect
+        --show-leak-kinds=definite,indirect)
+    bin=$(mktemp)
+    printf '#!/bin/sh\nexec %s "%s" "$@"\n' "${vg[*]}" "$(realpath "$build/albatros")" > "$bin"
+    chmod +x "$bin"
+    unit=("${vg[@]}")
+fi
 total_pass=0 total_fail=0 status=0
 log=$(mktemp)
-trap 'rm -f "$log"' EXIT
+trap 'rm -f "$log"; [[ $bin != "$build/albatros" ]] && rm -f "$bin"' EXIT
 run() {
     local name=$1; shift
     echo "== $name: $*"
@@ -23,12 +34,14 @@ run() {
     fi
     [[ $rc -ne 0 ]] && status=1
 }
-run unit "$build/tests/unit" --bindir "$build"
-run cli bash tests/cli.sh "$build/albatros"
-run vectors "$build/albatros" vectors check test-vectors
-run fuzz-replay bash tests/fuzz-replay.sh "$build"
-run malformed bash tests/malformed.sh "$build/albatros"
-run firmware bash tests/firmware.sh "$build"
-run usb-umockdev bash tests/usb-umockdev.sh "$build"
+run unit "${unit[@]}" "$build/tests/unit" --bindir "$build"
+run cli bash tests/cli.sh "$bin"
+run vectors "$bin" vectors check test-vectors
+run malformed bash tests/malformed.sh "$bin"
+if [[ ${#unit[@]} -eq 0 ]]; then   # not under memcheck: these fork or preload
+    run fuzz-replay bash tests/fuzz-replay.sh "$build"
+    run firmware bash tests/firmware.sh "$build"
+    run usb-umockdev bash tests/usb-umockdev.sh "$build"
+fi
 echo "$total_pass passed, $total_fail failed"
 [[ $status -eq 0 && $total_fail -eq 0 ]]

@@ -121,11 +121,7 @@ TEST(image_texture_from_png)
  * wherever both draw the same face. */
 TEST(colours_agree_with_reference)
 {
-    size_t len;
-    const char *text = scene_builtin_text(&len);
-    char *copy = malloc(len + 1);
-    memcpy(copy, text, len);
-    copy[len] = 0;
+    char *copy = builtin_scene_copy();
     frame_t vp;
     char err[300];
     profile_t p;
@@ -138,7 +134,7 @@ TEST(colours_agree_with_reference)
     diag_t d;
     diag_init(&d, NULL);
     frame_t ref;
-    CHECK(scene_parse(copy, len, "builtin", &s, &d) == ALB_OK);
+    CHECK(scene_parse(copy, strlen(copy), "builtin", &s, &d) == ALB_OK);
     CHECK(ref_render(&s, &p, 0, &ref) == 0);
     size_t same = 0, close = 0, n = (size_t)p.width * p.height;
     double sq = 0;
@@ -194,11 +190,7 @@ static void same_with_all_units(const char *what, const char *text, const char *
  * random scene gives Gouraud faces, and --flat faces with no unit at all. */
 TEST(units_a_scene_needs_change_no_pixel)
 {
-    size_t len;
-    const char *builtin = scene_builtin_text(&len);
-    char *text = malloc(len + 1);
-    memcpy(text, builtin, len);
-    text[len] = 0;
+    char *text = builtin_scene_copy();
     vp_stats st;
     same_with_all_units("built-in", text, "", &st);
     CHECK(st.faces_fogged == st.faces && st.faces_textured > 0 && st.faces_shaded > 0 &&
