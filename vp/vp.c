@@ -395,9 +395,12 @@ alb_err vp_run_stream(vp_t *vp, const uint32_t *w, size_t n, const char *name,
     ws_reader_init(&r, w, n, name);
     r.max_faces = vp->prof.frame_faces;
     alb_err e = ALB_OK;
+    bool refused = false;     /* by the VP, not by the decoder: ev is that packet */
     while (!e && !r.ended) {
+        refused = false;
         if ((e = ws_next(&r, ev, d)))
             break;
+        refused = true;
         switch (ev->kind) {
         case WS_EV_CONFIG:
             if ((e = vp_config(vp, &ev->u.config, d)))
@@ -423,7 +426,8 @@ alb_err vp_run_stream(vp_t *vp, const uint32_t *w, size_t n, const char *name,
             break;
         }
     }
-    if (e && (ev->kind == WS_EV_CONFIG || ev->kind == WS_EV_FACE) && d->offset < 0 && !d->line) {
+    if (e && refused && (ev->kind == WS_EV_CONFIG || ev->kind == WS_EV_FACE) && d->offset < 0 &&
+        !d->line) {
         /* a packet the decoder accepted but this VP cannot take: say where */
         char msg[sizeof d->msg];
         memcpy(msg, d->msg, sizeof msg);
