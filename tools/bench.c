@@ -52,11 +52,12 @@ static int count(void *ctx, const frame_t *f, const vp_stats *vs, const sim_coun
 }
 
 /* Seconds per run of the stream at fidelity fid (best of a few). */
-static double time_run(const profile_t *p, const ws_buf *b, fidelity fid, totals *t)
+static double time_run_threads(const profile_t *p, const ws_buf *b, fidelity fid,
+                               unsigned threads, totals *t)
 {
     diag_t d;
     diag_init(&d, stderr);
-    sim_options o = {fid, NULL, 0, 0, 1};
+    sim_options o = {fid, NULL, 0, 0, threads};
     double best = 1e9;
     for (int rep = 0; rep < 3; rep++) {
         memset(t, 0, sizeof *t);
@@ -69,6 +70,11 @@ static double time_run(const profile_t *p, const ws_buf *b, fidelity fid, totals
         best = s < best ? s : best;
     }
     return best;
+}
+
+static double time_run(const profile_t *p, const ws_buf *b, fidelity fid, totals *t)
+{
+    return time_run_threads(p, b, fid, 1, t);
 }
 
 /* The GP's stream of scene s, and the seconds it took. */
@@ -106,11 +112,11 @@ static void bench_scene(const char *label, scene_t *s, const profile_t *p)
 }
 
 /* The hash of every frame of the stream, functional. */
-static uint64_t frames_hash(const profile_t *p, const ws_buf *b)
+static uint64_t frames_hash(const profile_t *p, const ws_buf *b, unsigned threads)
 {
     diag_t d;
     diag_init(&d, stderr);
-    sim_options o = {FIDELITY_FUNCTIONAL, NULL, 0, 0, 1};
+    sim_options o = {FIDELITY_FUNCTIONAL, NULL, 0, 0, threads};
     totals t = {.hashing = true, .hash = 0xcbf29ce484222325ull};
     if (sim_run(p, b->w, b->n, "bench", &o, count, &t, &d)) {
         diag_print(&d, stderr);
@@ -133,7 +139,22 @@ static void bench_units(const char *label, scene_t *s, const profile_t *p)
            100.0 * (double)tu.shaded / (double)tu.faces,
            100.0 * (double)tu.textured / (double)tu.faces,
            100.0 * (double)tu.fogged / (double)tu.faces, 1e3 * su / tu.frames,
-           1e3 * sa / ta.frames, sa / su, frames_hash(p, &b) == frames_hash(&all, &b) ? "identical" : "DIFFERENT");
+           1e3 * sa / ta.frames, sa / su, frames_hash(p, &b, 1) == frames_hash(&all, &b, 1) ? "identical" : "DIFFERENT");
+    ws_buf_free(&b);
+}
+
+/* The functional renderer on every core against one (vp/parallel.c). */
+static void bench_threads(const char *label, scene_t *s, const profile_t *p)
+{
+    ws_buf b;
+    gp_stream(s, p, &b);
+    unsigned n = vp_cores();
+    totals t1, tn;
+    double s1 = time_run_threads(p, &b, FIDELITY_FUNCTIONAL, 1, &t1);
+    double sn = time_run_threads(p, &b, FIDELITY_FUNCTIONAL, n, &tn);
+    printf("| %s | %u | %.2f | %.2f | %.2fx | %s |\n", label, n, 1e3 * s1 / t1.frames,
+           1e3 * sn / tn.frames, s1 / sn,
+           frames_hash(p, &b, 1) == frames_hash(p, &b, n) ? "identical" : "DIFFERENT");
     ws_buf_free(&b);
 }
 
@@ -178,6 +199,14 @@ int main(void)
     }
     free(text);
     bench_units("the same, flat", &s, &p);
+    printf("\n## Threads (functional, profile a1024)\n\n"
+           "| scene | threads | ms/frame, 1 thread | ms/frame, all | speed-up | pixels |\n"
+           "|---|---|---|---|---|---|\n");
+    bench_threads("built-in", &builtin, &p);
+    bench_threads("random 3000 faces, flat", &s, &p);
+    profile_t aa = p;
+    aa.aa_levels = 2;
+    bench_threads("built-in, aa=2", &builtin, &aa);
     scene_free(&builtin);
     scene_free(&s);
     return 0;

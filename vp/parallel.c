@@ -148,3 +148,44 @@ void vp_flush_batch(vp_t *vp)
     free(j);
     vp->nbatch = 0;
 }
+
+/* ---- rows split between the threads (clearing and resolving the store) ---- */
+
+typedef struct {
+    vp_row_fn fn;
+    vp_t *vp;
+    void *ctx;
+    uint32_t rows, chunk;
+    atomic_uint next;
+} row_job;
+
+static void *row_work(void *arg)
+{
+    row_job *j = arg;
+    for (;;) {
+        uint32_t k = atomic_fetch_add(&j->next, 1);
+        uint32_t r0 = k * j->chunk;
+        if (k >= (j->rows + j->chunk - 1) / j->chunk)
+            return NULL;
+        j->fn(j->vp, j->ctx, r0, r0 + j->chunk < j->rows ? r0 + j->chunk : j->rows);
+    }
+}
+
+void vp_parallel_rows(vp_t *vp, uint32_t rows, vp_row_fn fn, void *ctx)
+{
+    unsigned nt = vp_threads(vp);
+    if (nt <= 1 || rows < 2 * nt) {
+        fn(vp, ctx, 0, rows);
+        return;
+    }
+    row_job j = {fn, vp, ctx, rows, (rows + 4 * nt - 1) / (4 * nt), 0};
+    atomic_init(&j.next, 0);
+    pthread_t tid[VP_MAX_THREADS];
+    bool started[VP_MAX_THREADS] = {false};
+    for (unsigned i = 1; i < nt; i++)
+        started[i] = pthread_create(&tid[i], NULL, row_work, &j) == 0;
+    row_work(&j);
+    for (unsigned i = 1; i < nt; i++)
+        if (started[i])
+            pthread_join(tid[i], NULL);
+}

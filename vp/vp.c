@@ -92,6 +92,18 @@ alb_err vp_texture(vp_t *vp, const ws_texture *t, diag_t *d)
     return ALB_OK;
 }
 
+/* Sample rows [r0, r1): no surface, the background colour. */
+static void clear_rows(vp_t *vp, void *ctx, uint32_t r0, uint32_t r1)
+{
+    (void)ctx;
+    size_t a = (size_t)r0 * vp->sw, n = (size_t)(r1 - r0) * vp->sw;
+    memset(vp->s_depth + a, 0, n * sizeof *vp->s_depth);
+    memset(vp->s_face + a, 0xFF, n * sizeof *vp->s_face);
+    memset(vp->s_level + a, FRAME_NO_LEVEL, n);
+    for (size_t i = a; i < a + n; i++)
+        memcpy(vp->s_rgb + 3 * i, vp->bg, sizeof vp->bg);
+}
+
 void vp_frame_begin(vp_t *vp, const ws_frame *f)
 {
     vp->frame = *f;
@@ -100,12 +112,7 @@ void vp_frame_begin(vp_t *vp, const ws_frame *f)
         vp->bg[i] = vp_scale_colour8(vp, f->background >> (16 - 8 * i) & 0xFF);
         vp->fog_rgb[i] = vp_scale_colour8(vp, f->fog_rgb >> (16 - 8 * i) & 0xFF);
     }
-    size_t n = (size_t)vp->sw * vp->sh;
-    memset(vp->s_depth, 0, n * sizeof *vp->s_depth);
-    memset(vp->s_face, 0xFF, n * sizeof *vp->s_face);
-    memset(vp->s_level, FRAME_NO_LEVEL, n);
-    for (size_t i = 0; i < n; i++)
-        memcpy(vp->s_rgb + 3 * i, vp->bg, sizeof vp->bg);
+    vp_parallel_rows(vp, vp->sh, clear_rows, NULL);
 }
 
 /* ---- set-up of edges and forms (docs/vp.md §2, §3) ---- */
@@ -337,24 +344,12 @@ alb_err vp_face(vp_t *vp, const ws_face *f, diag_t *d)
 
 /* ---- output stage ---- */
 
-void vp_frame_end(vp_t *vp, frame_t *out)
+/* Pixel rows [y0, y1) of out from their 4^aa samples. */
+static void resolve_rows(vp_t *vp, void *ctx, uint32_t y0, uint32_t y1)
 {
-    vp_flush_batch(vp);
+    frame_t *out = ctx;
     unsigned aa = vp->prof.aa_levels, n = 1u << aa;
-    out->number = vp->frame.number;
-    out->near = vp->cfg.near;
-    if (aa == 0) {
-        /* one sample per pixel: the store is the frame */
-        size_t np = (size_t)vp->prof.width * vp->prof.height;
-        memcpy(out->rgb, vp->s_rgb, 3 * np * sizeof *out->rgb);
-        memcpy(out->depth, vp->s_depth, np * sizeof *out->depth);
-        memcpy(out->face, vp->s_face, np * sizeof *out->face);
-        memcpy(out->level, vp->s_level, np);
-        for (size_t i = 0; i < np; i++)
-            out->coverage[i] = vp->s_face[i] != FRAME_NO_FACE;
-        return;
-    }
-    for (unsigned y = 0; y < vp->prof.height; y++)
+    for (unsigned y = y0; y < y1; y++)
         for (unsigned x = 0; x < vp->prof.width; x++) {
             /* the pixel's nearest sample gives depth, face and level (ties:
              * the first in raster order); colour is the mean of its samples,
@@ -381,6 +376,26 @@ void vp_frame_end(vp_t *vp, frame_t *out)
             out->level[p] = vp->s_level[best_idx];
             out->coverage[p] = (uint16_t)covered;
         }
+}
+
+void vp_frame_end(vp_t *vp, frame_t *out)
+{
+    vp_flush_batch(vp);
+    unsigned aa = vp->prof.aa_levels;
+    out->number = vp->frame.number;
+    out->near = vp->cfg.near;
+    if (aa == 0) {
+        /* one sample per pixel: the store is the frame */
+        size_t np = (size_t)vp->prof.width * vp->prof.height;
+        memcpy(out->rgb, vp->s_rgb, 3 * np * sizeof *out->rgb);
+        memcpy(out->depth, vp->s_depth, np * sizeof *out->depth);
+        memcpy(out->face, vp->s_face, np * sizeof *out->face);
+        memcpy(out->level, vp->s_level, np);
+        for (size_t i = 0; i < np; i++)
+            out->coverage[i] = vp->s_face[i] != FRAME_NO_FACE;
+        return;
+    }
+    vp_parallel_rows(vp, vp->prof.height, resolve_rows, out);
 }
 
 alb_err vp_run_stream(vp_t *vp, const uint32_t *w, size_t n, const char *name,

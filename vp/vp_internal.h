@@ -120,6 +120,10 @@ void vp_flat_colour(const vp_t *vp, const vp_face_setup *fs, uint16_t rgb[3]);
 #define VP_MAX_TILES 1024
 /* Draw the batched faces (parallel.c); nothing if the batch is empty. */
 void vp_flush_batch(vp_t *vp);
+/* fn(vp, ctx, first, end) over rows [0, rows) in chunks, on the VP's
+ * threads; the chunks must touch disjoint memory. */
+typedef void (*vp_row_fn)(vp_t *vp, void *ctx, uint32_t first, uint32_t end);
+void vp_parallel_rows(vp_t *vp, uint32_t rows, vp_row_fn fn, void *ctx);
 /* dst += src, field by field. */
 void vp_stats_add(vp_stats *dst, const vp_stats *src);
 /* Count a face the engine takes in the frame's statistics. */
