@@ -14,7 +14,7 @@
 #include <string.h>
 
 typedef struct {
-    bool sim, json, quiet, help, no_readback;
+    bool sim, json, quiet, help, no_readback, frames;
     unsigned vid, pid, wait_ms, timeout_ms;
     const char *serial, *stream;
     tr_faults faults;
@@ -45,6 +45,7 @@ static int link_opt(void *ctx, const char *name, const char *value)
     else if (!strcmp(name, "quiet") || !strcmp(name, "q")) a->quiet = true;
     else if (!strcmp(name, "help")) a->help = true;
     else if (!strcmp(name, "no-readback")) a->no_readback = true;
+    else if (!strcmp(name, "frames")) a->frames = true;
     else if (!strcmp(name, "serial")) a->serial = value;
     else if (!strcmp(name, "stream")) a->stream = value;
     else if (!strcmp(name, "fault")) {
@@ -81,7 +82,9 @@ static int link_opt(void *ctx, const char *name, const char *value)
     return 0;
 }
 
-static transport_t *open_link(const link_args *a, const profile_t *p)
+/* The link the options ask for; *board (if not NULL) is the simulated board
+ * behind it with --sim, else NULL. */
+static transport_t *open_link(const link_args *a, const profile_t *p, sim_board **board)
 {
     char err[600];
     transport_t *t = a->sim ? transport_sim_open(p->name, err, sizeof err)
@@ -91,6 +94,8 @@ static transport_t *open_link(const link_args *a, const profile_t *p)
         fprintf(stderr, "albatros %s: %s\n", a->cmd, err);
         return NULL;
     }
+    if (board)
+        *board = a->sim ? transport_sim_board(t) : NULL;
     if (a->sim && a->flip_frame >= 0)
         sim_board_flip(transport_sim_board(t), (uint32_t)a->flip_frame, 5, 7, 1, 0);
     if (a->any_fault) {
@@ -185,28 +190,96 @@ static void report_json(const stream_report *r, const stream_frame *f, unsigned 
     printf("\"}\n");
 }
 
+/* Frames mode: the emulator's frames, RGB888, as tiles to a display board;
+ * with --sim the board's display is compared with the last frame. */
+static int stream_frames_mode(const link_args *a, const profile_t *p, const stream_frame *f,
+                              unsigned nf)
+{
+    size_t npix = (size_t)p->width * p->height;
+    stream_tiles_frame *tf = calloc(nf ? nf : 1, sizeof *tf);
+    uint8_t *rgb = malloc(3 * npix * (nf ? nf : 1));
+    int rc = 3;
+    if (!tf || !rgb) {
+        fprintf(stderr, "albatros stream: out of memory\n");
+        goto out;
+    }
+    for (unsigned i = 0; i < nf; i++) {
+        if (!f[i].rgb)
+            goto out;
+        link_rgb888(f[i].rgb, npix, p->colour_bits, rgb + 3 * npix * i);
+        tf[i] = (stream_tiles_frame){f[i].number, p->width, p->height, rgb + 3 * npix * i};
+    }
+    sim_board *board;
+    transport_t *t = open_link(a, p, &board);
+    if (!t)
+        goto out;
+    stream_opts so;
+    stream_opts_default(&so);
+    so.timeout_ms = a->timeout_ms;
+    so.log = a->quiet || a->json ? NULL : stderr;
+    so.progress = so.log && cli_isatty_stderr();
+    stream_report r;
+    rc = stream_tiles(t, tf, nf, &so, &r) ? 3 : 0;
+    const char *display = "";
+    if (!rc && board && nf) {
+        uint32_t shown;
+        uint64_t tiles;
+        const uint8_t *d = sim_board_display(board, &shown, &tiles);
+        bool same = shown == tf[nf - 1].number && !memcmp(d, tf[nf - 1].rgb, 3 * npix);
+        display = same ? "identical" : "DIFFERENT";
+        rc = same ? 0 : 1;
+    }
+    double secs = r.seconds > 0 ? r.seconds : 1e-9;
+    if (a->json)
+        printf("{\"result\": \"%s\", \"frames\": %u, \"shown\": %u, \"packets\": %llu, "
+               "\"bytes\": %llu, \"seconds\": %.3f, \"resends\": %llu, \"display\": \"%s\"}\n",
+               rc == 0 ? "shown" : rc == 1 ? "differs" : "failed", nf, r.frames,
+               (unsigned long long)r.packets, (unsigned long long)r.bytes, r.seconds,
+               (unsigned long long)r.resumes, display);
+    else if (!a->quiet || rc) {
+        fprintf(stderr, "frames: %u of %u frames shown; %llu packets, %.2f MB in %.2f s "
+                        "(%.1f MB/s, %.1f frames/s); %llu resends\n", r.frames, nf,
+                (unsigned long long)r.packets, (double)r.bytes / 1e6, r.seconds,
+                (double)r.bytes / 1e6 / secs, r.frames / secs, (unsigned long long)r.resumes);
+        if (r.first_problem[0])
+            fprintf(stderr, "  first problem: %s\n", r.first_problem);
+        if (display[0])
+            fprintf(stderr, "  the simulated display shows frame %u: %s to the emulator's\n",
+                    tf[nf - 1].number, display);
+    }
+    t->ops->close(t);
+out:
+    free(rgb);
+    free(tf);
+    return rc;
+}
+
 static const char stream_help[] =
     "usage: albatros stream [SCENE] [--sim | --vid V --pid P --serial S --wait MS]\n"
     "                       [--stream FILE] [--timeout MS] [--json] [options]\n\n"
     "Send SCENE's word stream (or a stream FILE) to a board that runs the VP, and\n"
     "check each frame's CRC and cycle count against the emulator (timed model).\n"
-    "Link errors are reported, counted and recovered from by resending frames.\n\n"
+    "Link errors are reported, counted and recovered from by resending frames.\n"
+    "With --frames, send the emulator's finished frames instead, as tiles for a\n"
+    "board that displays them (frames mode, docs/usb-protocol.md).\n\n"
     "  --sim              the simulated board in this process (no hardware)\n"
     "  --vid, --pid       USB ids (default 1209:0001, the pid.codes test PID)\n"
     "  --serial S         the board with this serial number\n"
     "  --wait MS          wait this long for the board to appear (hot-plug)\n"
     "  --timeout MS       wait this long for a frame's result (default 2000)\n"
     "  --no-readback      do not fetch a differing frame to name its first wrong pixel\n"
+    "  --frames           frames mode: the rendered frames, RGB888 tiles, to a display\n"
     "  --fault KIND=N     misbehave on purpose: corrupt|drop|duplicate|swap|silence|\n"
     "                     disconnect|corrupt-reply=N, or flip=FRAME (sim: a wrong VP bit)\n"
     "  --json             the report as JSON on stdout\n\n"
-    "Exit status: 0 every frame matches, 1 some differ, 3 the link failed.\n\n";
+    "Exit status: 0 every frame matches (frames mode: every frame shown), 1 some\n"
+    "differ (frames mode, --sim: the display differs), 3 the link failed.\n\n";
 
 int cmd_stream(int argc, char **argv)
 {
     static const char *const spec[] = {"sim", "json", "quiet", "q", "help", "no-readback", "vid=",
                                        "pid=", "serial=", "wait=", "timeout=", "stream=",
-                                       "fault=", NULL};
+                                       "fault=", "frames", NULL};
     link_args a = {.vid = PROTO_VID, .pid = PROTO_PID, .wait_ms = 2000, .timeout_ms = 2000,
                    .flip_frame = -1, .cmd = "stream"};
     run_opts o;
@@ -264,7 +337,11 @@ int cmd_stream(int argc, char **argv)
         diag_print(&d, stderr);
         goto out;
     }
-    if (!(t = open_link(&a, &o.prof)))
+    if (a.frames) {
+        rc = stream_frames_mode(&a, &o.prof, frames, nf);
+        goto out;
+    }
+    if (!(t = open_link(&a, &o.prof, NULL)))
         goto out;
     stream_opts sopt;
     stream_opts_default(&sopt);
@@ -358,7 +435,7 @@ int cmd_board(int argc, char **argv)
             fprintf(stderr, "no board %04x:%04x on the USB bus\n", a.vid, a.pid);
         return 0;
     }
-    transport_t *t = open_link(&a, &o.prof);
+    transport_t *t = open_link(&a, &o.prof, NULL);
     if (!t)
         return 1;
     int rc;

@@ -443,6 +443,20 @@ static void trace_cycle(machine *m, vcd_t *v, int64_t t)
 static volatile sig_atomic_t interrupted;
 static void on_interrupt(int sig) { interrupted = sig; }
 
+/* sigaction, not signal(): in strict ISO/POSIX mode glibc's signal() has
+ * System V semantics — the handler is reset on delivery — so a second Ctrl-C
+ * (shells and timeout(1) signal the process group as well as the process)
+ * would kill the run before its trace is complete. */
+static void catch_signal(int sig, void (*fn)(int), struct sigaction *old)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = fn;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;
+    sigaction(sig, &sa, old);
+}
+
 static void tick(machine *m, int64_t t)
 {
     uint64_t fifo_start = m->fifo.count, queue_start = m->fill.count;
@@ -496,6 +510,12 @@ static void machine_free(machine *m)
 alb_err sim_run_cycle(const profile_t *p, const uint32_t *w, size_t n, const char *name,
                       const sim_options *opt, sim_sink sink, void *ctx, diag_t *d)
 {
+    /* caught from the start: a Ctrl-C while the machine is set up (large
+     * screens take a while) still ends with a complete trace */
+    interrupted = 0;
+    struct sigaction old_int, old_term;
+    catch_signal(SIGINT, on_interrupt, &old_int);
+    catch_signal(SIGTERM, on_interrupt, &old_term);
     machine m;
     alb_err e = machine_init(&m, p, d);
     if (!e)
@@ -507,9 +527,6 @@ alb_err sim_run_cycle(const profile_t *p, const uint32_t *w, size_t n, const cha
         trace_declare(v);
         vcd_begin(v, 1000000000ull / p->clock_khz);
     }
-    void (*old_int)(int) = signal(SIGINT, on_interrupt);
-    void (*old_term)(int) = signal(SIGTERM, on_interrupt);
-    interrupted = 0;
     int64_t t = 0;
     while (!e && !m.err) {
         tick(&m, t);
@@ -518,14 +535,21 @@ alb_err sim_run_cycle(const profile_t *p, const uint32_t *w, size_t n, const cha
         t++;
         if (m.ended && drained(&m, t))
             break;
-        if (!(t & 4095) && interrupted) {
+        if ((t == 1 || !(t & 4095)) && interrupted) {
             e = diag_at(d, ALB_ERR_INTERRUPTED, name, 0, 0, "interrupted at cycle %lld; the trace "
                         "is complete up to it", (long long)t);
             break;
         }
     }
-    signal(SIGINT, old_int);
-    signal(SIGTERM, old_term);
+    /* once interrupted, the process is on its way out: a second signal must
+     * not cut the trace short */
+    if (interrupted) {
+        catch_signal(SIGINT, SIG_IGN, NULL);
+        catch_signal(SIGTERM, SIG_IGN, NULL);
+    } else {
+        sigaction(SIGINT, &old_int, NULL);
+        sigaction(SIGTERM, &old_term, NULL);
+    }
     if (v)
         vcd_end(v, (uint64_t)t);
     if (!e)

@@ -126,8 +126,8 @@ stamps=$(grep '^#' "$tmp/w.vcd" | tr -d '#' | awk '$1 > 0 && ($1 < 5000000 || $1
 grep -q '^\$enddefinitions' "$tmp/w.vcd" && grep -q '^#5000000$' "$tmp/w.vcd" && [[ $stamps -le 1 ]] && ok || bad "vcd window: $stamps stamps outside"
 expect 2 "expected functional, timed or cycle" "$bin" render --fidelity fast
 # Ctrl-C during a long traced run: exit 130 and a complete trace
-"$bin" scene random --faces 3000 --seed 2 -o "$tmp/heavy.scene"
-timeout --preserve-status -s INT 2 "$bin" render "$tmp/heavy.scene" --profile a1024 --set aa=2 --fidelity cycle --vcd "$tmp/int.vcd" -q > "$tmp/int.out" 2>&1
+"$bin" scene random --faces 20000 --seed 2 -o "$tmp/heavy.scene"   # ~25 s at cycle fidelity
+timeout --preserve-status -s INT 2 "$bin" render "$tmp/heavy.scene" --profile a1024 --set aa=1 --fidelity cycle --vcd "$tmp/int.vcd" -q > "$tmp/int.out" 2>&1
 rc=$?
 [[ $rc -eq 130 ]] && grep -q 'interrupted at cycle' "$tmp/int.out" && ok || bad "SIGINT: exit $rc: $(cat "$tmp/int.out")"
 grep -q '^\$enddefinitions' "$tmp/int.vcd" && tail -n 1 "$tmp/int.vcd" | grep -q '^#[0-9]*$' && ok || bad "interrupted trace incomplete"
@@ -142,6 +142,11 @@ expect 0 "resuming from frame 2" "$bin" stream --sim --profile a256 --fault drop
 expect 1 "frame 0: the board's frame CRC .* first at pixel \(5, 7\) channel G" "$bin" stream --sim --profile a256 "$tmp/t.scene" --fault flip=0
 expect 3 "the board stopped answering" "$bin" stream --sim --profile a256 "$tmp/t.scene" --fault silence=1 --timeout 50
 expect 3 "device disconnected" "$bin" stream --sim --profile a256 "$tmp/t.scene" --fault disconnect=100
+# frames mode: the rendered frames as tiles; the simulated display ends on the last
+expect 0 "the simulated display shows frame 3: identical" "$bin" stream --sim --frames --profile a256
+expect 0 "1 resends" "$bin" stream --sim --frames --profile a256 --fault drop=3
+expect 0 '"display": "identical"' "$bin" stream --sim --frames --profile a256 --fault corrupt=5000 --json
+expect 3 "stopped answering" "$bin" stream --sim --frames --profile a256 --fault silence=1 --timeout 20
 expect 0 "albatros-sim: protocol 1, .* VP 256x256 8-bit colour" "$bin" board info --sim --profile a256
 expect 0 "board reset" "$bin" board reset --sim
 expect 0 "sim:0" "$bin" board list --sim

@@ -243,3 +243,80 @@ TEST(bridge_host_decoder_resyncs_after_garbage)
     CHECK(rx.garbage >= 14);
     link_rx_free(&rx);
 }
+
+/* Frames mode through the simulated board: the emulator's frames as tiles;
+ * afterwards the board's display holds the last frame, pixel for pixel in
+ * RGB888 (computed here: v * 255 / (2^cb - 1), round half up); each link
+ * fault costs a resend of the frame, never a wrong or missing tile. */
+TEST(bridge_frames_mode_displays_the_frames)
+{
+    fixture x;
+    if (make_fixture(&x, "a256")) {
+        CHECK_MSG(0, "fixture");
+        return;
+    }
+    const size_t npix = (size_t)256 * 256;
+    uint8_t *rgb = malloc(3 * npix * x.nf);
+    stream_tiles_frame tf[8];
+    for (unsigned i = 0; i < x.nf; i++) {
+        for (size_t k = 0; k < 3 * npix; k++) {
+            unsigned v = x.f[i].rgb[k];   /* 8-bit frame store: 255 * v / 255 */
+            rgb[3 * npix * i + k] = (uint8_t)((v * 510 + 255) / 510);
+        }
+        tf[i] = (stream_tiles_frame){x.f[i].number, 256, 256, rgb + 3 * npix * i};
+    }
+    uint8_t check[3];
+    link_rgb888(x.f[0].rgb, 1, 8, check);   /* the library's scaling agrees */
+    CHECK(check[0] == rgb[0] && check[1] == rgb[1] && check[2] == rgb[2]);
+    static const struct {
+        const char *what;
+        tr_faults f;
+        bool resend;
+    } cases[] = {
+        {"clean link", {0}, false},
+        {"dropped tile", {.drop_packet = 4}, true},
+        {"corrupted tile", {.corrupt_byte = 20000}, true},
+        {"dropped PING", {.drop_packet = 15}, true},   /* RESET, 13 tiles, PING */
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        char err[300];
+        transport_t *t = transport_sim_open("a256", err, sizeof err);
+        CHECK(t != NULL);
+        if (!t)
+            break;
+        sim_board *board = transport_sim_board(t);
+        transport_t *link = transport_faulty(t, &cases[c].f);
+        stream_opts o;
+        stream_opts_default(&o);
+        o.timeout_ms = 20;
+        stream_report r;
+        int rc = stream_tiles(link, tf, x.nf, &o, &r);
+        CHECK_MSG(rc == 0, "%s: rc %d: %s", cases[c].what, rc, r.first_problem);
+        CHECK_MSG(r.frames == x.nf, "%s: %u frames shown", cases[c].what, r.frames);
+        CHECK_MSG((r.resumes > 0) == cases[c].resend, "%s: %llu resends", cases[c].what,
+                  (unsigned long long)r.resumes);
+        uint32_t shown;
+        uint64_t tiles;
+        const uint8_t *d = sim_board_display(board, &shown, &tiles);
+        CHECK_MSG(shown == x.f[x.nf - 1].number && !memcmp(d, tf[x.nf - 1].rgb, 3 * npix),
+                  "%s: the display is not the last frame", cases[c].what);
+        CHECK(tiles >= (uint64_t)x.nf * (256 / ((PROTO_MAX_PAYLOAD - 12) / (3 * 256))));
+        link->ops->close(link);
+    }
+    /* a silent board: the frame is tried again, then a clean failure */
+    char err[300];
+    transport_t *t = transport_sim_open("a256", err, sizeof err);
+    tr_faults silent = {.silence_after = 1};
+    transport_t *link = t ? transport_faulty(t, &silent) : NULL;
+    if (link) {
+        stream_opts o;
+        stream_opts_default(&o);
+        o.timeout_ms = 5;
+        stream_report r;
+        CHECK_EQ(stream_tiles(link, tf, x.nf, &o, &r), -1);
+        CHECK_STR_CONTAINS(r.first_problem, "stopped answering");
+        link->ops->close(link);
+    }
+    free(rgb);
+    free_fixture(&x);
+}

@@ -150,3 +150,10 @@ uint32_t link_frame_crc(const uint16_t *rgb, size_t pixels)
     }
     return crc;
 }
+
+void link_rgb888(const uint16_t *rgb, size_t pixels, unsigned colour_bits, uint8_t *out)
+{
+    uint32_t top = (1u << colour_bits) - 1;
+    for (size_t i = 0; i < 3 * pixels; i++)
+        out[i] = (uint8_t)((2 * 255 * (uint32_t)rgb[i] + top) / (2 * top));
+}

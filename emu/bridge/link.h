@@ -42,4 +42,8 @@ int link_rx_next(link_rx *rx, link_packet *p);
  * pixel as 16-bit little-endian, row 0 first (docs/usb-protocol.md). */
 uint32_t link_frame_crc(const uint16_t *rgb, size_t pixels);
 
+/* Frames mode's pixels: frame store values of colour_bits each scaled to
+ * 8 bits, round half up (v * 255 / (2^cb - 1)); 3 bytes a pixel. */
+void link_rgb888(const uint16_t *rgb, size_t pixels, unsigned colour_bits, uint8_t *out);
+
 #endif

@@ -30,6 +30,9 @@ typedef struct {
     int rb_frame;
     size_t rb_got, rb_first_bad;
     char rb_what[160];
+    /* the last STATUS (frames mode confirms each frame with a PING) */
+    bool have_status;
+    uint32_t status[PROTO_STATUS_BYTES / 4];
 } streamer;
 
 void stream_opts_default(stream_opts *o)
@@ -206,13 +209,23 @@ static void on_pixels(streamer *s, const link_packet *p)
     s->rb_got += count;
 }
 
+static void on_status(streamer *s, const link_packet *p)
+{
+    if (p->len < PROTO_STATUS_BYTES)
+        return;
+    for (unsigned i = 0; i < PROTO_STATUS_BYTES / 4; i++)
+        s->status[i] = PROTO_GET32(p->payload + 4 * i);
+    s->have_status = true;
+}
+
 static void dispatch(streamer *s, const link_packet *p)
 {
     switch (p->type) {
     case PROTO_T_RESULT: on_result(s, p); break;
     case PROTO_T_ERROR: on_error(s, p); break;
     case PROTO_T_PIXELS: on_pixels(s, p); break;
-    default: break;   /* STATUS and anything newer */
+    case PROTO_T_STATUS: on_status(s, p); break;
+    default: break;   /* anything newer */
     }
 }
 
@@ -308,7 +321,8 @@ static double now(void)
 int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames, unsigned nframes,
                const stream_opts *o, stream_report *r)
 {
-    streamer s = {t, w, n, frames, nframes, o, r, {0}, 0, NULL, false, false, 0, -1, 0, 0, ""};
+    streamer s = {t, w, n, frames, nframes, o, r, {0}, 0, NULL, false, false, 0, -1, 0, 0, "",
+                  false, {0}};
     memset(r, 0, sizeof *r);
     link_rx_init(&s.rx);
     s.pkt = malloc(PROTO_HEADER + PROTO_MAX_PAYLOAD + PROTO_TRAILER);
@@ -423,4 +437,108 @@ int stream_frames(const uint32_t *w, size_t n, stream_frame **frames, unsigned *
     *frames = f;
     *nframes = nf;
     return 0;
+}
+
+/* ---- frames mode: finished frames as TILE packets for a display ---- */
+
+/* One frame's tiles: strips as tall as a payload holds (narrower than the
+ * frame only if one row does not fit). */
+static void send_tiles(streamer *s, const stream_tiles_frame *f, uint8_t *buf, size_t max)
+{
+    size_t per_row = (max - 12) / 3;
+    unsigned tw = f->width < per_row ? f->width : (unsigned)per_row;
+    unsigned th = (unsigned)((max - 12) / (3 * (size_t)tw));
+    th = th < 1 ? 1 : th > f->height ? f->height : th;
+    for (unsigned y = 0; y < f->height && !s->failed; y += th)
+        for (unsigned x = 0; x < f->width && !s->failed; x += tw) {
+            unsigned w = f->width - x < tw ? f->width - x : tw;
+            unsigned h = f->height - y < th ? f->height - y : th;
+            PROTO_PUT32(buf, f->number);
+            buf[4] = (uint8_t)x, buf[5] = (uint8_t)(x >> 8);
+            buf[6] = (uint8_t)y, buf[7] = (uint8_t)(y >> 8);
+            buf[8] = (uint8_t)w, buf[9] = (uint8_t)(w >> 8);
+            buf[10] = (uint8_t)h, buf[11] = (uint8_t)(h >> 8);
+            for (unsigned r = 0; r < h; r++)
+                memcpy(buf + 12 + (size_t)3 * w * r,
+                       f->rgb + 3 * ((size_t)(y + r) * f->width + x), (size_t)3 * w);
+            send_packet(s, PROTO_T_TILE, buf, (uint32_t)(12 + (size_t)3 * w * h));
+        }
+}
+
+int stream_tiles(transport_t *t, const stream_tiles_frame *frames, unsigned nframes,
+                 const stream_opts *o, stream_report *r)
+{
+    streamer s = {t, NULL, 0, NULL, 0, o, r, {0}, 0, NULL, false, false, 0, -1, 0, 0, "", false,
+                  {0}};
+    memset(r, 0, sizeof *r);
+    link_rx_init(&s.rx);
+    size_t max = t->max_payload < PROTO_MAX_PAYLOAD ? t->max_payload : PROTO_MAX_PAYLOAD;
+    s.pkt = malloc(PROTO_HEADER + PROTO_MAX_PAYLOAD + PROTO_TRAILER);
+    uint8_t *buf = malloc(max);
+    double t0 = now();
+    uint8_t mode[PROTO_HID_REPORT + 1] = {PROTO_HID_MODE, PROTO_MODE_TILES};
+    if (!s.pkt || !buf) {
+        problem(&s, "out of memory");
+        s.failed = true;
+    } else if (max < 12 + 3) {
+        problem(&s, "the board takes payloads of %zu bytes: too small for a tile", max);
+        s.failed = true;
+    } else if (t->ops->hid_set(t, mode, PROTO_HID_REPORT)) {
+        problem(&s, "the board refused frames mode (HID MODE 2: no display?): %s", t->error);
+        s.failed = true;
+    } else {
+        send_packet(&s, PROTO_T_RESET, NULL, 0);
+    }
+    /* each frame's tiles, then a PING: its STATUS confirms the frame unless
+     * an ERROR came first, in which case the frame's tiles go again */
+    for (unsigned i = 0; i < nframes && !s.failed; i++) {
+        unsigned tries = 0;
+        for (;;) {
+            s.need_resume = false;
+            s.have_status = false;
+            uint32_t errors = r->board_errors[PROTO_E_BAD_CRC] + r->board_errors[PROTO_E_SEQ_GAP];
+            send_tiles(&s, &frames[i], buf, max);
+            if (s.failed || send_packet(&s, PROTO_T_PING, NULL, 0))
+                break;
+            while (!s.have_status && !s.failed && pump(&s, o->timeout_ms))
+                ;
+            if (s.failed)
+                break;
+            /* no STATUS: the PING or its answer was lost, or the board is gone */
+            bool lost = !s.have_status || s.need_resume ||
+                        r->board_errors[PROTO_E_BAD_CRC] + r->board_errors[PROTO_E_SEQ_GAP] != errors;
+            if (!lost) {
+                r->frames++;
+                r->matched++;
+                break;
+            }
+            if (tries++ >= o->retries) {
+                if (s.have_status)
+                    problem(&s, "frame %u still losing tiles after %u resends", frames[i].number,
+                            o->retries);
+                else
+                    problem(&s, "the board stopped answering: no STATUS within %u ms after frame "
+                                "%u, %u times", o->timeout_ms, frames[i].number, tries);
+                s.failed = true;
+                break;
+            }
+            r->resumes++;
+            note(&s, "frame %u: %s, sending it again", frames[i].number,
+                 s.have_status ? "tiles lost on the link" : "no STATUS came back");
+        }
+        if (o->progress && o->log)
+            fprintf(o->log, "\r%u/%u frames shown, %.1f MB sent", r->frames, nframes,
+                    (double)r->bytes / 1e6);
+    }
+    if (o->progress && o->log)
+        fputc('\n', o->log);
+    r->rx_crc_errors = s.rx.crc_errors;
+    r->rx_garbage = s.rx.garbage;
+    r->rx_gaps = s.rx.seq_gaps;
+    r->rx_duplicates = s.rx.duplicates;
+    r->seconds = now() - t0;
+    link_rx_free(&s.rx);
+    free(s.pkt);
+    free(buf);
+    return s.failed ? -1 : 0;
 }

@@ -56,4 +56,20 @@ int stream_frames(const uint32_t *w, size_t n, stream_frame **frames, unsigned *
 int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames, unsigned nframes,
                const stream_opts *o, stream_report *r);
 
+/* Frames mode (docs/usb-protocol.md): finished frames, RGB888, row 0 at the
+ * top, sent as TILE packets to a board that displays them. */
+typedef struct {
+    uint32_t number;
+    unsigned width, height;
+    const uint8_t *rgb;
+} stream_tiles_frame;
+
+/* Switch the board to frames mode (HID MODE), RESET, then each frame's tiles
+ * and a PING whose STATUS confirms it; a frame whose tiles met a CRC error or
+ * a gap on the way goes again (up to o->retries).  0 if every frame was
+ * shown, -1 if the link failed (r says why).  r->frames counts the frames
+ * confirmed, r->resumes the resends. */
+int stream_tiles(transport_t *t, const stream_tiles_frame *frames, unsigned nframes,
+                 const stream_opts *o, stream_report *r);
+
 #endif

@@ -46,6 +46,10 @@ struct sim_board {
         size_t pixels;
     } kept[4];
     unsigned next_kept;
+    /* frames mode: the display, RGB888, and the last frame a tile belonged to */
+    uint8_t *display;
+    uint32_t display_frame;
+    uint64_t tiles;
 };
 
 static void hal_send(void *ctx, const uint8_t *data, uint16_t len)
@@ -209,18 +213,44 @@ static uint8_t hal_readback(void *ctx, uint32_t frame)
     return 0;
 }
 
+/* Frames mode: a tile onto the display, clipped to it. */
+static void hal_tile(void *ctx, uint32_t frame, uint16_t x, uint16_t y, uint16_t w, uint16_t h,
+                     const uint8_t *rgb)
+{
+    sim_board *b = ctx;
+    b->tiles++;
+    b->display_frame = frame;
+    for (unsigned r = 0; r < h && y + r < b->prof.height; r++)
+        if (x < b->prof.width)
+            memcpy(b->display + 3 * ((size_t)(y + r) * b->prof.width + x), rgb + (size_t)3 * w * r,
+                   (size_t)3 * (x + w <= b->prof.width ? w : b->prof.width - x));
+}
+
+const uint8_t *sim_board_display(const sim_board *b, uint32_t *frame, uint64_t *tiles)
+{
+    *frame = b->display_frame;
+    *tiles = b->tiles;
+    return b->display;
+}
+
 sim_board *sim_board_create(const profile_t *p, char *err, size_t errlen)
 {
     sim_board *b = calloc(1, sizeof *b);
-    if (b)
+    if (b) {
         b->rxbuf = malloc(PROTO_HEADER + SIM_MAX_PAYLOAD + PROTO_TRAILER);
-    if (!b || !b->rxbuf) {
+        b->display = calloc((size_t)3 * p->width * p->height, 1);
+    }
+    if (!b || !b->rxbuf || !b->display) {
         snprintf(err, errlen, "out of memory for the simulated board");
+        if (b) {
+            free(b->rxbuf);
+            free(b->display);
+        }
         free(b);
         return NULL;
     }
     b->prof = *p;
-    b->hal = (fw_hal){b, hal_words, hal_restart, hal_send, NULL, hal_readback};
+    b->hal = (fw_hal){b, hal_words, hal_restart, hal_send, hal_tile, hal_readback};
     fw_init(&b->core, &b->hal, b->rxbuf, SIM_MAX_PAYLOAD);
     b->core.width = (uint16_t)p->width;
     b->core.height = (uint16_t)p->height;
@@ -236,6 +266,7 @@ void sim_board_destroy(sim_board *b)
     if (!b)
         return;
     free(b->rxbuf);
+    free(b->display);
     free(b->tx);
     free(b->w);
     for (unsigned i = 0; i < 4; i++)

@@ -22,6 +22,10 @@ size_t sim_board_tx(sim_board *b, uint8_t *buf, size_t cap);
 int sim_board_hid_get(sim_board *b, uint8_t *buf, size_t len);
 int sim_board_hid_set(sim_board *b, const uint8_t *buf, size_t len);
 
+/* Frames mode: the display (RGB888, width x height of the profile, row 0 at
+ * the top), the frame number of the last tile and how many tiles came. */
+const uint8_t *sim_board_display(const sim_board *b, uint32_t *frame, uint64_t *tiles);
+
 /* A deliberately faulty VP: flip bit `bit` of channel `ch` of pixel (x, y)
  * in frame `frame`'s frame store before its CRC. */
 void sim_board_flip(sim_board *b, uint32_t frame, unsigned x, unsigned y, unsigned ch,
