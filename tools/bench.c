@@ -143,6 +143,19 @@ static void bench_units(const char *label, scene_t *s, const profile_t *p)
     ws_buf_free(&b);
 }
 
+/* The random scene of seed 7 with these parameters; -1 (said) on failure. */
+static int random_scene(const scenegen_params *gp, scene_t *s)
+{
+    diag_t d;
+    diag_init(&d, stderr);
+    char *text = scenegen_random(7, gp);
+    alb_err e = text ? scene_parse(text, strlen(text), "random", s, &d) : ALB_ERR_NOMEM;
+    free(text);
+    if (e)
+        diag_print(&d, stderr);
+    return e ? -1 : 0;
+}
+
 /* The functional renderer on every core against one (vp/parallel.c). */
 static void bench_threads(const char *label, scene_t *s, const profile_t *p)
 {
@@ -178,12 +191,8 @@ int main(void)
     scenegen_params gp = scenegen_defaults();
     gp.faces = 3000;
     gp.size = 0.05;
-    char *text = scenegen_random(7, &gp);
-    if (!text || scene_parse(text, strlen(text), "heavy", &s, &d)) {
-        diag_print(&d, stderr);
+    if (random_scene(&gp, &s))
         return 1;
-    }
-    free(text);
     bench_scene("random 3000 faces", &s, &p);
     printf("\n## Units a scene needs (functional, profile a1024)\n\n"
            "| scene | faces shaded / textured / fogged | ms/frame, its units | "
@@ -192,12 +201,8 @@ int main(void)
     bench_units("random 3000 faces", &s, &p);
     scene_free(&s);
     gp.flat = true;
-    text = scenegen_random(7, &gp);
-    if (!text || scene_parse(text, strlen(text), "flat", &s, &d)) {
-        diag_print(&d, stderr);
+    if (random_scene(&gp, &s))
         return 1;
-    }
-    free(text);
     bench_units("the same, flat", &s, &p);
     printf("\n## Threads (functional, profile a1024)\n\n"
            "| scene | threads | ms/frame, 1 thread | ms/frame, all | speed-up | pixels |\n"

@@ -318,6 +318,21 @@ static double now(void)
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
+/* The end of a run: the progress line closed, the host decoder's counts
+ * into the report, the time, the buffers freed. */
+static void finish(streamer *s, double t0)
+{
+    if (s->o->progress && s->o->log)
+        fputc('\n', s->o->log);
+    s->r->rx_crc_errors = s->rx.crc_errors;
+    s->r->rx_garbage = s->rx.garbage;
+    s->r->rx_gaps = s->rx.seq_gaps;
+    s->r->rx_duplicates = s->rx.duplicates;
+    s->r->seconds = now() - t0;
+    link_rx_free(&s->rx);
+    free(s->pkt);
+}
+
 int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames, unsigned nframes,
                const stream_opts *o, stream_report *r)
 {
@@ -385,15 +400,7 @@ int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames
         for (unsigned i = 0; i < nframes && !s.failed; i++)
             if (frames[i].have && frames[i].board_crc != frames[i].crc)
                 readback(&s, i);
-    if (o->progress && o->log)
-        fputc('\n', o->log);
-    r->rx_crc_errors = s.rx.crc_errors;
-    r->rx_garbage = s.rx.garbage;
-    r->rx_gaps = s.rx.seq_gaps;
-    r->rx_duplicates = s.rx.duplicates;
-    r->seconds = now() - t0;
-    link_rx_free(&s.rx);
-    free(s.pkt);
+    finish(&s, t0);
     if (s.failed)
         return -1;
     return r->matched == nframes ? 0 : 1;
@@ -530,15 +537,7 @@ int stream_tiles(transport_t *t, const stream_tiles_frame *frames, unsigned nfra
             fprintf(o->log, "\r%u/%u frames shown, %.1f MB sent", r->frames, nframes,
                     (double)r->bytes / 1e6);
     }
-    if (o->progress && o->log)
-        fputc('\n', o->log);
-    r->rx_crc_errors = s.rx.crc_errors;
-    r->rx_garbage = s.rx.garbage;
-    r->rx_gaps = s.rx.seq_gaps;
-    r->rx_duplicates = s.rx.duplicates;
-    r->seconds = now() - t0;
-    link_rx_free(&s.rx);
-    free(s.pkt);
+    finish(&s, t0);
     free(buf);
     return s.failed ? -1 : 0;
 }
