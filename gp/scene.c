@@ -339,9 +339,9 @@ static alb_err num(parser *p, unsigned i, double *out)
         return perr(p, t->col, "number '%s' is not finite or out of range", buf);
     if (!whole || !scene_decimal_syntax(buf, t->len))
         return err_tok(p, i, "a number");
-    if (!isfinite(v) || errno == ERANGE)
+    if (isinf(v))
         return perr(p, t->col, "number '%s' is not finite or out of range", buf);
-    *out = v;
+    *out = v;   /* an underflow to 0 or a denormal is a faithful rounding */
     return ALB_OK;
 }
 

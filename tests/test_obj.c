@@ -144,6 +144,7 @@ TEST(obj_errors_are_located)
                                      "byte-order mark"},
         {"v 0 0 0 \xef\xbb\xbf\n", 1, 9, "byte 0xef: expected ASCII text"},
         {"v 1 2 3.5e\n", 1, 7, "expected a number, found '3.5e'"},
+        {"v 1e999 0 0\n", 1, 3, "number '1e999' is out of range"},
         {"v 0 0 0\nv 1 0 0\nf 1 2\n", 3, 0, "3"},
         {"v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0.5\nv 1 2 0\nv 0 2 0\n"
          "f 1 2 3 4 5 6\n", 7, 0, "non-convex and non-planar"},
@@ -167,6 +168,23 @@ TEST(obj_errors_are_located)
                   cases[i].col, d.msg);
         CHECK_STR_CONTAINS(d.msg, cases[i].msg);
     }
+}
+
+/* an underflow is a rounding, as in a scene: 1e-400 reads as 0 */
+TEST(obj_underflow_reads_as_zero)
+{
+    const char *path = write_file("u.obj", "v 1e-400 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    scene_t s;
+    diag_t d;
+    diag_init(&d, NULL);
+    scene_camera cam = default_camera();
+    alb_err e = scene_load_obj(path, &cam, &s, &d);
+    CHECK_MSG(e == ALB_OK, "%s", d.msg);
+    if (e)
+        return;
+    CHECK_EQ(s.nobj, 1);
+    CHECK(s.obj[0].nv == 3 && s.obj[0].v[0].p.x == 0);
+    scene_free(&s);
 }
 
 TEST(obj_camera_orientation)

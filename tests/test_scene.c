@@ -121,6 +121,8 @@ TEST(scene_errors_name_line_column_and_expectation)
         {HDR "near 0.0000000000000000000000000000000000000000000000000000000000001\n" TRI, 0, 0,
          NULL},
         {HDR TRI "near 1\r", 0, 0, NULL},   /* cut after the CR of a CRLF */
+        /* an underflow is a rounding to 0 (or a denormal), as in an OBJ file */
+        {HDR "object t\n v 1e-400 0 5\n v 1 0 5\n v 0 1 5\n f 1 2 3\nend\n", 0, 0, NULL},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         scene_t s;
