@@ -1,24 +1,7 @@
 #!/usr/bin/env bash
 # cli.sh ALBATROS — the command line as a user meets it: help, errors with
 # their exit status and message, and the files each subcommand writes.
-set -u
-bin=${1:-build/albatros}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-pass=0 fail=0
-
-ok()  { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
-
-# expect STATUS PATTERN CMD...: exit status and a pattern in stdout+stderr
-expect() {
-    local want=$1 pat=$2; shift 2
-    local out rc
-    out=$("$@" 2>&1); rc=$?
-    if [[ $rc -ne $want ]]; then bad "$* -> exit $rc, expected $want: $out"; return; fi
-    if ! grep -qE -- "$pat" <<<"$out"; then bad "$* -> output lacks /$pat/: $out"; return; fi
-    ok
-}
+source "$(dirname "$0")/lib.sh"
 
 expect 0 'usage: albatros SUBCOMMAND' "$bin" --help
 expect 0 '^albatros [0-9]+\.[0-9]+\.[0-9]+$' "$bin" --version
@@ -191,5 +174,4 @@ for f in "$tmp"/det1/*; do
 done
 [[ $ndet -ge 14 ]] && ok || bad "determinism: only $ndet files compared"
 
-echo "$pass passed, $fail failed"
-[[ $fail -eq 0 ]]
+finish

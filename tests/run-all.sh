@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # run-all.sh BUILD [--memcheck] — every test runner of the project, then the
 # total.  Each runner ends with "N passed, N failed"; this sums them.
-# --memcheck (tests/memcheck.sh): the unit tests and every albatros process
+# --memcheck: the unit tests and every albatros process
 # of the CLI, vector and malformed-input runners under valgrind.
 set -u
 build=${1:-build}
@@ -36,6 +36,9 @@ run() {
 }
 run unit "${unit[@]}" "$build/tests/unit" --bindir "$build"
 run cli bash tests/cli.sh "$bin"
+for t in tests/cli-*.sh; do   # one per area: cli-stream.sh, cli-stability.sh, ...
+    [[ -e $t ]] && run "$(basename "$t" .sh)" bash "$t" "$bin"
+done
 run vectors "$bin" vectors check test-vectors
 run malformed bash tests/malformed.sh "$bin"
 if [[ ${#unit[@]} -eq 0 ]]; then   # not under memcheck: these fork or preload
