@@ -51,10 +51,11 @@ COST     := $(BUILD)/tools/cost
 BENCH    := $(BUILD)/tools/bench
 
 .PHONY: all test unit vectors bless asan memcheck bench demo setup deps clean help crosscheck sweep
-all: $(ALBATROS) $(UNIT) $(USB_DESC)
-
 # libFuzzer harnesses and their replay over the seeds and regressions
 include fuzz/fuzz.mk
+
+# the replay harnesses too, so a warning in them fails CI's -Werror build
+all: $(ALBATROS) $(UNIT) $(USB_DESC) $(REPLAYS)
 
 help:
 	@echo "make            build $(ALBATROS) and the tests"
@@ -68,6 +69,10 @@ help:
 	@echo "make bench      print speed and work figures (docs/performance.md)"
 	@echo "make crosscheck the golden vectors from gcc -O0 and clang -O3 builds"
 	@echo "make -j sweep   the stability and speed sweeps, report in docs/stability/"
+	@echo "make fuzz-TARGET [FUZZ_TIME=600]  fuzz one input path (clang + libFuzzer):"
+	@echo "                TARGET = $(FUZZ_TARGETS) (fuzz/README.md)"
+	@echo "make fuzz-replay  the fuzz harnesses over their seeds and regressions (in make test)"
+	@echo "make firmware   the FX2LP board firmware (sdcc); make firmware-size checks it fits"
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----

@@ -111,7 +111,7 @@ static void run_vp(const profile_t *p, const ws_buf *b)
                  p->divider_latency + p->shade_latency <= CYCLE_GP_MAX;
     unsigned sum = 0;
     for (int fid = FIDELITY_FUNCTIONAL; fid <= (cycle ? FIDELITY_CYCLE : FIDELITY_TIMED); fid++) {
-        sim_options opt = {(fidelity)fid, NULL, 0, UINT64_MAX};
+        sim_options opt = {.fid = (fidelity)fid, .vcd_to = UINT64_MAX, .threads = 1};
         diag_t d;
         diag_init(&d, NULL);
         sim_run(p, b->w, b->n, "<gp>", &opt, sink, &sum, &d);

@@ -100,7 +100,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
      * the clocked models (each with a VP of its own to set up) are for the
      * rest. */
     for (int fid = FIDELITY_TIMED; packets >= 1 && fid <= FIDELITY_CYCLE; fid++) {
-        sim_options opt = {(fidelity)fid, NULL, 0, UINT64_MAX};
+        sim_options opt = {.fid = (fidelity)fid, .vcd_to = UINT64_MAX, .threads = 1};
         diag_init(&d, NULL);
         sim_run(&prof, w, n, "fuzz.stream", &opt, sim_sink_fn, &sum, &d);
     }
