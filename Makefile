@@ -50,7 +50,6 @@ include firmware/fx2/fx2.mk
 COST     := $(BUILD)/tools/cost
 BENCH    := $(BUILD)/tools/bench
 
-.DEFAULT_GOAL := all
 .PHONY: all test unit vectors bless asan memcheck bench demo setup deps clean help crosscheck sweep
 # libFuzzer harnesses and their replay over the seeds and regressions
 include fuzz/fuzz.mk
