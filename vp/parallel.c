@@ -9,9 +9,11 @@
  * decision level.  Each thread counts into its own statistics, and a cell is
  * counted by the tile holding its top-left sample only, so the sums are the
  * single-threaded counts too (tests/test_vp.c checks all of it). */
+#define _GNU_SOURCE   /* sched_getaffinity: the cores this process may run on */
 #include "vp_internal.h"
 
 #include <pthread.h>
+#include <sched.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,7 +21,10 @@
 
 unsigned vp_cores(void)
 {
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    /* the cores taskset, numactl or a batch system left us, not all online */
+    cpu_set_t set;
+    long n = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set)
+                                                         : sysconf(_SC_NPROCESSORS_ONLN);
     return n < 1 ? 1 : n > VP_MAX_THREADS ? VP_MAX_THREADS : (unsigned)n;
 }
 
