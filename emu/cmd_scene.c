@@ -1,17 +1,20 @@
 /* cmd_scene.c — `albatros scene KIND`: write a generated scene (random
- * polygons, slivers) for experiments and measurements. */
+ * polygons, slivers, or one of the stress families of tools/stress.h at a
+ * severity) for experiments and measurements. */
 #include "cli.h"
 #include "commands.h"
 #include "../tools/scenegen.h"
+#include "../tools/stress.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 typedef struct {
     const char *output;
     unsigned long long seed, faces, per_angle;
-    bool help, flat;
-    double size;
+    bool help, flat, severity_given;
+    double size, severity;
 } scene_args;
 
 static int scene_opt(void *ctx, const char *name, const char *value)
@@ -26,6 +29,16 @@ static int scene_opt(void *ctx, const char *name, const char *value)
         return 0;
     }
     char *end;
+    if (strcmp(name, "severity") == 0) {
+        double v = strtod(value, &end);
+        if (end == value || *end || !isfinite(v)) {
+            fprintf(stderr, "albatros scene: --severity %s: expected a number\n", value);
+            return -1;
+        }
+        a->severity = v;
+        a->severity_given = true;
+        return 0;
+    }
     if (strcmp(name, "size") == 0) {
         double r = strtod(value, &end);
         if (end == value || *end || !(r > 0 && r <= 10)) {
@@ -50,27 +63,58 @@ static int scene_opt(void *ctx, const char *name, const char *value)
     return 0;
 }
 
+static bool is_stress_family(const char *name)
+{
+    for (const char *const *f = stress_families(); *f; f++)
+        if (strcmp(*f, name) == 0)
+            return true;
+    return false;
+}
+
+static void scene_usage(void)
+{
+    printf("usage: albatros scene random [--faces N] [--seed S] [--flat] [--size R] [-o FILE]\n"
+           "       albatros scene slivers [--per-angle K] [--seed S] [-o FILE]\n"
+           "       albatros scene FAMILY --severity X [--seed S] [-o FILE]\n\n"
+           "Write a generated scene (docs/scene-format.md) to FILE or stdout:\n"
+           "  random   N convex polygons, overlapping, some crossing Z = 0 or back-facing;\n"
+           "           intensity per vertex, or one colour per face with --flat;\n"
+           "           mean radius R times the distance (default 0.3)\n"
+           "  slivers  K triangles for each tip angle from 10 down to 0.01 degrees\n"
+           "  FAMILY   a stress scene of albatros stability (docs/methods.md, \"Stress\n"
+           "           families\"; the severity is clamped to the family's range):\n"
+           "          ");
+    for (const char *const *f = stress_families(); *f; f++)
+        printf(" %s", *f);
+    printf("\n");
+}
+
 int cmd_scene(int argc, char **argv)
 {
     static const char *const spec[] = {"output=", "seed=", "faces=", "per-angle=", "flat", "size=",
-                                       "help", NULL};
-    scene_args a = {NULL, 1, 12, 6, false, false, 0};
+                                       "severity=", "help", NULL};
+    scene_args a = {NULL, 1, 12, 6, false, false, false, 0, 0};
     const char *pos[1];
     int npos;
     if (cli_parse("scene", argc, argv, spec, scene_opt, &a, NULL, pos, 1, &npos))
         return 2;
-    if (a.help || npos != 1 || (strcmp(pos[0], "random") && strcmp(pos[0], "slivers"))) {
-        printf("usage: albatros scene random [--faces N] [--seed S] [--flat] [--size R] [-o FILE]\n"
-               "       albatros scene slivers [--per-angle K] [--seed S] [-o FILE]\n\n"
-               "Write a generated scene (docs/scene-format.md) to FILE or stdout:\n"
-               "  random   N convex polygons, overlapping, some crossing Z = 0 or back-facing;\n"
-               "           intensity per vertex, or one colour per face with --flat;\n"
-               "           mean radius R times the distance (default 0.3)\n"
-               "  slivers  K triangles for each tip angle from 10 down to 0.01 degrees\n");
+    bool stress = npos == 1 && is_stress_family(pos[0]);
+    if (a.help || npos != 1 || (strcmp(pos[0], "random") && strcmp(pos[0], "slivers") && !stress)) {
+        if (!a.help && npos == 1)
+            fprintf(stderr, "albatros scene: unknown kind '%s'\n", pos[0]);
+        scene_usage();
         return a.help ? 0 : 2;
     }
+    if (stress != a.severity_given) {
+        fprintf(stderr, stress ? "albatros scene: %s: give --severity X (docs/methods.md)\n"
+                               : "albatros scene: %s: --severity is for the stress families\n",
+                pos[0]);
+        return 2;
+    }
     char *text;
-    if (pos[0][0] == 'r') {
+    if (stress) {
+        text = stress_scene(pos[0], a.severity, a.seed);
+    } else if (pos[0][0] == 'r') {
         scenegen_params p = scenegen_defaults();
         p.faces = (unsigned)a.faces;
         p.flat = a.flat;

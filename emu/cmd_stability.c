@@ -1,9 +1,14 @@
 /* cmd_stability.c — `albatros stability`: the classic methods and the
  * Albatros configurations over the stress families, and speed against
  * accuracy; as independent jobs (one per family, one for speed) for make -j,
- * GNU parallel or a Slurm array, and a report step (docs/stability.md). */
+ * GNU parallel or a Slurm array, and a report step (docs/stability.md).
+ * `albatros method`: one classic method on one scene, to frames that
+ * `albatros compare` reads (docs/methods.md). */
 #include "cli.h"
 #include "commands.h"
+#include "exr.h"
+#include "preview.h"
+#include "../tools/methods.h"
 #include "../tools/sweep.h"
 
 #include <errno.h>
@@ -11,13 +16,45 @@
 #include <string.h>
 #include <sys/stat.h>
 
+/* Options that change a job's result, kept in their order so that --jobs
+ * prints them on every job line (the same profile in every job). */
+#define STAB_MAX_PASS 32
+
 typedef struct {
     const char *families[16];
     unsigned nfam;
-    bool speed, report, jobs, help, all;
+    bool speed, report, jobs, help, quiet, profile_given;
     const char *out;
     unsigned seeds;
+    run_opts *o;
+    const char *pass_name[STAB_MAX_PASS], *pass_value[STAB_MAX_PASS];
+    unsigned npass;
 } stab_args;
+
+/* --profile, --set, --size: applied as every subcommand applies them, and
+ * remembered for the job lines. */
+static int stab_profile_opt(stab_args *a, const char *name, const char *value)
+{
+    char err[400];
+    if (run_opts_apply(a->o, name, value, err, sizeof err) < 0) {
+        fprintf(stderr, "albatros stability: %s\n", err);
+        return -1;
+    }
+    if (a->npass == STAB_MAX_PASS) {
+        fprintf(stderr, "albatros stability: at most %d --profile, --set and --size options\n",
+                STAB_MAX_PASS);
+        return -1;
+    }
+    /* name is the parser's buffer: keep a string of our own */
+    static const char *const kept[] = {"profile", "set", "size"};
+    unsigned k = 0;
+    while (k < 2 && strcmp(kept[k], name))
+        k++;
+    a->profile_given |= k == 0;
+    a->pass_name[a->npass] = kept[k];
+    a->pass_value[a->npass++] = value;
+    return 0;
+}
 
 static int stab_opt(void *ctx, const char *name, const char *value)
 {
@@ -42,6 +79,8 @@ static int stab_opt(void *ctx, const char *name, const char *value)
             return -1;
         }
         a->seeds = (unsigned)v;
+    } else if (!strcmp(name, "profile") || !strcmp(name, "set") || !strcmp(name, "size")) {
+        return stab_profile_opt(a, name, value);
     } else if (!strcmp(name, "out")) {
         a->out = value;
     } else if (!strcmp(name, "speed")) {
@@ -50,10 +89,59 @@ static int stab_opt(void *ctx, const char *name, const char *value)
         a->report = true;
     } else if (!strcmp(name, "jobs")) {
         a->jobs = true;
+    } else if (!strcmp(name, "quiet") || !strcmp(name, "q")) {
+        a->quiet = true;
     } else if (!strcmp(name, "help")) {
         a->help = true;
     }
     return 0;
+}
+
+/* One word of a job line: bare if the shell would read it unchanged, else
+ * in single quotes. */
+static void print_word(const char *w)
+{
+    if (*w && strspn(w, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789"
+                        "_-+=.,:/@%") == strlen(w)) {
+        fputs(w, stdout);
+        return;
+    }
+    putchar('\'');
+    for (; *w; w++)
+        if (*w == '\'')
+            fputs("'\\''", stdout);
+        else
+            putchar(*w);
+    putchar('\'');
+}
+
+/* "albatros stability" and every option that changes a result: the profile
+ * (a256 unless given), the --set and --size options in their order, and -q. */
+static void print_job_head(const stab_args *a)
+{
+    fputs("albatros stability", stdout);
+    if (!a->profile_given)
+        fputs(" --profile a256", stdout);
+    for (unsigned i = 0; i < a->npass; i++) {
+        printf(" --%s ", a->pass_name[i]);
+        print_word(a->pass_value[i]);
+    }
+    if (a->quiet)
+        fputs(" -q", stdout);
+}
+
+static void print_jobs(const stab_args *a)
+{
+    for (unsigned i = 0; sweep_family(i); i++) {
+        print_job_head(a);
+        printf(" --seeds %u --out ", a->seeds);
+        print_word(a->out);
+        printf(" --family %s\n", sweep_family(i));
+    }
+    print_job_head(a);
+    fputs(" --out ", stdout);
+    print_word(a->out);
+    fputs(" --speed\n", stdout);
 }
 
 static FILE *open_csv(const char *dir, const char *name, char *path, size_t len)
@@ -65,75 +153,246 @@ static FILE *open_csv(const char *dir, const char *name, char *path, size_t len)
     return f;
 }
 
+static int run_families(stab_args *a, const sweep_progress *progress)
+{
+    char path[600];
+    for (unsigned i = 0; i < a->nfam; i++) {
+        char name[64];
+        snprintf(name, sizeof name, "stability-%s", a->families[i]);
+        FILE *f = open_csv(a->out, name, path, sizeof path);
+        if (!f)
+            return 1;
+        int rc = sweep_family_run(a->families[i], &a->o->prof, a->seeds, f, progress);
+        if (fclose(f) || rc) {
+            fprintf(stderr, "albatros stability: %s failed\n", path);
+            return 1;
+        }
+    }
+    return 0;
+}
+
 int cmd_stability(int argc, char **argv)
 {
     static const char *const spec[] = {"family=", "speed", "report", "jobs", "out=", "seeds=",
-                                       "help", NULL};
-    stab_args a = {.out = "stability-out", .seeds = 2};
+                                       "profile=", "set=", "size=", "quiet", "q", "help", NULL};
     run_opts o;
     run_opts_init(&o);
     profile_lookup("a256", &o.prof);
+    stab_args a = {.out = "stability-out", .seeds = 2, .o = &o};
     const char *pos[1];
     int npos;
     if (cli_parse("stability", argc, argv, spec, stab_opt, &a, &o, pos, 0, &npos))
         return 2;
     if (a.help) {
         printf("usage: albatros stability [--family F]... [--speed] [--report] [--out DIR]\n"
-               "                          [--seeds N] [--jobs] [--profile P --set K=V]\n\n"
+               "                          [--seeds N] [--jobs] [-q] [--profile P --set K=V]\n\n"
                "Every classic method and Albatros configuration on the stress families,\n"
                "against the exact reference (docs/stability.md).  Without --family,\n"
                "--speed or --report: every job, then the report.  Jobs write\n"
                "DIR/stability-FAMILY.csv and DIR/speed.csv; --report writes\n"
-               "DIR/stability.{csv,md,png} and DIR/speed.{md,png} (gnuplot).\n"
-               "--jobs prints one command per job, for make -j, GNU parallel or a Slurm array.\n"
-               "Profile a256 unless --profile says otherwise.\n");
+               "DIR/stability.{csv,md,png}, and DIR/speed.{md,png} if DIR has a speed.csv\n"
+               "(gnuplot).  --jobs prints one command per job, with every option that\n"
+               "changes a result, for make -j, GNU parallel or a Slurm array.  Progress goes\n"
+               "to stderr: one line redrawn on a terminal, one line per severity in a log;\n"
+               "-q: none.  Profile a256 unless --profile says otherwise.\n");
         return 0;
     }
     if (cli_check_profile(&o.prof))
         return 2;
     bool everything = !a.nfam && !a.speed && !a.report;
     if (a.jobs) {
-        for (unsigned i = 0; sweep_family(i); i++)
-            printf("albatros stability --profile %s --seeds %u --out %s --family %s\n",
-                   o.prof.name, a.seeds, a.out, sweep_family(i));
-        printf("albatros stability --profile %s --out %s --speed\n", o.prof.name, a.out);
+        print_jobs(&a);
         return 0;
     }
     if (mkdir(a.out, 0777) && errno != EEXIST) {
         fprintf(stderr, "albatros stability: cannot create %s: %s\n", a.out, strerror(errno));
         return 1;
     }
-    FILE *progress = cli_isatty_stderr() ? stderr : NULL;
-    char path[600];
-    unsigned nfam = a.nfam;
+    sweep_progress progress = {a.quiet ? NULL : stderr, cli_isatty_stderr()};
     if (everything)
-        for (nfam = 0; sweep_family(nfam) && nfam < 16; nfam++)
-            a.families[nfam] = sweep_family(nfam);
-    for (unsigned i = 0; i < nfam; i++) {
-        char name[64];
-        snprintf(name, sizeof name, "stability-%s", a.families[i]);
-        FILE *f = open_csv(a.out, name, path, sizeof path);
-        if (!f)
-            return 1;
-        int rc = sweep_family_run(a.families[i], &o.prof, a.seeds, f, progress);
-        if (fclose(f) || rc) {
-            fprintf(stderr, "albatros stability: %s failed\n", path);
-            return 1;
-        }
-    }
+        for (a.nfam = 0; sweep_family(a.nfam) && a.nfam < 16; a.nfam++)
+            a.families[a.nfam] = sweep_family(a.nfam);
+    if (run_families(&a, &progress))
+        return 1;
     if (a.speed || everything) {
+        char path[600];
         FILE *f = open_csv(a.out, "speed", path, sizeof path);
         if (!f)
             return 1;
-        int rc = sweep_speed_run(&o.prof, f, progress);
+        int rc = sweep_speed_run(&o.prof, f, &progress);
         if (fclose(f) || rc)
             return 1;
     }
     if (a.report || everything) {
-        if (sweep_report(a.out))
+        bool with_speed;
+        if (sweep_report(a.out, &with_speed))
             return 1;
-        printf("wrote %s/stability.md, %s/stability.png, %s/speed.md, %s/speed.png\n", a.out,
-               a.out, a.out, a.out);
+        if (!a.quiet)
+            printf("wrote %s/stability.csv, %s/stability.md, %s/stability.png", a.out, a.out,
+                   a.out);
+        if (!a.quiet && with_speed)
+            printf(", %s/speed.md, %s/speed.png", a.out, a.out);
+        if (!a.quiet)
+            putchar('\n');
     }
     return 0;
+}
+
+/* ---- albatros method ---- */
+
+#define METHOD_MAX_VIEWS 8
+
+typedef struct {
+    const char *output, *png;
+    struct {
+        preview_view view;
+        const char *path;
+    } views[METHOD_MAX_VIEWS];
+    unsigned nviews;
+    bool help, list, quiet;
+} method_args;
+
+static int method_opt(void *ctx, const char *name, const char *value)
+{
+    method_args *a = ctx;
+    if (!strcmp(name, "output")) {
+        a->output = value;
+    } else if (!strcmp(name, "png")) {
+        a->png = value;
+    } else if (!strcmp(name, "view")) {
+        const char *colon = strchr(value, ':');
+        char vname[32];
+        if (colon && (size_t)(colon - value) < sizeof vname)
+            snprintf(vname, sizeof vname, "%.*s", (int)(colon - value), value);
+        if (!colon || (size_t)(colon - value) >= sizeof vname || a->nviews == METHOD_MAX_VIEWS ||
+            preview_view_parse(vname, &a->views[a->nviews].view)) {
+            fprintf(stderr, "albatros method: --view %s: expected NAME:FILE.png, NAME one of "
+                            "colour, depth, face, level, coverage (at most %d)\n", value,
+                    METHOD_MAX_VIEWS);
+            return -1;
+        }
+        a->views[a->nviews++].path = colon + 1;
+    } else if (!strcmp(name, "list")) {
+        a->list = true;
+    } else if (!strcmp(name, "quiet") || !strcmp(name, "q")) {
+        a->quiet = true;
+    } else if (!strcmp(name, "help")) {
+        a->help = true;
+    }
+    return 0;
+}
+
+static void method_usage(FILE *f)
+{
+    unsigned n;
+    const method *all = methods_all(&n);
+    fprintf(f, "usage: albatros method NAME [SCENE] [-o FRAME.exr] [--png FRAME.png]\n"
+               "                       [--view NAME:FILE.png] [-q] [options]\n"
+               "       albatros method --list\n\n"
+               "Render SCENE (the built-in scene if omitted) by one classic hidden-surface\n"
+               "method (docs/methods.md), into the VP's frame format: the EXR has the same\n"
+               "channels as render's, for albatros compare against albatros render or\n"
+               "albatros reference.  Pixel centres, no anti-aliasing (aa=0 profiles only).\n"
+               "With several frames, outputs are numbered as render numbers them.\n\n"
+               "Methods:\n");
+    for (unsigned i = 0; i < n; i++)
+        fprintf(f, "  %-17s %s\n", all[i].name, all[i].summary);
+    fputc('\n', f);
+}
+
+/* "dir/frame.exr" for one frame; "dir/frame.0003.exr" when there are more
+ * (as albatros render names them). */
+static void method_numbered(char *out, size_t len, const char *path, unsigned number,
+                            unsigned nframes)
+{
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    if (nframes <= 1) {
+        snprintf(out, len, "%s", path);
+        return;
+    }
+    if (!dot || (slash && dot < slash))
+        dot = path + strlen(path);
+    snprintf(out, len, "%.*s.%04u%s", (int)(dot - path), path, number, dot);
+}
+
+static int method_write(const method_args *a, const frame_t *f, unsigned nframes)
+{
+    char path[1024];
+    diag_t d;
+    diag_init(&d, NULL);
+    if (a->output) {
+        method_numbered(path, sizeof path, a->output, f->number, nframes);
+        if (exr_write_frame(path, f, &d))
+            goto fail;
+    }
+    if (a->png) {
+        method_numbered(path, sizeof path, a->png, f->number, nframes);
+        if (preview_write(path, f, PREVIEW_COLOUR, &d))
+            goto fail;
+    }
+    for (unsigned i = 0; i < a->nviews; i++) {
+        method_numbered(path, sizeof path, a->views[i].path, f->number, nframes);
+        if (preview_write(path, f, a->views[i].view, &d))
+            goto fail;
+    }
+    return 0;
+fail:
+    diag_print(&d, stderr);
+    return -1;
+}
+
+int cmd_method(int argc, char **argv)
+{
+    static const char *const spec[] = {"output=", "png=", "view=", "list", "quiet", "q", "help",
+                                       NULL};
+    method_args a = {0};
+    run_opts o;
+    run_opts_init(&o);
+    const char *pos[2];
+    int npos;
+    if (cli_parse("method", argc, argv, spec, method_opt, &a, &o, pos, 2, &npos))
+        return 2;
+    if (a.help || a.list) {
+        method_usage(stdout);
+        if (a.help)
+            printf("%s", run_opts_help);
+        return 0;
+    }
+    const method *m = npos ? method_find(pos[0]) : NULL;
+    if (!m) {
+        if (npos)
+            fprintf(stderr, "albatros method: unknown method '%s'\n\n", pos[0]);
+        method_usage(stderr);
+        return 2;
+    }
+    if (!a.output && !a.png && !a.nviews) {
+        fprintf(stderr, "albatros method: nothing to write: give -o FRAME.exr, --png FILE or "
+                        "--view NAME:FILE\n");
+        return 2;
+    }
+    if (cli_check_profile(&o.prof))
+        return 2;
+    if (o.prof.aa_levels) {
+        fprintf(stderr, "albatros method: the classic methods sample pixel centres only: use a "
+                        "profile with aa=0 (--set aa=0)\n");
+        return 2;
+    }
+    scene_t scene;
+    if (cli_load_scene(npos == 2 ? pos[1] : NULL, &o, &scene))
+        return 1;
+    int rc = 0;
+    for (unsigned f = 0; f < scene.nframes && !rc; f++) {
+        frame_t fr;
+        if (m->render(&scene, &o.prof, f, &fr)) {
+            fprintf(stderr, "albatros method: %s: out of memory\n", m->name);
+            rc = 1;
+            break;
+        }
+        rc = method_write(&a, &fr, scene.nframes) ? 1 : 0;
+        if (!rc && !a.quiet)
+            fprintf(stderr, "%s frame %u\n", m->name, f);
+        frame_free(&fr);
+    }
+    scene_free(&scene);
+    return rc;
 }

@@ -20,6 +20,7 @@ int cmd_scene(int argc, char **argv);
 int cmd_stream(int argc, char **argv);
 int cmd_board(int argc, char **argv);
 int cmd_stability(int argc, char **argv);
+int cmd_method(int argc, char **argv);
 
 
 

@@ -145,7 +145,7 @@ expect 2 "expected corrupt" "$bin" stream --sim --fault bogus=1
 expect 0 "albatros stability .* --family sliver" "$bin" stability --jobs --out "$tmp/st"
 expect 0 "" "$bin" stability --family cyclic --seeds 1 --out "$tmp/st"
 [[ $(head -1 "$tmp/st/stability-cyclic.csv") == family,step,severity,config,face_diff_pct,psnr_db,ms_per_frame,failed ]] \
-    && [[ $(wc -l < "$tmp/st/stability-cyclic.csv") -eq 57 ]] && ok || bad "stability CSV: $(head -3 "$tmp/st/stability-cyclic.csv")"
+    && [[ $(wc -l < "$tmp/st/stability-cyclic.csv") -eq 69 ]] && ok || bad "stability CSV: $(head -3 "$tmp/st/stability-cyclic.csv")"
 expect 0 "wrote .*stability.png" "$bin" stability --report --out "$tmp/st"
 grep -q '^### cyclic' "$tmp/st/stability.md" && grep -q '| painter | severity' "$tmp/st/stability.md" && ok || bad "stability.md"
 [[ $(head -c 8 "$tmp/st/stability.png" | od -An -tx1 | tr -d ' ') == 89504e470d0a1a0a ]] && ok || bad "stability.png is not a PNG"

@@ -34,7 +34,10 @@ unsigned sweep_family_count(void) { return NFAMILIES; }
 const char *sweep_family(unsigned i) { return i < NFAMILIES ? families[i].family : NULL; }
 const double *sweep_severities(unsigned i) { return i < NFAMILIES ? families[i].severity : NULL; }
 
-/* An Albatros configuration: the VP with profile changes. */
+/* An Albatros configuration: the VP with profile changes.  Two narrower
+ * edge formats, two narrower depth stores and two anti-aliasing levels, so
+ * that each chart shows where a width starts to matter, not only that it
+ * does (docs/stability.md). */
 static const struct {
     const char *name;
     const char *sets;        /* profile_set assignments, space separated */
@@ -44,8 +47,11 @@ static const struct {
     {"vp-bound-none", "bound=none", 0},
     {"vp-bound-box", "bound=box", 0},
     {"vp-bound-bisector", "bound=bisector", 0},
+    {"vp-edge-2", "", -2},
     {"vp-edge-4", "", -4},
+    {"vp-depth20", "depth_bits=20", 0},
     {"vp-depth16", "depth_bits=16", 0},
+    {"vp-aa1", "aa=1", 0},
     {"vp-aa2", "aa=2", 0},
 };
 #define NVP (sizeof vp_configs / sizeof vp_configs[0])
@@ -169,8 +175,9 @@ static void write_point(FILE *out, const char *family, unsigned step, double sev
 #define CSV_HEADER "family,step,severity,config,face_diff_pct,psnr_db,ms_per_frame,failed\n"
 
 int sweep_family_run(const char *family, const profile_t *p, unsigned seeds, FILE *out,
-                     FILE *progress)
+                     const sweep_progress *progress)
 {
+    double t0 = now_ms();
     unsigned f = 0;
     while (f < NFAMILIES && strcmp(families[f].family, family))
         f++;
@@ -196,21 +203,55 @@ int sweep_family_run(const char *family, const profile_t *p, unsigned seeds, FIL
                 free(text);
             }
             write_point(out, family, j + 1, sev, config_name(k), &pt);
-            if (progress)
-                fprintf(progress, "\r%s: severity %u/%u, configuration %u/%u   ", family, j + 1,
-                        SWEEP_SEVERITIES, k + 1, nc);
+            if (progress->f && progress->live)
+                fprintf(progress->f, "\r%s: severity %u/%u, configuration %u/%u   ", family,
+                        j + 1, SWEEP_SEVERITIES, k + 1, nc);
         }
+        if (progress->f && !progress->live)
+            fprintf(progress->f, "stability %s: severity %u/%u (%g) done, %.1f s\n", family, j + 1,
+                    SWEEP_SEVERITIES, sev, (now_ms() - t0) / 1e3);
+        fflush(out);
     }
-    if (progress)
-        fputc('\n', progress);
+    if (progress->f && progress->live)
+        fputc('\n', progress->f);
     return ferror(out) ? -1 : 0;
 }
 
 /* ---- speed against accuracy ---- */
 
-int sweep_speed_run(const profile_t *p, FILE *out, FILE *progress)
+/* The exact reference as one more point of the chart: its error is 0 by
+ * definition, its time the best of `reps` renders. */
+static void time_reference(const scene_t *s, const profile_t *p, unsigned reps, point *pt)
 {
-    /* the scenes: 8 random ones and every family at its second severity */
+    double ms = INFINITY;
+    for (unsigned r = 0; r < reps; r++) {
+        frame_t ref;
+        double t0 = now_ms();
+        if (ref_render(s, p, 0, &ref)) {
+            pt->failed++;
+            return;
+        }
+        ms = fmin(ms, now_ms() - t0);
+        frame_free(&ref);
+    }
+    pt->ms += ms;
+    pt->runs++;
+}
+
+static void speed_progress(const sweep_progress *progress, unsigned k, unsigned nc,
+                           const char *name, const char *fid)
+{
+    if (progress->f && progress->live)
+        fprintf(progress->f, "\rspeed: configuration %u/%u   ", k + 1, nc);
+    else if (progress->f)
+        fprintf(progress->f, "speed: configuration %u/%u (%s%s%s) done\n", k + 1, nc, name,
+                *fid ? " " : "", fid);
+}
+
+int sweep_speed_run(const profile_t *p, FILE *out, const sweep_progress *progress)
+{
+    /* the scenes: 8 random ones and every family at its second severity
+     * (docs/stability.md) */
     enum { NRANDOM = 8 };
     char *texts[NRANDOM + NFAMILIES];
     unsigned nt = 0;
@@ -243,12 +284,27 @@ int sweep_speed_run(const profile_t *p, FILE *out, FILE *progress)
                     k < nm ? "-" : fidelity_name(fid), pt.runs,
                     pt.runs ? pt.face_pct / pt.runs : 0.0, pt.runs ? pt.ms / pt.runs : 0.0,
                     pt.failed);
-            if (progress)
-                fprintf(progress, "\rspeed: configuration %u/%u   ", k + 1, nc);
+            speed_progress(progress, k, nc + 1, config_name(k),
+                           k < nm ? "" : fidelity_name(fid));
         }
     }
-    if (progress)
-        fputc('\n', progress);
+    point pt = {0, 0, 0, 0, 0};   /* last, the exact reference itself */
+    for (unsigned i = 0; i < nt; i++) {
+        scene_t s;
+        diag_t d;
+        diag_init(&d, NULL);
+        if (texts[i] && !scene_parse(texts[i], strlen(texts[i]), "speed", &s, &d)) {
+            time_reference(&s, p, 3, &pt);
+            scene_free(&s);
+        } else {
+            pt.failed++;
+        }
+    }
+    fprintf(out, "reference,-,%u,0.0000,%.3f,%u\n", pt.runs, pt.runs ? pt.ms / pt.runs : 0.0,
+            pt.failed);
+    speed_progress(progress, nc, nc + 1, "reference", "");
+    if (progress->f && progress->live)
+        fputc('\n', progress->f);
     for (unsigned i = 0; i < nt; i++)
         free(texts[i]);
     return ferror(out) ? -1 : 0;
@@ -258,7 +314,7 @@ int sweep_speed_run(const profile_t *p, FILE *out, FILE *progress)
 
 typedef struct {
     char family[32], config[40];
-    unsigned step;
+    unsigned step, failed;   /* failed: seeds that could not render (write_point) */
     double severity, face, psnr, ms;
     bool have;
 } row;
@@ -297,6 +353,7 @@ static int read_rows(const char *path, row **rows, size_t *n)
             continue;
         x->have = k == 7;
         x->face = atof(face), x->psnr = atof(psnr), x->ms = atof(ms);
+        x->failed = (unsigned)strtoul(strrchr(line, ',') + 1, NULL, 10);
         (*n)++;
     }
     fclose(f);
@@ -437,13 +494,15 @@ static int stability_chart(const char *dir, const row *r, size_t n)
     return run_gnuplot(path);
 }
 
+/* speed.md and speed.png from speed.csv; 1 if written, 0 if the directory
+ * has no speed sweep, -1 on error. */
 static int speed_report(const char *dir)
 {
     char path[600];
     snprintf(path, sizeof path, "%s/speed.csv", dir);
     FILE *f = fopen(path, "r");
     if (!f)
-        return 0;   /* no speed sweep in this directory */
+        return 0;   /* no speed sweep in this directory: nothing written */
     struct sp {
         char config[40], fid[16];
         double face, ms;
@@ -508,11 +567,12 @@ static int speed_report(const char *dir)
                "\\\n     '' using ($3 == 1 ? $1 : NaN):2 smooth unique with linespoints lw 2 pt 6 "
                "ps 2 title 'Pareto front'\n", dir, dir);
     fclose(g);
-    return run_gnuplot(path);
+    return run_gnuplot(path) ? -1 : 1;
 }
 
-int sweep_report(const char *dir)
+int sweep_report(const char *dir, bool *with_speed)
 {
+    *with_speed = false;
     row *rows = NULL;
     size_t n = 0;
     char path[600], all[600];
@@ -533,10 +593,11 @@ int sweep_report(const char *dir)
         for (size_t i = before; i < n; i++) {
             const row *x = &rows[i];
             if (x->have)
-                fprintf(merged, "%s,%u,%g,%s,%.4f,%.2f,%.3f,0\n", x->family, x->step, x->severity,
-                        x->config, x->face, x->psnr, x->ms);
+                fprintf(merged, "%s,%u,%g,%s,%.4f,%.2f,%.3f,%u\n", x->family, x->step,
+                        x->severity, x->config, x->face, x->psnr, x->ms, x->failed);
             else
-                fprintf(merged, "%s,%u,%g,%s,,,,1\n", x->family, x->step, x->severity, x->config);
+                fprintf(merged, "%s,%u,%g,%s,,,,%u\n", x->family, x->step, x->severity, x->config,
+                        x->failed);
         }
     }
     fclose(merged);
@@ -566,5 +627,7 @@ int sweep_report(const char *dir)
                         "apt-get install gnuplot-nox)\n");
         return -1;
     }
-    return speed_report(dir);
+    int speed = speed_report(dir);
+    *with_speed = speed == 1;
+    return speed < 0 ? -1 : 0;
 }

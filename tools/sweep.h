@@ -18,17 +18,27 @@ unsigned sweep_family_count(void);
 const char *sweep_family(unsigned i);
 const double *sweep_severities(unsigned i);
 
-/* One family: every configuration at every severity, seeds 1..seeds;
- * CSV rows to out (with a header).  progress (may be NULL) on a terminal. */
-int sweep_family_run(const char *family, const profile_t *p, unsigned seeds, FILE *out,
-                     FILE *progress);
-/* Speed against accuracy: every configuration and the VP's three
- * fidelities on a fixed set of scenes; CSV rows to out. */
-int sweep_speed_run(const profile_t *p, FILE *out, FILE *progress);
+/* Where a job reports its progress: nowhere (f NULL); on a terminal (live:
+ * one line redrawn per configuration); or in a log, as under make -j, GNU
+ * parallel or Slurm (one line per severity, or per speed configuration). */
+typedef struct {
+    FILE *f;
+    bool live;
+} sweep_progress;
 
-/* Read the CSVs of dir and write stability.md, stability.png, speed.md and
- * speed.png there (charts by gnuplot, which must be installed).  Returns 0,
- * or -1 with a message on stderr. */
-int sweep_report(const char *dir);
+/* One family: every configuration at every severity, seeds 1..seeds;
+ * CSV rows to out (with a header); the last column counts the seeds that
+ * failed to render. */
+int sweep_family_run(const char *family, const profile_t *p, unsigned seeds, FILE *out,
+                     const sweep_progress *progress);
+/* Speed against accuracy: every configuration, the VP's three fidelities
+ * and the exact reference itself on a fixed set of scenes; CSV rows to out. */
+int sweep_speed_run(const profile_t *p, FILE *out, const sweep_progress *progress);
+
+/* Read the CSVs of dir and write stability.csv, stability.md and
+ * stability.png there, and speed.md and speed.png if dir has a speed.csv
+ * (*with_speed tells whether it had; charts by gnuplot, which must be
+ * installed).  Returns 0, or -1 with a message on stderr. */
+int sweep_report(const char *dir, bool *with_speed);
 
 #endif
