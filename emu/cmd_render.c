@@ -28,6 +28,7 @@ typedef struct {
     fidelity fid;
     unsigned threads;         /* 0: one per core */
     const char *vcd;
+    bool vcd_window;          /* --vcd-window given */
     uint64_t vcd_from, vcd_to;
     profile_t prof;
     /* run state */
@@ -85,6 +86,7 @@ static int render_opt(void *ctx, const char *name, const char *value)
                     a->cmd, value);
             return -1;
         }
+        a->vcd_window = true;
         a->vcd_from = from;
         a->vcd_to = to;
     } else if (strcmp(name, "json") == 0)
@@ -139,6 +141,13 @@ static uint64_t total_cells(const vp_stats *st)
     for (unsigned l = 0; l < VP_MAX_LEVELS; l++)
         n += st->cells[l];
     return n;
+}
+
+/* "1 4 16 52": cells visited at levels 0 .. levels (as cells_per_level). */
+static void cells_per_level_text(FILE *f, const vp_stats *st, unsigned levels)
+{
+    for (unsigned l = 0; l <= levels && l < VP_MAX_LEVELS; l++)
+        fprintf(f, "%s%llu", l ? " " : "", (unsigned long long)st->cells[l]);
 }
 
 typedef struct {
@@ -202,11 +211,12 @@ static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st, const 
     } else if (!a->quiet) {
         /* the units the frame ran: the fill loops skip the others (docs/vp.md §8) */
         fprintf(stderr, "%sframe %u: %llu faces (%llu shaded, %llu textured, %llu fogged), "
-                        "%llu cells visited, %llu samples written\n",
+                        "%llu cells visited (by level: ",
                 a->progress ? "\r" : "", f->number, (unsigned long long)st->faces,
                 (unsigned long long)st->faces_shaded, (unsigned long long)st->faces_textured,
-                (unsigned long long)st->faces_fogged, (unsigned long long)total_cells(st),
-                (unsigned long long)st->samples_written);
+                (unsigned long long)st->faces_fogged, (unsigned long long)total_cells(st));
+        cells_per_level_text(stderr, st, s->levels);
+        fprintf(stderr, "), %llu samples written\n", (unsigned long long)st->samples_written);
         if (sc)
             sim_counters_text(stderr, sc, &a->prof);
     }
@@ -236,7 +246,7 @@ static int run_vp(render_args *a, const profile_t *prof, const uint32_t *w, size
 {
     diag_t d;
     diag_init(&d, stderr);
-    sim_options opt = {a->fid, NULL, a->vcd_from, a->vcd_to ? a->vcd_to : UINT64_MAX,
+    sim_options opt = {a->fid, NULL, a->vcd_from, a->vcd_window ? a->vcd_to : UINT64_MAX,
                        a->threads ? a->threads : vp_cores()};
     a->prof = *prof;
     if (a->vcd) {
@@ -280,15 +290,17 @@ static const char render_help[] =
     "  -o, --output FILE   OpenEXR frame: R G B, Z, face.id, vp.level, vp.depth, ...\n"
     "                      (docs/vp.md, \"Frames\")\n"
     "  --png FILE          PNG preview of the colour\n"
-    "  --view NAME:FILE    PNG of one view: colour, depth, face, level, coverage\n"
+    "  --view NAME:FILE    PNG of one view: colour, depth, face, level, coverage,\n"
+    "                      cycles (timed or cycle fidelity)\n"
     "  --stream FILE       also write the GP's word stream\n"
     "  --fidelity F        functional (default: pixels only), timed or cycle (cycle\n"
     "                      counts, unit counters, vp.cycles; docs/microarchitecture.md)\n"
     "  --threads N         threads of the functional renderer (default 0: one per\n"
     "                      core); the frames are bit-identical for every N\n"
     "  --vcd FILE          VCD waveform of the cycle model (with --fidelity cycle)\n"
-    "  --vcd-window A:B    trace only cycles A to B\n"
-    "  --json              per-frame VP statistics as JSON on stdout\n"
+    "  --vcd-window A:B    trace only cycles A to B (with --vcd)\n"
+    "  --json              per-frame VP statistics (and counters) as JSON on stdout\n"
+    "                      (docs/microarchitecture.md, \"JSON output\")\n"
     "  -q, --quiet         no summary\n\n";
 
 static const char vp_help[] =
@@ -301,6 +313,12 @@ static const char vp_help[] =
 
 static int check_outputs(render_args *a)
 {
+    /* a window of no trace would be silently ignored */
+    if (a->vcd_window && !a->vcd) {
+        fprintf(stderr, "albatros %s: --vcd-window limits a trace: add --vcd FILE (and "
+                        "--fidelity cycle)\n", a->cmd);
+        return 2;
+    }
     if (!a->output && !a->png && !a->nviews && !a->json && !a->stream && !a->vcd) {
         fprintf(stderr, "albatros %s: nothing to write: give -o FRAME.exr, --png FILE, --view "
                         "NAME:FILE or --json\n", a->cmd);

@@ -96,8 +96,21 @@ typedef struct {                 /* fill unit (and the queue before it) */
     queued_cell *q;
     unsigned head, count;
     uint64_t left;               /* cycles left on the current cell */
+    uint32_t samples, next;      /* the current cell's samples; the next, raster order */
+    uint32_t issue_at, issued;   /* this cycle: first sample issued, how many */
     int64_t last_write;          /* cycle the last issued sample is written */
 } fill_unit;
+
+/* The depth/shade pipeline as the trace shows it, kept only when tracing
+ * (the pixels themselves come from vp_fill when the fill unit takes a cell):
+ * which samples of the cell in fill win the depth test, and for each of the
+ * L stages the samples in it and how many of them won. */
+typedef struct {
+    uint32_t *won;               /* per sample of the cell in fill: 1 if written */
+    size_t cap;
+    uint16_t (*stage)[2];        /* by cycle mod L: samples issued, of which won */
+    unsigned out, written;       /* the last stage this cycle */
+} pipe_trace;
 
 typedef struct {
     const profile_t *p;
@@ -108,6 +121,8 @@ typedef struct {
     parser_unit parser;
     engine_unit engine;
     fill_unit fill;
+    pipe_trace pipe;
+    bool tracing;
     slot *slots;
     uint64_t faces_loaded, faces_started;   /* FIFO order of slots */
     /* frames: frame_open (= frames retired) is the one whose faces may run;
@@ -321,6 +336,31 @@ static void engine_tick(machine *m, int64_t t, uint64_t queue_start)
 
 /* ---- the fill unit and pipeline ---- */
 
+/* vp_fill, noting which of the cell's samples it wrote: a sample is written
+ * only if strictly nearer (docs/vp.md §4), so exactly those whose depth changed. */
+static void fill_traced(machine *m, const queued_cell *qc)
+{
+    pipe_trace *pt = &m->pipe;
+    const vp_cell *k = &qc->cell;
+    const uint32_t cw = 1u << k->wl, n = vp_cell_samples(k);
+    if (n > pt->cap) {
+        uint32_t *nw = realloc(pt->won, (size_t)n * sizeof *nw);
+        if (!nw) {
+            m->err = diag_at(m->d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the trace");
+            return;
+        }
+        pt->won = nw;
+        pt->cap = n;
+    }
+    const uint32_t *depth = m->vp->s_depth;
+    const size_t sw = m->vp->sw;
+    for (uint32_t i = 0; i < n; i++)
+        pt->won[i] = depth[(size_t)(k->r0 + i / cw) * sw + k->c0 + i % cw];
+    vp_fill(m->vp, &qc->fs, k);
+    for (uint32_t i = 0; i < n; i++)
+        pt->won[i] = depth[(size_t)(k->r0 + i / cw) * sw + k->c0 + i % cw] != pt->won[i];
+}
+
 static void fill_tick(machine *m, int64_t t, uint64_t queue_start)
 {
     fill_unit *f = &m->fill;
@@ -331,11 +371,20 @@ static void fill_tick(machine *m, int64_t t, uint64_t queue_start)
         f->head = (f->head + 1) % m->p->fill_queue;
         f->count--;
         f->left = fill_cycles(vp_cell_samples(&qc->cell), m->p->fill_rate);
+        f->samples = vp_cell_samples(&qc->cell);
+        f->next = 0;
         cycle_map_charge(&m->map, m->vp, &qc->cell, f->left);
-        vp_fill(m->vp, &qc->fs, &qc->cell);
+        if (m->tracing)
+            fill_traced(m, qc);
+        else
+            vp_fill(m->vp, &qc->fs, &qc->cell);
     }
     bins_add(&m->bins, CNT(fill_busy), t, t + 1);
     f->left--;
+    /* fill_rate samples a cycle; the cell's last cycle issues the rest */
+    f->issue_at = f->next;
+    f->issued = f->samples - f->next < m->p->fill_rate ? f->samples - f->next : m->p->fill_rate;
+    f->next += f->issued;
     f->last_write = t + (int64_t)m->latency - 1;
 }
 
@@ -370,7 +419,7 @@ static void retire_check(machine *m, int64_t t)
 enum { SIG_CLK, SIG_FIFO_LEVEL, SIG_FIFO_PUSH, SIG_FIFO_POP, SIG_FIFO_FULL, SIG_FIFO_EMPTY,
        SIG_GP_STATE, SIG_PARSER_STATE, SIG_SLOTS, SIG_ENGINE_STATE, SIG_FACE, SIG_LEVEL,
        SIG_CELL_X, SIG_CELL_Y, SIG_RESULT, SIG_ACTIVE, SIG_FILL_BUSY, SIG_QUEUE, SIG_FRAME,
-       SIG_COUNT };
+       SIG_FILL_ISSUED, SIG_PIPE_SAMPLES, SIG_PIPE_WRITE, SIG_PIPE_WRITTEN, SIG_COUNT };
 
 static void trace_declare(vcd_t *v)
 {
@@ -403,8 +452,33 @@ static void trace_declare(vcd_t *v)
     vcd_scope(v, "fill");
     vcd_var(v, SIG_FILL_BUSY, "busy", 1);
     vcd_var(v, SIG_QUEUE, "queue", 11);
+    vcd_var(v, SIG_FILL_ISSUED, "issued", 9);
+    vcd_upscope(v);
+    vcd_scope(v, "pipe");
+    vcd_var(v, SIG_PIPE_SAMPLES, "samples", 9);
+    vcd_var(v, SIG_PIPE_WRITE, "write", 1);
+    vcd_var(v, SIG_PIPE_WRITTEN, "written", 9);
     vcd_upscope(v);
     vcd_upscope(v);
+}
+
+/* The pipeline's stages this cycle (every cycle while tracing, in or out of
+ * the window): the samples issued now enter the first stage; the last stage
+ * holds those issued L - 1 cycles ago, written at the end of this cycle. */
+static void pipe_record(machine *m, int64_t t)
+{
+    pipe_trace *pt = &m->pipe;
+    const fill_unit *f = &m->fill;
+    unsigned won = 0;
+    if (!m->err)   /* else fill_traced may have had no memory for the cell */
+        for (uint32_t i = f->issue_at; i < f->issue_at + f->issued; i++)
+            won += pt->won[i];
+    uint16_t *first = pt->stage[t % m->latency];
+    first[0] = (uint16_t)f->issued;
+    first[1] = (uint16_t)won;
+    const uint16_t *last = pt->stage[(t + 1) % m->latency];
+    pt->out = last[0];
+    pt->written = last[1];
 }
 
 static void trace_cycle(machine *m, vcd_t *v, int64_t t)
@@ -432,8 +506,13 @@ static void trace_cycle(machine *m, vcd_t *v, int64_t t)
     } else {
         vcd_set(v, SIG_RESULT, 0);
     }
-    vcd_set(v, SIG_FILL_BUSY, m->fill.left > 0);
+    /* not fill.left, which is 0 after a cell's last cycle */
+    vcd_set(v, SIG_FILL_BUSY, m->fill.issued > 0);
     vcd_set(v, SIG_QUEUE, m->fill.count);
+    vcd_set(v, SIG_FILL_ISSUED, m->fill.issued);
+    vcd_set(v, SIG_PIPE_SAMPLES, m->pipe.out);
+    vcd_set(v, SIG_PIPE_WRITE, m->pipe.written > 0);
+    vcd_set(v, SIG_PIPE_WRITTEN, m->pipe.written);
     vcd_time(v, (uint64_t)t, 1);
     vcd_set(v, SIG_CLK, 0);
 }
@@ -461,6 +540,7 @@ static void tick(machine *m, int64_t t)
 {
     uint64_t fifo_start = m->fifo.count, queue_start = m->fill.count;
     m->fifo.push = m->fifo.pop = false;
+    m->fill.issued = 0;
     bins_at(&m->bins, t)->fifo_sum += fifo_start;
     parser_tick(m, t, fifo_start);
     gp_tick(m, t, fifo_start);
@@ -474,7 +554,7 @@ static void tick(machine *m, int64_t t)
     retire_check(m, t);
 }
 
-static alb_err machine_init(machine *m, const profile_t *p, diag_t *d)
+static alb_err machine_init(machine *m, const profile_t *p, bool tracing, diag_t *d)
 {
     memset(m, 0, sizeof *m);
     m->p = p;
@@ -487,8 +567,11 @@ static alb_err machine_init(machine *m, const profile_t *p, diag_t *d)
         return e;
     m->slots = calloc(p->face_slots, sizeof *m->slots);
     m->fill.q = calloc(p->fill_queue, sizeof *m->fill.q);
-    if (!m->slots || !m->fill.q || bins_init(&m->bins) || cycle_map_init(&m->map, m->vp) ||
-        vp_frame_alloc(m->vp, &m->frame, true))
+    m->tracing = tracing;
+    if (tracing)
+        m->pipe.stage = calloc(m->latency, sizeof *m->pipe.stage);
+    if (!m->slots || !m->fill.q || (tracing && !m->pipe.stage) || bins_init(&m->bins) ||
+        cycle_map_init(&m->map, m->vp) || vp_frame_alloc(m->vp, &m->frame, true))
         return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the cycle model");
     for (unsigned i = 0; i < p->face_slots; i++)
         m->slots[i].loaded_at = -1;
@@ -500,6 +583,8 @@ static void machine_free(machine *m)
     vp_destroy(m->vp);
     free(m->slots);
     free(m->fill.q);
+    free(m->pipe.won);
+    free(m->pipe.stage);
     free(m->ps.ev);
     free(m->ps.frame);
     bins_free(&m->bins);
@@ -517,7 +602,7 @@ alb_err sim_run_cycle(const profile_t *p, const uint32_t *w, size_t n, const cha
     catch_signal(SIGINT, on_interrupt, &old_int);
     catch_signal(SIGTERM, on_interrupt, &old_term);
     machine m;
-    alb_err e = machine_init(&m, p, d);
+    alb_err e = machine_init(&m, p, opt->vcd != NULL, d);
     if (!e)
         e = decode_all(w, n, name, p->frame_faces, &m.ps, d);
     m.sink = sink;
@@ -530,8 +615,11 @@ alb_err sim_run_cycle(const profile_t *p, const uint32_t *w, size_t n, const cha
     int64_t t = 0;
     while (!e && !m.err) {
         tick(&m, t);
-        if (v && (uint64_t)t >= opt->vcd_from && (uint64_t)t <= opt->vcd_to)
-            trace_cycle(&m, v, t);
+        if (v) {
+            pipe_record(&m, t);
+            if ((uint64_t)t >= opt->vcd_from && (uint64_t)t <= opt->vcd_to)
+                trace_cycle(&m, v, t);
+        }
         t++;
         if (m.ended && drained(&m, t))
             break;

@@ -315,30 +315,53 @@ TEST(timing_cycle_equals_timed_on_builtin_scene)
     free(copy);
 }
 
-/* Adding a face at the end of a frame never shortens the frame: every time
- * in the model is a maximum of earlier times plus durations (monotone). */
+/* Monotonicity (docs/microarchitecture.md, "Monotonicity"): adding a face
+ * at the end of a frame never shortens that frame, nor delays any earlier
+ * event, so the last frame never retires earlier either — in every
+ * configuration, here the odd ones of the fidelity test.  Each scene has two
+ * frames, so the face added to frame 0 is inserted mid-stream; frame 1's own
+ * cycle count may fall (it overlaps frame 0's drain) and is not checked. */
 TEST(timing_more_faces_never_fewer_cycles)
 {
+    static const char *const sets[] = {
+        "",
+        "fifo_depth=3 face_slots=1 fill_queue=1",
+        "edge_units=1 fill_rate=1 divider_latency=0 shade_latency=0",
+        "fifo_depth=64 face_slots=4 fill_queue=8 fill_rate=16 gp_face_cycles=200",
+        "aa=1 fill_rate=3 edge_units=3 gp_edge_cycles=40",
+    };
     scenegen_params gp = scenegen_defaults();
-    profile_t p;
-    profile_lookup("t32", &p);
+    char err[256];
     for (uint64_t seed = 1; seed <= 40; seed++) {
-        uint64_t prev = 0;
+        profile_t p;
+        profile_lookup("t32", &p);
+        char buf[256];
+        snprintf(buf, sizeof buf, "%s", sets[seed % 5]);
+        for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
+            profile_set(&p, tok, err, sizeof err);
+        uint64_t prev = 0, prev_end = 0;
         for (unsigned n = 1; n <= 12; n++) {
             gp.faces = n;
-            /* the same first n-1 polygons, one more at the end */
-            char *text = scenegen_random(seed, &gp);
+            /* the same first n-1 polygons, one more at the end; two frames */
+            char *text = scenegen_random(seed, &gp), *more = NULL;
+            if (text && (more = realloc(text, strlen(text) + 16)) != NULL)
+                strcat(text = more, "\nframe\nframe\n");
             ws_buf b;
             run_log l;
-            if (!text || stream_of(text, &p, &b) || run(&p, &b, FIDELITY_TIMED, &l, NULL)) {
+            if (!more || stream_of(text, &p, &b) || run(&p, &b, FIDELITY_TIMED, &l, NULL)) {
                 CHECK_MSG(0, "seed %llu n %u", (unsigned long long)seed, n);
                 free(text);
                 return;
             }
+            CHECK_EQ(l.n, 2);
             CHECK_MSG(l.c[0].cycles >= prev, "seed %llu: %u faces %llu cycles < %llu",
                       (unsigned long long)seed, n, (unsigned long long)l.c[0].cycles,
                       (unsigned long long)prev);
+            CHECK_MSG(l.c[1].retire >= prev_end, "seed %llu: %u faces end in %llu < %llu",
+                      (unsigned long long)seed, n, (unsigned long long)l.c[1].retire,
+                      (unsigned long long)prev_end);
             prev = l.c[0].cycles;
+            prev_end = l.c[1].retire;
             log_free(&l);
             ws_buf_free(&b);
             free(text);
@@ -350,55 +373,89 @@ TEST(timing_more_faces_never_fewer_cycles)
 
 typedef struct {
     char id[8];
-    char name[64];
+    char name[96];            /* scope.signal, e.g. "fifo.push" */
     unsigned width;
+    uint64_t value;
+    long long since;          /* time of its last change */
+    uint64_t sum;             /* value summed over the cycles seen */
+    uint64_t high;            /* cycles with a non-zero value */
+    long long first, last;    /* first and last cycle with a non-zero value, -1 none */
 } vcd_var_decl;
 
-/* Check the trace's structure; return the number of cycles with fifo.push
- * high, or -1 (with a failed check) if it is malformed. */
-static long vcd_parse(const char *path, long long period_ps)
+typedef struct {
+    vcd_var_decl vars[64];
+    unsigned nvars;
+} vcd_summary;
+
+/* A signal's value held from its last change to time `now`, in cycles. */
+static void vcd_hold(vcd_var_decl *v, long long now, long long period_ps)
 {
+    long long cycles = (now - v->since) / period_ps;
+    if (v->value && cycles > 0) {
+        v->sum += v->value * (uint64_t)cycles;
+        v->high += (uint64_t)cycles;
+        if (v->first < 0)
+            v->first = v->since / period_ps;
+        v->last = v->since / period_ps + cycles - 1;
+    }
+    v->since = now;
+}
+
+static const vcd_var_decl *vcd_signal(const vcd_summary *s, const char *name)
+{
+    for (unsigned i = 0; i < s->nvars; i++)
+        if (!strcmp(s->vars[i].name, name))
+            return &s->vars[i];
+    CHECK_MSG(0, "the trace has no signal %s", name);
+    return NULL;
+}
+
+/* Check the trace's structure and sum every signal over its cycles (a
+ * value is held from its change at a rising edge to the next change or the
+ * final timestamp); -1 (with a failed check) if it is malformed. */
+static int vcd_parse(const char *path, long long period_ps, vcd_summary *s)
+{
+    memset(s, 0, sizeof *s);
     FILE *f = fopen(path, "r");
     if (!f) {
         CHECK_MSG(0, "no trace %s", path);
         return -1;
     }
-    static vcd_var_decl vars[64];
-    unsigned nvars = 0, depth = 0;
+    char scopes[8][32];
+    unsigned depth = 0;
     char tok[256];
     bool timescale = false, enddef = false;
     /* header */
-    while (fscanf(f, "%255s", tok) == 1 && !enddef) {
+    while (!enddef && fscanf(f, "%255s", tok) == 1) {
         if (!strcmp(tok, "$timescale")) {
             CHECK(fscanf(f, "%255s", tok) == 1 && !strcmp(tok, "1ps"));
             timescale = true;
         } else if (!strcmp(tok, "$scope")) {
             CHECK(fscanf(f, "%255s", tok) == 1 && !strcmp(tok, "module"));
-            CHECK(fscanf(f, "%255s", tok) == 1);
-            depth++;
+            CHECK(fscanf(f, "%255s", tok) == 1 && depth < 8);
+            if (depth < 8)
+                snprintf(scopes[depth++], sizeof scopes[0], "%.31s", tok);
         } else if (!strcmp(tok, "$upscope")) {
             CHECK(depth > 0);
-            depth--;
-        } else if (!strcmp(tok, "$var")) {
-            vcd_var_decl *v = &vars[nvars++];
-            CHECK(fscanf(f, "%255s %u %7s %63s", tok, &v->width, v->id, v->name) == 4);
+            depth -= depth > 0;
+        } else if (!strcmp(tok, "$var") && s->nvars < 64) {
+            vcd_var_decl *v = &s->vars[s->nvars++];
+            char name[64];
+            CHECK(fscanf(f, "%255s %u %7s %63s", tok, &v->width, v->id, name) == 4);
             CHECK(!strcmp(tok, "wire") && v->width >= 1 && v->width <= 64);
+            /* below the top scope "albatros": unit.signal */
+            snprintf(v->name, sizeof v->name, "%.31s%s%.63s", depth > 1 ? scopes[depth - 1] : "",
+                     depth > 1 ? "." : "", name);
+            v->first = v->last = -1;
         } else if (!strcmp(tok, "$enddefinitions")) {
             enddef = true;
         } else if (!strcmp(tok, "$date")) {
             CHECK_MSG(0, "a $date makes traces differ between runs");
         }
-        if (!strcmp(tok, "$end") || tok[0] != '$')
-            continue;
     }
-    CHECK(timescale && enddef && depth == 0 && nvars > 10);
+    CHECK(timescale && enddef && depth == 0 && s->nvars > 10);
     /* body: timestamps increasing, changes of declared variables */
-    long long now = -1, push_since = -1;
-    long pushes = 0;
-    int push_id = -1;
-    for (unsigned i = 0; i < nvars; i++)
-        if (!strcmp(vars[i].name, "push"))
-            push_id = (int)i;
+    long long now = -1;
     bool ok = true;
     while (ok && fscanf(f, "%255s", tok) == 1) {
         if (tok[0] == '#') {
@@ -420,21 +477,39 @@ static long vcd_parse(const char *path, long long period_ps)
             snprintf(id, sizeof id, "%.7s", tok + 1);
         }
         int found = -1;
-        for (unsigned i = 0; i < nvars; i++)
-            if (!strcmp(vars[i].id, id))
+        for (unsigned i = 0; i < s->nvars; i++)
+            if (!strcmp(s->vars[i].id, id))
                 found = (int)i;
-        ok = ok && found >= 0 && strlen(val) <= vars[found].width && strspn(val, "01") == strlen(val);
-        /* push is high for whole cycles: count them from its edges */
-        if (ok && found == push_id && val[0] == '1')
-            push_since = now;
-        if (ok && found == push_id && val[0] == '0' && push_since >= 0) {
-            pushes += (long)((now - push_since) / period_ps);
-            push_since = -1;
+        ok = ok && found >= 0 && strlen(val) <= s->vars[found].width &&
+             strspn(val, "01") == strlen(val);
+        if (ok) {
+            vcd_var_decl *v = &s->vars[found];
+            vcd_hold(v, now, period_ps);
+            v->value = strtoull(val, NULL, 2);
         }
     }
     fclose(f);
     CHECK_MSG(ok, "malformed trace near time %lld token '%s'", now, tok);
-    return ok ? pushes : -1;
+    for (unsigned i = 0; ok && i < s->nvars; i++)
+        vcd_hold(&s->vars[i], now, period_ps);
+    return ok ? 0 : -1;
+}
+
+/* A whole run traced: its frames in l, its trace summed in s. */
+static int run_traced(const profile_t *p, const ws_buf *b, const char *path, run_log *l,
+                      vcd_summary *s)
+{
+    diag_t d;
+    diag_init(&d, NULL);
+    vcd_t *v = vcd_open(path, &d);
+    CHECK(v != NULL);
+    if (!v)
+        return -1;
+    alb_err e = run(p, b, FIDELITY_CYCLE, l, v);
+    CHECK(e == ALB_OK);
+    CHECK(vcd_close(v) == 0);
+    /* every profile here runs at 10 MHz: 100000 ps a cycle */
+    return e || vcd_parse(path, 1000000000ll / p->clock_khz, s) ? -1 : 0;
 }
 
 TEST(timing_vcd_trace_is_valid)
@@ -448,22 +523,30 @@ TEST(timing_vcd_trace_is_valid)
     one_frame(&b, &p, f, 2);
     char path[600];
     snprintf(path, sizeof path, "%s/t.vcd", t_tmpdir());
-    diag_t d;
-    diag_init(&d, NULL);
-    vcd_t *v = vcd_open(path, &d);
-    CHECK(v != NULL);
     run_log l;
-    CHECK(run(&p, &b, FIDELITY_CYCLE, &l, v) == ALB_OK);
-    CHECK(vcd_close(v) == 0);
+    vcd_summary s;
+    if (run_traced(&p, &b, path, &l, &s) == 0) {
+        /* fifo.push was high in exactly as many cycles as the stream has
+         * words (24) */
+        const vcd_var_decl *push = vcd_signal(&s, "fifo.push");
+        CHECK_EQ(push ? push->high : 0, 24);
+        /* the second face ties with the first everywhere and loses: both
+         * faces' samples pass the pipeline, only the first's are written */
+        const vcd_var_decl *out = vcd_signal(&s, "pipe.samples"),
+                           *wr = vcd_signal(&s, "pipe.written");
+        CHECK_EQ(l.n, 1);
+        CHECK_EQ(l.s[0].samples_written, 1024);
+        CHECK_EQ(out ? out->sum : 0, l.s[0].samples_covered);
+        CHECK_EQ(out ? out->sum : 0, 2048);
+        CHECK_EQ(wr ? wr->sum : 0, l.s[0].samples_written);
+    }
     log_free(&l);
-    /* t32 runs at 10 MHz: 100000 ps a cycle; fifo.push was high in exactly
-     * as many cycles as the stream has words (24) */
-    long pushes = vcd_parse(path, 100000);
-    CHECK_EQ(pushes, 24);
     /* a second run gives the same bytes */
     char path2[600];
     snprintf(path2, sizeof path2, "%s/t2.vcd", t_tmpdir());
-    v = vcd_open(path2, &d);
+    diag_t d;
+    diag_init(&d, NULL);
+    vcd_t *v = vcd_open(path2, &d);
     CHECK(run(&p, &b, FIDELITY_CYCLE, &l, v) == ALB_OK);
     CHECK(vcd_close(v) == 0);
     log_free(&l);
@@ -471,6 +554,104 @@ TEST(timing_vcd_trace_is_valid)
     snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", path, path2);
     CHECK(system(cmd) == 0);
     ws_buf_free(&b);
+}
+
+TEST(timing_vcd_pixel_writes_of_the_worked_example)
+{
+    /* docs/microarchitecture.md, "Worked example": samples issued 4 a cycle
+     * in cycles 27-282 and written L - 1 = 12 cycles later, 39-294 */
+    profile_t p = t32_fast_gp();
+    ws_face f = whole_screen(0);
+    ws_buf b;
+    one_frame(&b, &p, &f, 1);
+    char path[600];
+    snprintf(path, sizeof path, "%s/w.vcd", t_tmpdir());
+    run_log l;
+    vcd_summary s;
+    if (run_traced(&p, &b, path, &l, &s) == 0) {
+        const vcd_var_decl *issued = vcd_signal(&s, "fill.issued"),
+                           *busy = vcd_signal(&s, "fill.busy"),
+                           *strobe = vcd_signal(&s, "pipe.write"),
+                           *wr = vcd_signal(&s, "pipe.written");
+        if (issued && busy && strobe && wr) {
+            CHECK_EQ(issued->sum, 1024);
+            CHECK_EQ(busy->first, 27);
+            CHECK_EQ(busy->last, 282);
+            CHECK_EQ(strobe->high, 256);
+            CHECK_EQ(strobe->first, 39);
+            CHECK_EQ(strobe->last, 294);
+            CHECK_EQ(wr->sum, l.s[0].samples_written);
+            CHECK_EQ(wr->sum, 1024);
+            CHECK_EQ(l.c[0].retire, 294);
+        }
+    }
+    log_free(&l);
+    ws_buf_free(&b);
+}
+
+/* Over whole traces of random scenes (several frames, odd fill rates and
+ * latencies, stalls): the samples written by the pipeline's last stage sum
+ * to the frames' samples_written, and the samples through it to
+ * samples_covered; with one sample a clock, write strobes count the writes. */
+TEST(timing_vcd_pixel_writes_match_the_counters)
+{
+    static const char *const sets[] = {
+        "",
+        "fill_rate=1 divider_latency=0 shade_latency=0",
+        "fill_rate=3 fill_queue=1 face_slots=1 fifo_depth=3",
+        "aa=1 fill_rate=16 divider_latency=30",
+    };
+    scenegen_params gp = scenegen_defaults();
+    char err[256];
+    for (uint64_t seed = 1; seed <= 8; seed++) {
+        profile_t p;
+        profile_lookup("t32", &p);
+        char buf[256];
+        snprintf(buf, sizeof buf, "%s", sets[seed % 4]);
+        for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
+            profile_set(&p, tok, err, sizeof err);
+        gp.faces = 5 + (unsigned)(seed % 11);
+        /* 1 to 3 frames of the same faces (each `frame` copies the last) */
+        unsigned frames = 1 + (unsigned)(seed % 3);
+        char *text = scenegen_random(seed, &gp), *more = NULL;
+        if (text && (more = realloc(text, strlen(text) + 7 * frames + 1)) != NULL) {
+            text = more;
+            for (unsigned i = 0; i < frames; i++)
+                strcat(text, "\nframe\n");
+        }
+        ws_buf b;
+        if (!more || stream_of(text, &p, &b)) {
+            CHECK_MSG(0, "seed %llu: no stream", (unsigned long long)seed);
+            free(text);
+            return;
+        }
+        char path[600];
+        snprintf(path, sizeof path, "%s/r.vcd", t_tmpdir());
+        run_log l;
+        vcd_summary s;
+        if (run_traced(&p, &b, path, &l, &s) == 0) {
+            uint64_t written = 0, covered = 0;
+            for (unsigned i = 0; i < l.n; i++) {
+                written += l.s[i].samples_written;
+                covered += l.s[i].samples_covered;
+            }
+            const vcd_var_decl *out = vcd_signal(&s, "pipe.samples"),
+                               *strobe = vcd_signal(&s, "pipe.write"),
+                               *wr = vcd_signal(&s, "pipe.written");
+            CHECK(written > 0 && l.n == frames);
+            CHECK_MSG(wr && wr->sum == written, "seed %llu: %llu samples written in the trace, "
+                      "%llu counted", (unsigned long long)seed,
+                      (unsigned long long)(wr ? wr->sum : 0), (unsigned long long)written);
+            CHECK_MSG(out && out->sum == covered, "seed %llu: samples through the pipeline",
+                      (unsigned long long)seed);
+            if (p.fill_rate == 1)
+                CHECK_MSG(strobe && strobe->high == written, "seed %llu: write strobes",
+                          (unsigned long long)seed);
+        }
+        log_free(&l);
+        ws_buf_free(&b);
+        free(text);
+    }
 }
 
 /* cycle == timed == functional on every golden vector's stream, with the
