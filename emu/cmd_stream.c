@@ -1,7 +1,8 @@
 /* cmd_stream.c — `albatros stream`: send a scene's word stream to a board
  * (real over USB, or the simulated one) and check, frame by frame, its CRCs
  * and cycle counts against the emulator's; `albatros board list|info|reset`
- * over HID (docs/usb-protocol.md). */
+ * over HID (docs/usb-protocol.md).  Ctrl-C during a stream stops it with the
+ * frames confirmed so far reported (exit 130). */
 #include "cli.h"
 #include "commands.h"
 #include "sim.h"
@@ -10,12 +11,20 @@
 #include "bridge/transport.h"
 #include "../firmware/sim/board.h"
 
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
+#define EXIT_INTERRUPTED 130   /* 128 + SIGINT, as a shell reports a Ctrl-C */
+
+/* Ctrl-C during a stream: the one global of the command, since a signal
+ * handler can reach nothing else. */
+static volatile sig_atomic_t stream_stop;
+static void on_stop(int sig) { stream_stop = sig; }
+
 typedef struct {
     bool sim, json, quiet, help, no_readback, frames;
-    unsigned vid, pid, wait_ms, timeout_ms;
+    unsigned vid, pid, wait_ms, timeout_ms, sim_payload;
     const char *serial, *stream;
     tr_faults faults;
     bool any_fault;
@@ -51,7 +60,8 @@ static int link_opt(void *ctx, const char *name, const char *value)
     else if (!strcmp(name, "fault")) {
         /* KIND=N, for demonstrating and testing recovery */
         static const char *const kinds[] = {"corrupt", "drop", "duplicate", "swap", "silence",
-                                            "disconnect", "corrupt-reply", "flip", NULL};
+                                            "disconnect", "corrupt-reply", "truncate", "flip",
+                                            NULL};
         const char *eq = strchr(value, '=');
         int k = -1;
         for (int i = 0; eq && kinds[i]; i++)
@@ -59,21 +69,23 @@ static int link_opt(void *ctx, const char *name, const char *value)
                 k = i;
         if (k < 0 || parse_num(a->cmd, name, eq + 1, 1ull << 40, &v)) {
             fprintf(stderr, "albatros %s: --fault %s: expected corrupt|drop|duplicate|swap|silence|"
-                            "disconnect|corrupt-reply|flip=N\n", a->cmd, value);
+                            "disconnect|corrupt-reply|truncate|flip=N\n", a->cmd, value);
             return -1;
         }
         uint64_t *slot[] = {&a->faults.corrupt_byte, &a->faults.drop_packet,
                             &a->faults.duplicate_packet, &a->faults.swap_packet,
                             &a->faults.silence_after, &a->faults.disconnect_after,
-                            &a->faults.corrupt_reply};
-        if (k == 7)
+                            &a->faults.corrupt_reply, &a->faults.truncate_packet};
+        if (k == 8)
             a->flip_frame = (long)v;
         else
             *slot[k] = v, a->any_fault = true;
     } else {
-        unsigned long long max = !strcmp(name, "vid") || !strcmp(name, "pid") ? 0xFFFF : 600000;
+        unsigned long long max = !strcmp(name, "vid") || !strcmp(name, "pid") ? 0xFFFF
+                                 : !strcmp(name, "sim-payload") ? PROTO_MAX_PAYLOAD : 600000;
         if (parse_num(a->cmd, name, value, max, &v))
             return -1;
+        if (!strcmp(name, "sim-payload")) a->sim_payload = (unsigned)v;
         if (!strcmp(name, "vid")) a->vid = (unsigned)v;
         else if (!strcmp(name, "pid")) a->pid = (unsigned)v;
         else if (!strcmp(name, "wait")) a->wait_ms = (unsigned)v;
@@ -83,19 +95,24 @@ static int link_opt(void *ctx, const char *name, const char *value)
 }
 
 /* The link the options ask for; *board (if not NULL) is the simulated board
- * behind it with --sim, else NULL. */
-static transport_t *open_link(const link_args *a, const profile_t *p, sim_board **board)
+ * behind it with --sim, else NULL.  hid_only: control only (`board`), which
+ * leaves the data interface to a stream that may be running. */
+static transport_t *open_link(const link_args *a, const profile_t *p, sim_board **board,
+                              bool hid_only)
 {
     char err[600];
-    transport_t *t = a->sim ? transport_sim_open(p->name, err, sizeof err)
-                            : transport_usb_open((uint16_t)a->vid, (uint16_t)a->pid, a->serial,
-                                                 a->wait_ms, err, sizeof err);
+    transport_t *t = a->sim ? transport_sim_open(p->name, a->sim_payload, err, sizeof err)
+                     : hid_only ? transport_hid_open((uint16_t)a->vid, (uint16_t)a->pid, a->serial,
+                                                     a->wait_ms, err, sizeof err)
+                                : transport_usb_open((uint16_t)a->vid, (uint16_t)a->pid, a->serial,
+                                                     a->wait_ms, err, sizeof err);
     if (!t) {
         fprintf(stderr, "albatros %s: %s\n", a->cmd, err);
         return NULL;
     }
     if (board)
         *board = a->sim ? transport_sim_board(t) : NULL;
+    transport_usb_set_stop(t, &stream_stop);   /* before a fault wrapper hides it */
     if (a->sim && a->flip_frame >= 0)
         sim_board_flip(transport_sim_board(t), (uint32_t)a->flip_frame, 5, 7, 1, 0);
     if (a->any_fault) {
@@ -137,32 +154,117 @@ static int expect_frame(void *ctx, const frame_t *fr, const vp_stats *vs, const 
     return 0;
 }
 
+/* ---- Ctrl-C ---- */
+
+typedef struct {
+    struct sigaction old_int, old_term;
+} stop_handlers;
+
+/* sigaction, not signal() (whose System V semantics in strict POSIX mode
+ * reset the handler on delivery, so a second Ctrl-C from the shell's process
+ * group would kill the report); no SA_RESTART, so a wait in poll() or
+ * nanosleep() ends at once. */
+static void catch_stop(stop_handlers *h)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_stop;
+    sigemptyset(&sa.sa_mask);
+    stream_stop = 0;
+    sigaction(SIGINT, &sa, &h->old_int);
+    sigaction(SIGTERM, &sa, &h->old_term);
+}
+
+static void release_stop(const stop_handlers *h)
+{
+    sigaction(SIGINT, &h->old_int, NULL);
+    sigaction(SIGTERM, &h->old_term, NULL);
+}
+
+/* ---- reports ---- */
+
+static void json_string(const char *key, const char *v)
+{
+    printf("\"%s\": \"", key);
+    for (const char *p = v; *p; p++)
+        if (*p == '"' || *p == '\\')
+            printf("\\%c", *p);
+        else if ((unsigned char)*p < 0x20)
+            printf("\\u%04x", (unsigned)(unsigned char)*p);
+        else
+            putchar(*p);
+    putchar('"');
+}
+
+/* The link's losses as both sides counted them, every ERROR code; the same
+ * numbers as link_json. */
+static void link_text(const stream_report *r)
+{
+    uint64_t be = stream_board_errors(r);
+    if (be || r->rx_crc_errors || r->rx_garbage || r->rx_gaps || r->rx_duplicates) {
+        fprintf(stderr, "  link: board reported %llu errors", (unsigned long long)be);
+        const char *sep = " (";
+        for (unsigned k = 1; k <= STREAM_ERROR_CODES; k++) {   /* code 0 (unknown) last */
+            unsigned c = k % STREAM_ERROR_CODES;
+            if (r->board_errors[c]) {
+                fprintf(stderr, "%s%s %llu", sep, link_error_name(c),
+                        (unsigned long long)r->board_errors[c]);
+                sep = ", ";
+            }
+        }
+        fprintf(stderr, "%s; host saw %llu bad CRCs, %llu garbage bytes, %llu gaps, %llu "
+                        "duplicates\n", be ? ")" : "", (unsigned long long)r->rx_crc_errors,
+                (unsigned long long)r->rx_garbage, (unsigned long long)r->rx_gaps,
+                (unsigned long long)r->rx_duplicates);
+    }
+    if (r->first_link_error[0])
+        fprintf(stderr, "  first link error: %s\n", r->first_link_error);
+}
+
+static void link_json(const stream_report *r)
+{
+    printf("\"max_payload\": %zu, \"board_errors\": %llu, \"board_error_codes\": {", r->max_payload,
+           (unsigned long long)stream_board_errors(r));
+    for (unsigned k = 1; k <= STREAM_ERROR_CODES; k++) {
+        unsigned c = k % STREAM_ERROR_CODES;
+        printf("%s\"%s\": %llu", k > 1 ? ", " : "", link_error_key(c),
+               (unsigned long long)r->board_errors[c]);
+    }
+    printf("}, \"host_crc_errors\": %llu, \"host_garbage_bytes\": %llu, \"host_gaps\": %llu, "
+           "\"host_duplicates\": %llu, \"interrupted\": %s, ", (unsigned long long)r->rx_crc_errors,
+           (unsigned long long)r->rx_garbage, (unsigned long long)r->rx_gaps,
+           (unsigned long long)r->rx_duplicates, r->interrupted ? "true" : "false");
+    json_string("first_link_error", r->first_link_error);
+    printf(", ");
+    json_string("first_problem", r->first_problem);
+}
+
+static const char *result_name(int rc, const char *ok)
+{
+    return rc == 0 ? ok : rc == 1 ? "differs" : rc == EXIT_INTERRUPTED ? "interrupted" : "failed";
+}
+
 static void report_text(const stream_report *r, const stream_frame *f, unsigned nf, int rc)
 {
+    if (r->interrupted)
+        fprintf(stderr, "stream: interrupted: %u of %u frames confirmed by the board\n", r->frames,
+                nf);
     for (unsigned i = 0; i < nf; i++) {
-        if (!f[i].have)
-            fprintf(stderr, "  frame %u: no result\n", f[i].number);
-        else if (f[i].board_crc != f[i].crc || f[i].board_cycles != f[i].cycles)
+        if (!f[i].have) {
+            if (!r->interrupted)   /* else the frames not reached yet */
+                fprintf(stderr, "  frame %u: no result\n", f[i].number);
+        } else if (f[i].board_crc != f[i].crc || f[i].board_cycles != f[i].cycles)
             fprintf(stderr, "  frame %u: DIFFERS: CRC %08x (emulator %08x), %llu cycles (emulator "
                             "%llu)\n", f[i].number, f[i].board_crc, f[i].crc,
                     (unsigned long long)f[i].board_cycles, (unsigned long long)f[i].cycles);
     }
-    fprintf(stderr, "stream: %u of %u frames match the emulator (CRC and cycles); %llu packets, "
-                    "%.2f MB in %.2f s; %llu resumes, %llu queries\n", r->matched, nf,
-            (unsigned long long)r->packets, (double)r->bytes / 1e6, r->seconds,
+    double secs = r->seconds > 0 ? r->seconds : 1e-9;
+    fprintf(stderr, "stream: %u of %u frames match the emulator (CRC and cycles); %llu packets "
+                    "(payloads up to %zu bytes), %.2f MB in %.2f s (%.1f MB/s); %llu resumes, %llu "
+                    "queries\n", r->matched, nf, (unsigned long long)r->packets, r->max_payload,
+            (double)r->bytes / 1e6, r->seconds, (double)r->bytes / 1e6 / secs,
             (unsigned long long)r->resumes, (unsigned long long)r->queries);
-    uint64_t be = 0;
-    for (int i = 1; i < 9; i++)
-        be += r->board_errors[i];
-    if (be || r->rx_crc_errors || r->rx_garbage || r->rx_gaps)
-        fprintf(stderr, "  link: board reported %llu errors (CRC %llu, gaps %llu, duplicates %llu, "
-                        "stream %llu); host saw %llu bad CRCs, %llu garbage bytes, %llu gaps\n",
-                (unsigned long long)be, (unsigned long long)r->board_errors[PROTO_E_BAD_CRC],
-                (unsigned long long)r->board_errors[PROTO_E_SEQ_GAP],
-                (unsigned long long)r->board_errors[PROTO_E_DUPLICATE],
-                (unsigned long long)r->board_errors[PROTO_E_STREAM],
-                (unsigned long long)r->rx_crc_errors, (unsigned long long)r->rx_garbage,
-                (unsigned long long)r->rx_gaps);
+    link_text(r);
     if (r->first_problem[0])
         fprintf(stderr, "  first problem: %s\n", r->first_problem);
     if (rc == 0)
@@ -171,24 +273,22 @@ static void report_text(const stream_report *r, const stream_frame *f, unsigned 
 
 static void report_json(const stream_report *r, const stream_frame *f, unsigned nf, int rc)
 {
-    printf("{\"result\": \"%s\", \"frames\": [", rc == 0 ? "match" : rc == 1 ? "differs" : "failed");
+    printf("{\"result\": \"%s\", \"frames\": [", result_name(rc, "match"));
     for (unsigned i = 0; i < nf; i++)
         printf("%s{\"frame\": %u, \"have\": %s, \"crc\": \"%08x\", \"board_crc\": \"%08x\", "
                "\"cycles\": %llu, \"board_cycles\": %llu}", i ? ", " : "", f[i].number,
                f[i].have ? "true" : "false", f[i].crc, f[i].board_crc,
                (unsigned long long)f[i].cycles, (unsigned long long)f[i].board_cycles);
-    printf("], \"matched\": %u, \"packets\": %llu, \"bytes\": %llu, \"resumes\": %llu, "
-           "\"queries\": %llu, \"board_errors\": %llu, \"host_crc_errors\": %llu, "
-           "\"first_problem\": \"", r->matched, (unsigned long long)r->packets,
-           (unsigned long long)r->bytes, (unsigned long long)r->resumes,
-           (unsigned long long)r->queries,
-           (unsigned long long)(r->board_errors[1] + r->board_errors[2] + r->board_errors[3] +
-                                r->board_errors[6]),
-           (unsigned long long)r->rx_crc_errors);
-    for (const char *p = r->first_problem; *p; p++)
-        printf(*p == '"' || *p == '\\' ? "\\%c" : "%c", *p);
-    printf("\"}\n");
+    printf("], \"matched\": %u, \"confirmed\": %u, \"packets\": %llu, \"bytes\": %llu, "
+           "\"seconds\": %.3f, \"resumes\": %llu, \"queries\": %llu, ", r->matched, r->frames,
+           (unsigned long long)r->packets, (unsigned long long)r->bytes, r->seconds,
+           (unsigned long long)r->resumes, (unsigned long long)r->queries);
+    link_json(r);
+    printf("}\n");
 }
+
+/* The exit status of a stream_run / stream_tiles result. */
+static int exit_of(int rc) { return rc == -2 ? EXIT_INTERRUPTED : rc < 0 ? 3 : rc; }
 
 /* Frames mode: the emulator's frames, RGB888, as tiles to a display board;
  * with --sim the board's display is compared with the last frame. */
@@ -210,7 +310,7 @@ static int stream_frames_mode(const link_args *a, const profile_t *p, const stre
         tf[i] = (stream_tiles_frame){f[i].number, p->width, p->height, rgb + 3 * npix * i};
     }
     sim_board *board;
-    transport_t *t = open_link(a, p, &board);
+    transport_t *t = open_link(a, p, &board, false);
     if (!t)
         goto out;
     stream_opts so;
@@ -218,8 +318,14 @@ static int stream_frames_mode(const link_args *a, const profile_t *p, const stre
     so.timeout_ms = a->timeout_ms;
     so.log = a->quiet || a->json ? NULL : stderr;
     so.progress = so.log && cli_isatty_stderr();
+    so.stop = &stream_stop;
+    stop_handlers h;
+    catch_stop(&h);
+    if (so.log)
+        fprintf(stderr, "frames: %u frames to send to %s\n", nf, a->sim ? "the simulated board" :
+                "the board");
     stream_report r;
-    rc = stream_tiles(t, tf, nf, &so, &r) ? 3 : 0;
+    rc = exit_of(stream_tiles(t, tf, nf, &so, &r));
     const char *display = "";
     if (!rc && board && nf) {
         uint32_t shown;
@@ -230,24 +336,30 @@ static int stream_frames_mode(const link_args *a, const profile_t *p, const stre
         rc = same ? 0 : 1;
     }
     double secs = r.seconds > 0 ? r.seconds : 1e-9;
-    if (a->json)
+    t->ops->close(t);   /* cancels what is in flight, before a long report */
+    if (a->json) {
         printf("{\"result\": \"%s\", \"frames\": %u, \"shown\": %u, \"packets\": %llu, "
-               "\"bytes\": %llu, \"seconds\": %.3f, \"resends\": %llu, \"display\": \"%s\"}\n",
-               rc == 0 ? "shown" : rc == 1 ? "differs" : "failed", nf, r.frames,
-               (unsigned long long)r.packets, (unsigned long long)r.bytes, r.seconds,
-               (unsigned long long)r.resumes, display);
-    else if (!a->quiet || rc) {
-        fprintf(stderr, "frames: %u of %u frames shown; %llu packets, %.2f MB in %.2f s "
-                        "(%.1f MB/s, %.1f frames/s); %llu resends\n", r.frames, nf,
-                (unsigned long long)r.packets, (double)r.bytes / 1e6, r.seconds,
+               "\"bytes\": %llu, \"seconds\": %.3f, \"resends\": %llu, \"display\": \"%s\", ",
+               result_name(rc, "shown"), nf, r.frames, (unsigned long long)r.packets,
+               (unsigned long long)r.bytes, r.seconds, (unsigned long long)r.resumes, display);
+        link_json(&r);
+        printf("}\n");
+    } else if (!a->quiet || rc) {
+        if (r.interrupted)
+            fprintf(stderr, "frames: interrupted: %u of %u frames confirmed by the board\n",
+                    r.frames, nf);
+        fprintf(stderr, "frames: %u of %u frames shown; %llu packets (payloads up to %zu bytes), "
+                        "%.2f MB in %.2f s (%.1f MB/s, %.1f frames/s); %llu resends\n", r.frames,
+                nf, (unsigned long long)r.packets, r.max_payload, (double)r.bytes / 1e6, r.seconds,
                 (double)r.bytes / 1e6 / secs, r.frames / secs, (unsigned long long)r.resumes);
+        link_text(&r);
         if (r.first_problem[0])
             fprintf(stderr, "  first problem: %s\n", r.first_problem);
         if (display[0])
             fprintf(stderr, "  the simulated display shows frame %u: %s to the emulator's\n",
                     tf[nf - 1].number, display);
     }
-    t->ops->close(t);
+    release_stop(&h);
 out:
     free(rgb);
     free(tf);
@@ -263,23 +375,38 @@ static const char stream_help[] =
     "With --frames, send the emulator's finished frames instead, as tiles for a\n"
     "board that displays them (frames mode, docs/usb-protocol.md).\n\n"
     "  --sim              the simulated board in this process (no hardware)\n"
+    "  --sim-payload N    the simulated board accepts payloads up to N bytes (default\n"
+    "                     16384; the FX2 firmware takes 492)\n"
     "  --vid, --pid       USB ids (default 1209:0001, the pid.codes test PID)\n"
     "  --serial S         the board with this serial number\n"
     "  --wait MS          wait this long for the board to appear (hot-plug)\n"
     "  --timeout MS       wait this long for a frame's result (default 2000)\n"
     "  --no-readback      do not fetch a differing frame to name its first wrong pixel\n"
     "  --frames           frames mode: the rendered frames, RGB888 tiles, to a display\n"
-    "  --fault KIND=N     misbehave on purpose: corrupt|drop|duplicate|swap|silence|\n"
-    "                     disconnect|corrupt-reply=N, or flip=FRAME (sim: a wrong VP bit)\n"
+    "  --fault KIND=N     misbehave on purpose (N counts from 1; repeatable):\n"
+    "                       corrupt=N        flip a bit of the N-th byte sent\n"
+    "                       corrupt-reply=N  flip a bit of the N-th byte received\n"
+    "                       drop=N           lose the N-th packet sent (1 = the first\n"
+    "                                        RESET; reports name packets by sequence\n"
+    "                                        number, which is N - 1)\n"
+    "                       truncate=N       send only the first half of the N-th packet\n"
+    "                       duplicate=N      send the N-th packet twice\n"
+    "                       swap=N           send packets N and N+1 in reverse order\n"
+    "                       silence=N        the board falls silent after N bytes received\n"
+    "                       disconnect=N     the device vanishes after N bytes sent\n"
+    "                       flip=FRAME       (sim) a wrong VP bit in frame FRAME\n"
     "  --json             the report as JSON on stdout\n\n"
+    "Payloads are as long as the board's INFO report allows.  Ctrl-C stops the\n"
+    "stream and reports the frames confirmed so far.\n\n"
     "Exit status: 0 every frame matches (frames mode: every frame shown), 1 some\n"
-    "differ (frames mode, --sim: the display differs), 3 the link failed.\n\n";
+    "differ (frames mode, --sim: the display differs), 3 the link failed, 130\n"
+    "interrupted (Ctrl-C, SIGTERM).\n\n";
 
 int cmd_stream(int argc, char **argv)
 {
     static const char *const spec[] = {"sim", "json", "quiet", "q", "help", "no-readback", "vid=",
                                        "pid=", "serial=", "wait=", "timeout=", "stream=",
-                                       "fault=", "frames", NULL};
+                                       "fault=", "frames", "sim-payload=", NULL};
     link_args a = {.vid = PROTO_VID, .pid = PROTO_PID, .wait_ms = 2000, .timeout_ms = 2000,
                    .flip_frame = -1, .cmd = "stream"};
     run_opts o;
@@ -341,7 +468,7 @@ int cmd_stream(int argc, char **argv)
         rc = stream_frames_mode(&a, &o.prof, frames, nf);
         goto out;
     }
-    if (!(t = open_link(&a, &o.prof, NULL)))
+    if (!(t = open_link(&a, &o.prof, NULL, false)))
         goto out;
     stream_opts sopt;
     stream_opts_default(&sopt);
@@ -349,13 +476,21 @@ int cmd_stream(int argc, char **argv)
     sopt.readback = !a.no_readback;
     sopt.log = a.quiet || a.json ? NULL : stderr;
     sopt.progress = sopt.log && cli_isatty_stderr();
+    sopt.stop = &stream_stop;
+    stop_handlers h;
+    catch_stop(&h);
+    if (sopt.log)   /* also the sign, for a test, that Ctrl-C is now caught */
+        fprintf(stderr, "stream: %u frames to send to %s\n", nf, a.sim ? "the simulated board" :
+                "the board");
     stream_report r;
-    rc = stream_run(t, b.w, b.n, frames, nf, &sopt, &r);
-    rc = rc < 0 ? 3 : rc;
+    rc = exit_of(stream_run(t, b.w, b.n, frames, nf, &sopt, &r));
+    t->ops->close(t);   /* cancels the transfers in flight, before a long report */
+    t = NULL;
     if (a.json)
         report_json(&r, frames, nf, rc);
     else if (!a.quiet || rc)
         report_text(&r, frames, nf, rc);
+    release_stop(&h);
 out:
     if (t)
         t->ops->close(t);
@@ -376,35 +511,74 @@ static int board_info(transport_t *t, bool json)
         fprintf(stderr, "albatros board info: %s\n", t->error);
         return 1;
     }
-    if (memcmp(rep + PROTO_INFO_MAGIC, "ALBI", 4)) {
+    link_info in;
+    if (link_info_decode(rep, &in)) {
         fprintf(stderr, "albatros board info: the device's INFO report lacks the ALBI magic: "
                         "not an albatros board?\n");
         return 1;
     }
-    char name[17];
-    memcpy(name, rep + PROTO_INFO_NAME, 16);
-    name[16] = 0;
-    unsigned proto = rep[PROTO_INFO_PROTO] | rep[PROTO_INFO_PROTO + 1] << 8;
-    unsigned fw = rep[PROTO_INFO_FW] | rep[PROTO_INFO_FW + 1] << 8;
-    unsigned w = rep[PROTO_INFO_WIDTH] | rep[PROTO_INFO_WIDTH + 1] << 8;
-    unsigned h = rep[PROTO_INFO_HEIGHT] | rep[PROTO_INFO_HEIGHT + 1] << 8;
-    unsigned maxpay = rep[PROTO_INFO_MAXPAY] | rep[PROTO_INFO_MAXPAY + 1] << 8;
-    if (json)
-        printf("{\"name\": \"%s\", \"protocol\": %u, \"firmware\": %u, \"width\": %u, \"height\": "
-               "%u, \"colour_bits\": %u, \"mode\": %u, \"serial\": %u, \"max_payload\": %u}\n",
-               name, proto, fw, w, h, rep[PROTO_INFO_CBITS], rep[PROTO_INFO_MODE],
-               PROTO_GET32(rep + PROTO_INFO_SERIAL), maxpay);
-    else
+    if (json) {
+        printf("{");
+        json_string("name", in.name);
+        printf(", \"protocol\": %u, \"firmware\": %u, \"width\": %u, \"height\": %u, "
+               "\"colour_bits\": %u, \"mode\": %u, \"serial\": %u, \"max_payload\": %u}\n",
+               in.protocol, in.firmware, in.width, in.height, in.colour_bits, in.mode, in.serial,
+               in.max_payload);
+    } else {
         printf("%s: protocol %u, firmware %u, VP %ux%u %u-bit colour, mode %u, serial %u, "
-               "payloads up to %u bytes\n", name, proto, fw, w, h, rep[PROTO_INFO_CBITS],
-               rep[PROTO_INFO_MODE], PROTO_GET32(rep + PROTO_INFO_SERIAL), maxpay);
+               "payloads up to %u bytes\n", in.name, in.protocol, in.firmware, in.width,
+               in.height, in.colour_bits, in.mode, in.serial, in.max_payload);
+    }
+    return 0;
+}
+
+#define LIST_MAX 32
+
+static int board_list(const link_args *a, const profile_t *p)
+{
+    if (a->sim) {
+        if (a->json)
+            printf("{\"boards\": [{\"id\": \"sim:0\", \"kind\": \"sim\", \"profile\": \"%s\"}]}\n",
+                   p->name);
+        else
+            printf("sim:0  simulated board (profile %s)\n", p->name);
+        return 0;
+    }
+    tr_usb_device d[LIST_MAX];
+    char err[600];
+    int n = transport_usb_list((uint16_t)a->vid, (uint16_t)a->pid, d, LIST_MAX, err, sizeof err);
+    if (n < 0) {
+        fprintf(stderr, "albatros board list: %s\n", err);
+        return 1;
+    }
+    if (a->json)
+        printf("{\"boards\": [");
+    for (int i = 0; i < n && i < LIST_MAX; i++) {
+        char id[32];
+        snprintf(id, sizeof id, "usb:%03u:%03u", d[i].bus, d[i].address);
+        if (a->json) {
+            printf("%s{\"id\": \"%s\", \"kind\": \"usb\", \"vid\": \"%04x\", \"pid\": \"%04x\", ",
+                   i ? ", " : "", id, d[i].vid, d[i].pid);
+            json_string("serial", d[i].serial);
+            printf(", \"access\": %s}", d[i].no_access ? "false" : "true");
+        } else {
+            printf("%s  %04x:%04x  serial %s%s\n", id, d[i].vid, d[i].pid, d[i].serial,
+                   d[i].no_access ? "  (no permission: see firmware/udev/)" : "");
+        }
+    }
+    if (a->json)
+        printf("]}\n");
+    else if (n == 0)
+        fprintf(stderr, "no board %04x:%04x on the USB bus\n", a->vid, a->pid);
+    if (n > LIST_MAX)
+        fprintf(stderr, "albatros board list: %d more not shown\n", n - LIST_MAX);
     return 0;
 }
 
 int cmd_board(int argc, char **argv)
 {
     static const char *const spec[] = {"sim", "json", "help", "vid=", "pid=", "serial=", "wait=",
-                                       NULL};
+                                       "sim-payload=", NULL};
     link_args a = {.vid = PROTO_VID, .pid = PROTO_PID, .wait_ms = 0, .flip_frame = -1,
                    .cmd = "board"};
     run_opts o;
@@ -416,26 +590,19 @@ int cmd_board(int argc, char **argv)
     if (a.help || npos != 1 ||
         (strcmp(pos[0], "list") && strcmp(pos[0], "info") && strcmp(pos[0], "reset"))) {
         printf("usage: albatros board list|info|reset [--sim] [--vid V --pid P --serial S] "
-               "[--json]\n\n  list   boards on the USB bus\n  info   the board's INFO report "
-               "(HID)\n  reset  reset the board's link, VP and counters (HID)\n");
+               "[--wait MS] [--json]\n\n"
+               "  list   boards on the USB bus\n"
+               "  info   the board's INFO report (HID)\n"
+               "  reset  reset the board's link, VP and counters (HID)\n\n"
+               "  --sim            the simulated board (--sim-payload N: it takes N-byte payloads)\n"
+               "  --wait MS        wait this long for the board to appear (hot-plug; default 0)\n"
+               "  --json           the answer as JSON on stdout\n\n"
+               "info and reset use the HID interface only, so they work while a stream runs.\n");
         return a.help ? 0 : 2;
     }
-    char err[600];
-    if (!strcmp(pos[0], "list")) {
-        if (a.sim) {
-            printf("sim:0  simulated board (profile %s)\n", o.prof.name);
-            return 0;
-        }
-        int n = transport_usb_list((uint16_t)a.vid, (uint16_t)a.pid, stdout, err, sizeof err);
-        if (n < 0) {
-            fprintf(stderr, "albatros board list: %s\n", err);
-            return 1;
-        }
-        if (n == 0)
-            fprintf(stderr, "no board %04x:%04x on the USB bus\n", a.vid, a.pid);
-        return 0;
-    }
-    transport_t *t = open_link(&a, &o.prof, NULL);
+    if (!strcmp(pos[0], "list"))
+        return board_list(&a, &o.prof);
+    transport_t *t = open_link(&a, &o.prof, NULL, true);
     if (!t)
         return 1;
     int rc;
@@ -446,6 +613,8 @@ int cmd_board(int argc, char **argv)
         rc = t->ops->hid_set(t, rep, PROTO_HID_REPORT) ? 1 : 0;
         if (rc)
             fprintf(stderr, "albatros board reset: %s\n", t->error);
+        else if (a.json)
+            printf("{\"reset\": \"link, VP and counters\"}\n");
         else
             printf("board reset\n");
     }

@@ -10,6 +10,8 @@
 #include "../emu/sim.h"
 #include "../firmware/sim/board.h"
 
+#include <signal.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -93,11 +95,14 @@ static void reset_results(fixture *x)
     }
 }
 
-/* Stream through the simulated board with faults; returns stream_run's rc. */
-static int run_with(fixture *x, const tr_faults *faults, long flip_frame, stream_report *r)
+/* Stream through the simulated board (taking payloads of up to
+ * board_payload bytes, 0: the protocol's largest) with faults, in WORDS of
+ * chunk bytes (0: as long as the board takes); returns stream_run's rc. */
+static int run_on(fixture *x, size_t board_payload, size_t chunk, const tr_faults *faults,
+                  long flip_frame, stream_report *r)
 {
     char err[300];
-    transport_t *t = transport_sim_open("a256", err, sizeof err);
+    transport_t *t = transport_sim_open("a256", board_payload, err, sizeof err);
     if (!t)
         return -9;
     if (flip_frame >= 0)
@@ -111,11 +116,16 @@ static int run_with(fixture *x, const tr_faults *faults, long flip_frame, stream
     stream_opts o;
     stream_opts_default(&o);
     o.timeout_ms = 20;
-    o.chunk_bytes = 256;   /* many packets, so faults land mid-frame */
+    o.chunk_bytes = chunk;
     reset_results(x);
     int rc = stream_run(t, x->b.w, x->b.n, x->f, x->nf, &o, r);
     t->ops->close(t);
     return rc;
+}
+
+static int run_with(fixture *x, const tr_faults *faults, long flip_frame, stream_report *r)
+{
+    return run_on(x, 0, 256, faults, flip_frame, r);   /* many packets: faults land mid-frame */
 }
 
 TEST(bridge_stream_agrees_with_emulator)
@@ -171,11 +181,12 @@ TEST(bridge_link_faults_detected_and_recovered)
         {"duplicated packet", {.duplicate_packet = 4}},
         {"swapped packets", {.swap_packet = 6}},
         {"corrupted reply", {.corrupt_reply = 30}},
+        {"truncated packet", {.truncate_packet = 5}},
         {"last packet dropped", {.drop_packet = 0}},   /* filled in below */
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         tr_faults f = cases[k].f;
-        if (k == 5) {
+        if (k == 6) {
             /* the END word goes alone in the packet before the final PING:
              * count them first */
             stream_report clean;
@@ -189,7 +200,95 @@ TEST(bridge_link_faults_detected_and_recovered)
         for (int c = 1; c < 9; c++)
             seen += r.board_errors[c];
         CHECK_MSG(seen > 0, "%s: not detected", cases[k].what);
+        CHECK_MSG(r.first_link_error[0], "%s: no first link error", cases[k].what);
     }
+    /* what was lost is named: the 5th packet sent is sequence number 4, the
+     * WORDS of the frame the host then resumes from */
+    stream_report r;
+    tr_faults drop = {.drop_packet = 5};
+    CHECK_EQ(run_with(&x, &drop, -1, &r), 0);
+    CHECK_STR_CONTAINS(r.first_link_error, "board: sequence gap: packet 4 (WORDS: words ");
+    CHECK_EQ(r.board_errors[PROTO_E_SEQ_GAP], 1);
+    unsigned lost_in = 0;
+    for (unsigned i = 0; i < x.nf; i++) {
+        char name[40];
+        snprintf(name, sizeof name, ", frame %u) never arrived", x.f[i].number);
+        if (strstr(r.first_link_error, name))
+            lost_in = x.f[i].number + 1;
+    }
+    CHECK_MSG(lost_in > 0, "the lost packet's frame is not named: %s", r.first_link_error);
+    /* a truncated packet: its CRC fails where it lay, its number is missed */
+    tr_faults cut = {.truncate_packet = 5};
+    CHECK_EQ(run_with(&x, &cut, -1, &r), 0);
+    CHECK_EQ(r.board_errors[PROTO_E_BAD_CRC], 1);
+    CHECK_EQ(r.board_errors[PROTO_E_SEQ_GAP], 1);
+    CHECK_STR_CONTAINS(r.first_link_error, "board: bad CRC at packet 4 (WORDS: words ");
+    CHECK_EQ(r.matched, x.nf);
+    free_fixture(&x);
+}
+
+/* The FX2 firmware takes 492-byte payloads (firmware/fx2/main.c); the host
+ * reads the limit from the board's INFO report, and a stream in payloads as
+ * long as the board takes (no chunk_bytes) still agrees with the emulator:
+ * a longer packet would be garbage to the board (firmware/core.c), the
+ * stream lost. */
+TEST(bridge_board_payload_limit_from_info)
+{
+    fixture x;
+    if (make_fixture(&x, "a256")) {
+        CHECK_MSG(0, "fixture");
+        return;
+    }
+    stream_report r;
+    CHECK_EQ(run_on(&x, 492, 0, NULL, -1, &r), 0);
+    CHECK_EQ(r.matched, x.nf);
+    CHECK_EQ(r.max_payload, 492);
+    CHECK_EQ(stream_board_errors(&r), 0);
+    CHECK_EQ(r.resumes, 0);
+    /* the payload of every packet fits: bytes = packets x overhead + payloads */
+    CHECK(r.bytes <= r.packets * (PROTO_HEADER + 492 + PROTO_TRAILER));
+    CHECK(r.packets > (uint64_t)4 * x.b.n / 492);
+    /* a chunk below the board's limit is kept; above it, the board's wins */
+    CHECK_EQ(run_on(&x, 492, 256, NULL, -1, &r), 0);
+    CHECK_EQ(r.max_payload, 256);
+    CHECK_EQ(run_on(&x, 492, 4096, NULL, -1, &r), 0);
+    CHECK_EQ(r.max_payload, 492);
+    /* the default board: the protocol's largest */
+    CHECK_EQ(run_on(&x, 0, 0, NULL, -1, &r), 0);
+    CHECK_EQ(r.max_payload, PROTO_MAX_PAYLOAD);
+    free_fixture(&x);
+}
+
+/* A stop flag (Ctrl-C) already set: the stream ends at once, marked partial,
+ * and the link is left for the caller to close. */
+TEST(bridge_stop_flag_ends_the_stream)
+{
+    fixture x;
+    if (make_fixture(&x, "a256")) {
+        CHECK_MSG(0, "fixture");
+        return;
+    }
+    char err[300];
+    transport_t *t = transport_sim_open("a256", 0, err, sizeof err);
+    if (!t) {
+        CHECK_MSG(0, "%s", err);
+        free_fixture(&x);
+        return;
+    }
+    static volatile sig_atomic_t stop = 1;
+    stream_opts o;
+    stream_opts_default(&o);
+    o.stop = &stop;
+    stream_report r;
+    reset_results(&x);
+    CHECK_EQ(stream_run(t, x.b.w, x.b.n, x.f, x.nf, &o, &r), -2);
+    CHECK(r.interrupted);
+    CHECK_EQ(r.frames, 0);
+    CHECK_EQ(r.first_problem[0], 0);
+    stream_tiles_frame tf = {0, 1, 1, (const uint8_t *)"\x10\x20\x30"};
+    CHECK_EQ(stream_tiles(t, &tf, 1, &o, &r), -2);
+    CHECK(r.interrupted);
+    t->ops->close(t);
     free_fixture(&x);
 }
 
@@ -272,15 +371,19 @@ TEST(bridge_frames_mode_displays_the_frames)
         const char *what;
         tr_faults f;
         bool resend;
+        size_t payload;       /* the board's (0: the protocol's largest) */
     } cases[] = {
-        {"clean link", {0}, false},
-        {"dropped tile", {.drop_packet = 4}, true},
-        {"corrupted tile", {.corrupt_byte = 20000}, true},
-        {"dropped PING", {.drop_packet = 15}, true},   /* RESET, 13 tiles, PING */
+        {"clean link", {0}, false, 0},
+        {"dropped tile", {.drop_packet = 4}, true, 0},
+        {"corrupted tile", {.corrupt_byte = 20000}, true, 0},
+        {"dropped PING", {.drop_packet = 15}, true, 0},   /* RESET, 13 tiles, PING */
+        {"truncated tile", {.truncate_packet = 6}, true, 0},
+        {"492-byte payloads", {0}, false, 492},           /* the FX2's: 160-pixel tiles */
+        {"492-byte payloads, truncated tile", {.truncate_packet = 40}, true, 492},
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         char err[300];
-        transport_t *t = transport_sim_open("a256", err, sizeof err);
+        transport_t *t = transport_sim_open("a256", cases[c].payload, err, sizeof err);
         CHECK(t != NULL);
         if (!t)
             break;
@@ -300,12 +403,19 @@ TEST(bridge_frames_mode_displays_the_frames)
         const uint8_t *d = sim_board_display(board, &shown, &tiles);
         CHECK_MSG(shown == x.f[x.nf - 1].number && !memcmp(d, tf[x.nf - 1].rgb, 3 * npix),
                   "%s: the display is not the last frame", cases[c].what);
-        CHECK(tiles >= (uint64_t)x.nf * (256 / ((PROTO_MAX_PAYLOAD - 12) / (3 * 256))));
+        size_t pay = cases[c].payload ? cases[c].payload : PROTO_MAX_PAYLOAD;
+        CHECK_EQ(r.max_payload, pay);
+        /* strips as tall as a payload holds; narrower than the frame (two a
+         * row) when one row does not fit */
+        uint64_t per_frame = pay >= 12 + 3 * 256 ? (256 + (pay - 12) / 768 - 1) / ((pay - 12) / 768)
+                                                 : 2 * 256;
+        CHECK_MSG(tiles >= x.nf * per_frame, "%s: %llu tiles", cases[c].what,
+                  (unsigned long long)tiles);
         link->ops->close(link);
     }
     /* a silent board: the frame is tried again, then a clean failure */
     char err[300];
-    transport_t *t = transport_sim_open("a256", err, sizeof err);
+    transport_t *t = transport_sim_open("a256", 0, err, sizeof err);
     tr_faults silent = {.silence_after = 1};
     transport_t *link = t ? transport_faulty(t, &silent) : NULL;
     if (link) {

@@ -157,3 +157,42 @@ void link_rgb888(const uint16_t *rgb, size_t pixels, unsigned colour_bits, uint8
     for (size_t i = 0; i < 3 * pixels; i++)
         out[i] = (uint8_t)((2 * 255 * (uint32_t)rgb[i] + top) / (2 * top));
 }
+
+static unsigned get16(const uint8_t *p) { return (unsigned)p[0] | (unsigned)p[1] << 8; }
+
+int link_info_decode(const uint8_t *rep, link_info *out)
+{
+    memset(out, 0, sizeof *out);
+    if (memcmp(rep + PROTO_INFO_MAGIC, "ALBI", 4))
+        return -1;
+    memcpy(out->name, rep + PROTO_INFO_NAME, 16);
+    out->protocol = get16(rep + PROTO_INFO_PROTO);
+    out->firmware = get16(rep + PROTO_INFO_FW);
+    out->width = get16(rep + PROTO_INFO_WIDTH);
+    out->height = get16(rep + PROTO_INFO_HEIGHT);
+    out->colour_bits = rep[PROTO_INFO_CBITS];
+    out->mode = rep[PROTO_INFO_MODE];
+    out->serial = PROTO_GET32(rep + PROTO_INFO_SERIAL);
+    out->max_payload = get16(rep + PROTO_INFO_MAXPAY);
+    return 0;
+}
+
+/* indexed by PROTO_E_* (proto.h) */
+static const char *const error_names[][2] = {
+    {"unknown code", "unknown"},     {"bad CRC", "bad_crc"},
+    {"sequence gap", "seq_gap"},     {"duplicate", "duplicate"},
+    {"bad type", "bad_type"},        {"bad length", "bad_length"},
+    {"malformed stream", "stream"},  {"wrong mode", "mode"},
+    {"overflow", "overflow"},
+};
+#define N_ERROR_NAMES (sizeof error_names / sizeof error_names[0])
+
+const char *link_error_name(uint32_t code)
+{
+    return error_names[code < N_ERROR_NAMES ? code : 0][0];
+}
+
+const char *link_error_key(uint32_t code)
+{
+    return error_names[code < N_ERROR_NAMES ? code : 0][1];
+}

@@ -46,4 +46,21 @@ uint32_t link_frame_crc(const uint16_t *rgb, size_t pixels);
  * 8 bits, round half up (v * 255 / (2^cb - 1)); 3 bytes a pixel. */
 void link_rgb888(const uint16_t *rgb, size_t pixels, unsigned colour_bits, uint8_t *out);
 
+/* The board's INFO report (HID feature report 1), decoded. */
+typedef struct {
+    char name[17];
+    unsigned protocol, firmware, width, height, colour_bits, mode;
+    uint32_t serial;
+    unsigned max_payload;     /* the largest bulk payload the board accepts */
+} link_info;
+
+/* Decode an INFO report (rep[0] the report ID, then PROTO_HID_REPORT - 1
+ * bytes); -1 if it lacks the ALBI magic (not an albatros board). */
+int link_info_decode(const uint8_t *rep, link_info *out);
+
+/* ERROR codes (PROTO_E_*): a readable name, and a key for JSON; codes the
+ * host does not know are "unknown". */
+const char *link_error_name(uint32_t code);
+const char *link_error_key(uint32_t code);
+
 #endif

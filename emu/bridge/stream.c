@@ -3,7 +3,9 @@
  * frames ahead of the last RESULT; RESULTs compared with the emulator; on a
  * board ERROR the first unconfirmed frame is RESUMEd and resent; a missing
  * RESULT is asked for once with QUERY, then the board has stopped answering.
- * Every loss is counted and the first problem described. */
+ * Payloads are as long as the board's INFO report allows.  Every loss is
+ * counted, the first problem described, and the first loss on the link named
+ * by the packet and what it carried (the streamer remembers what it sent). */
 #include "stream.h"
 #include "link.h"
 #include "../../common/words.h"
@@ -12,6 +14,18 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+
+/* What a packet sent carried, kept so a loss the board reports by sequence
+ * number can be named: WORDS a = first word, b = end; TILE a = frame, b = y
+ * << 16 | x; RESUME, QUERY, READBACK a = frame. */
+typedef struct {
+    uint32_t seq;
+    uint8_t type;
+    bool used;
+    uint32_t a, b;
+} sent_packet;
+
+#define SENT_RING 4096   /* packets remembered: the window's 16 frames at any payload */
 
 typedef struct {
     transport_t *t;
@@ -24,6 +38,8 @@ typedef struct {
     link_rx rx;
     uint32_t seq;
     uint8_t *pkt;             /* encode buffer */
+    size_t max;               /* payload in use (board_payload) */
+    sent_packet *sent;        /* SENT_RING, indexed by seq */
     bool need_resume, failed;
     unsigned next;            /* next frame to send */
     /* a READBACK in progress */
@@ -67,12 +83,66 @@ static void __attribute__((format(printf, 2, 3))) note(streamer *s, const char *
     fputc('\n', s->o->log);
 }
 
+/* Ctrl-C (o->stop): every loop ends through s->failed; the report is marked
+ * partial rather than given a problem. */
+static bool stopped(streamer *s)
+{
+    if (!s->r->interrupted && s->o->stop && *s->o->stop) {
+        s->r->interrupted = true;
+        s->failed = true;
+    }
+    return s->r->interrupted;
+}
+
+static sent_packet *sent_at(streamer *s, uint32_t seq) { return &s->sent[seq % SENT_RING]; }
+
+/* The packet sent as `seq`, for a report: "packet 5 (WORDS: words 512..575,
+ * frame 1)". */
+static void describe(streamer *s, uint32_t seq, char *out, size_t cap)
+{
+    const sent_packet *p = sent_at(s, seq);
+    if (!p->used || p->seq != seq) {
+        snprintf(out, cap, "packet %u", seq);
+        return;
+    }
+    switch (p->type) {
+    case PROTO_T_WORDS: {
+        const char *where = "the stream's end";
+        char frame[32] = "";
+        if (!s->nf || p->a < s->f[0].first_word)
+            where = "the stream's preamble";
+        for (unsigned i = 0; i < s->nf; i++)
+            if (p->a >= s->f[i].first_word && p->a < s->f[i].end_word) {
+                snprintf(frame, sizeof frame, "frame %u", s->f[i].number);
+                where = frame;
+            }
+        snprintf(out, cap, "packet %u (WORDS: words %u..%u, %s)", seq, p->a, p->b - 1, where);
+        break;
+    }
+    case PROTO_T_TILE:
+        snprintf(out, cap, "packet %u (TILE: frame %u, tile at (%u, %u))", seq, p->a, p->b & 0xFFFF,
+                 p->b >> 16);
+        break;
+    case PROTO_T_RESUME: snprintf(out, cap, "packet %u (RESUME of frame %u)", seq, p->a); break;
+    case PROTO_T_QUERY: snprintf(out, cap, "packet %u (QUERY of frame %u)", seq, p->a); break;
+    case PROTO_T_READBACK: snprintf(out, cap, "packet %u (READBACK of frame %u)", seq, p->a); break;
+    case PROTO_T_RESET: snprintf(out, cap, "packet %u (RESET)", seq); break;
+    case PROTO_T_PING: snprintf(out, cap, "packet %u (PING)", seq); break;
+    default: snprintf(out, cap, "packet %u (type %u)", seq, p->type); break;
+    }
+}
+
 static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32_t len)
 {
+    if (stopped(s))
+        return -1;
+    *sent_at(s, s->seq) = (sent_packet){s->seq, type, true, len >= 4 ? PROTO_GET32(payload) : 0, 0};
     size_t n = link_encode(s->pkt, type, s->seq++, payload, len);
     tr_status st = s->t->ops->write(s->t, s->pkt, n);
     if (st == TR_OK)
         st = s->t->ops->flush(s->t);
+    if (stopped(s))
+        return -1;
     if (st != TR_OK) {
         problem(s, "link failed while sending packet %u (%s): %s", (unsigned)(s->seq - 1),
                 st == TR_GONE ? "device disconnected" : "I/O error", s->t->error);
@@ -91,12 +161,50 @@ static int send_u32(streamer *s, uint8_t type, uint32_t v)
     return send_packet(s, type, p, 4);
 }
 
-static int send_words(streamer *s, size_t from, size_t to)
+/* The payload every board takes: one high-speed bulk packet less header and
+ * CRC, the FX2 firmware's (firmware/fx2/main.c, FX2_MAX_PAYLOAD). */
+#define SAFE_PAYLOAD (PROTO_BULK_MAXPKT - PROTO_HEADER - PROTO_TRAILER)
+
+/* The payload to use: the board's (its INFO report), the transport's, and
+ * for WORDS o->chunk_bytes, whichever is least; at least `least` bytes, else
+ * the stream cannot go (a board that takes less is not one we can drive).
+ * A board whose INFO cannot be read (its HID side broken, the bulk side
+ * working) gets SAFE_PAYLOAD, and the log says so. */
+static int board_payload(streamer *s, size_t least, bool words)
 {
-    size_t max = s->o->chunk_bytes ? s->o->chunk_bytes : s->t->max_payload;
+    uint8_t rep[PROTO_HID_REPORT + 1] = {PROTO_HID_INFO};
+    link_info info;
+    if (s->t->ops->hid_get(s->t, rep, PROTO_HID_REPORT)) {
+        note(s, "the board's INFO report (HID report 1) could not be read (%s): payloads of %u "
+                "bytes, which every board takes", s->t->error, SAFE_PAYLOAD);
+        memset(&info, 0, sizeof info);
+        info.max_payload = SAFE_PAYLOAD;
+    } else if (link_info_decode(rep, &info)) {
+        problem(s, "the device's INFO report lacks the ALBI magic: not an albatros board?");
+        s->failed = true;
+        return -1;
+    }
+    size_t max = info.max_payload;
     if (max > s->t->max_payload)
         max = s->t->max_payload;
-    size_t per = max / 4 ? max / 4 : 1;
+    if (max > PROTO_MAX_PAYLOAD)
+        max = PROTO_MAX_PAYLOAD;
+    if (words && s->o->chunk_bytes && s->o->chunk_bytes < max)
+        max = s->o->chunk_bytes;
+    if (max < least) {
+        problem(s, "the board takes payloads of %zu bytes (INFO): too small for a %s", max,
+                words ? "word" : "tile");
+        s->failed = true;
+        return -1;
+    }
+    s->max = max;
+    s->r->max_payload = max;
+    return 0;
+}
+
+static int send_words(streamer *s, size_t from, size_t to)
+{
+    size_t per = s->max / 4;
     uint8_t *buf = malloc(per * 4);
     if (!buf)
         return -1;
@@ -104,7 +212,9 @@ static int send_words(streamer *s, size_t from, size_t to)
         size_t k = to - i < per ? to - i : per;
         for (size_t j = 0; j < k; j++)
             PROTO_PUT32(buf + 4 * j, s->w[i + j]);
-        send_packet(s, PROTO_T_WORDS, buf, (uint32_t)(4 * k));
+        if (!send_packet(s, PROTO_T_WORDS, buf, (uint32_t)(4 * k)))
+            *sent_at(s, s->seq - 1) = (sent_packet){s->seq - 1, PROTO_T_WORDS, true, (uint32_t)i,
+                                                    (uint32_t)(i + k)};
     }
     free(buf);
     return s->failed ? -1 : 0;
@@ -168,19 +278,28 @@ static void on_result(streamer *s, const link_packet *p)
                 (unsigned long long)cyc, (unsigned long long)f->cycles);
 }
 
-static const char *const error_names[] = {"none", "bad CRC", "sequence gap", "duplicate",
-                                          "bad type", "bad length", "malformed stream",
-                                          "wrong mode", "overflow"};
-
 static void on_error(streamer *s, const link_packet *p)
 {
     if (p->len < 16)
         return;
     uint32_t code = PROTO_GET32(p->payload), seq = PROTO_GET32(p->payload + 4);
     uint32_t expected = PROTO_GET32(p->payload + 8), detail = PROTO_GET32(p->payload + 12);
-    s->r->board_errors[code < 9 ? code : 0]++;
-    note(s, "board: %s at packet %u (expected %u, detail %u)", code < 9 ? error_names[code] : "?",
-         seq, expected, detail);
+    s->r->board_errors[code < STREAM_ERROR_CODES ? code : 0]++;
+    /* name the packet concerned: for a gap the first one missing (ERROR
+     * fields: firmware/core.c), else the one the board refused */
+    char what[200], text[300];
+    if (code == PROTO_E_SEQ_GAP) {
+        describe(s, expected, what, sizeof what);
+        snprintf(text, sizeof text, "board: sequence gap: %s never arrived%s (packet %u came next)",
+                 what, detail > 1 ? ", nor the ones after it" : "", seq);
+    } else {
+        describe(s, seq, what, sizeof what);
+        snprintf(text, sizeof text, "board: %s at %s (expected %u, detail %u)",
+                 link_error_name(code), what, expected, detail);
+    }
+    note(s, "%s", text);
+    if (!s->r->first_link_error[0])
+        snprintf(s->r->first_link_error, sizeof s->r->first_link_error, "%s", text);
     if (code != PROTO_E_DUPLICATE)
         s->need_resume = true;
 }
@@ -238,6 +357,8 @@ static bool pump(streamer *s, unsigned timeout_ms)
     for (;;) {
         size_t got = 0;
         tr_status st = s->t->ops->read(s->t, buf, sizeof buf, &got, any ? 0 : timeout_ms);
+        if (stopped(s))
+            return any;
         if (st == TR_GONE || st == TR_ERROR) {
             problem(s, "link failed while reading from the board: %s", s->t->error);
             s->failed = true;
@@ -270,7 +391,7 @@ static void readback(streamer *s, unsigned i)
     if (send_u32(s, PROTO_T_READBACK, f->number))
         return;
     size_t npix = (size_t)f->width * f->height;
-    while (s->rb_got < npix && pump(s, s->o->timeout_ms))
+    while (s->rb_got < npix && !stopped(s) && pump(s, s->o->timeout_ms))
         ;
     if (s->rb_first_bad != (size_t)-1)
         note(s, "frame %u: first difference at %s", f->number, s->rb_what);
@@ -328,36 +449,69 @@ static void finish(streamer *s, double t0)
     s->r->rx_garbage = s->rx.garbage;
     s->r->rx_gaps = s->rx.seq_gaps;
     s->r->rx_duplicates = s->rx.duplicates;
+    if (!s->r->first_link_error[0] && (s->rx.crc_errors || s->rx.garbage || s->rx.seq_gaps))
+        snprintf(s->r->first_link_error, sizeof s->r->first_link_error, "host: %llu bad CRCs, "
+                 "%llu garbage bytes, %llu sequence gaps in the board's packets",
+                 (unsigned long long)s->rx.crc_errors, (unsigned long long)s->rx.garbage,
+                 (unsigned long long)s->rx.seq_gaps);
     s->r->seconds = now() - t0;
     link_rx_free(&s->rx);
     free(s->pkt);
+    free(s->sent);
+}
+
+/* A streamer for t, its buffers allocated (s->failed if not). */
+static void start(streamer *s, transport_t *t, const stream_opts *o, stream_report *r)
+{
+    memset(s, 0, sizeof *s);
+    memset(r, 0, sizeof *r);
+    s->t = t;
+    s->o = o;
+    s->r = r;
+    s->rb_frame = -1;
+    link_rx_init(&s->rx);
+    s->pkt = malloc(PROTO_HEADER + PROTO_MAX_PAYLOAD + PROTO_TRAILER);
+    s->sent = calloc(SENT_RING, sizeof *s->sent);
+    if (!s->pkt || !s->sent) {
+        problem(s, "out of memory");
+        s->failed = true;
+    }
+}
+
+uint64_t stream_board_errors(const stream_report *r)
+{
+    uint64_t n = 0;
+    for (unsigned c = 0; c < STREAM_ERROR_CODES; c++)
+        n += r->board_errors[c];
+    return n;
 }
 
 int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames, unsigned nframes,
                const stream_opts *o, stream_report *r)
 {
-    streamer s = {t, w, n, frames, nframes, o, r, {0}, 0, NULL, false, false, 0, -1, 0, 0, "",
-                  false, {0}};
-    memset(r, 0, sizeof *r);
-    link_rx_init(&s.rx);
-    s.pkt = malloc(PROTO_HEADER + PROTO_MAX_PAYLOAD + PROTO_TRAILER);
+    streamer s;
     double t0 = now();
-    if (!s.pkt) {
-        problem(&s, "out of memory");
-        return -1;
-    }
+    start(&s, t, o, r);
+    s.w = w;
+    s.n = n;
+    s.f = frames;
+    s.nf = nframes;
     size_t preamble = nframes ? frames[0].first_word : n;
     bool end_sent = false, queried = false;
-    if (send_packet(&s, PROTO_T_RESET, NULL, 0) == 0)
+    if (!s.failed && !board_payload(&s, 4, true) && send_packet(&s, PROTO_T_RESET, NULL, 0) == 0)
         send_words(&s, 0, preamble);
-    while (!s.failed) {
+    while (!s.failed && !stopped(&s)) {
         if (s.need_resume) {
             resume(&s);
             end_sent = false;
             continue;
         }
-        unsigned first = first_unconfirmed(&s);
-        while (!s.failed && !s.need_resume && s.next < nframes && s.next < first + o->window) {
+        /* the window slides as RESULTs come in while frames go out: a window
+         * fixed at its start stalls a stream of more than `window` frames
+         * once the board has answered everything sent (it then waits for
+         * words, the host for a RESULT) */
+        while (!s.failed && !s.need_resume && s.next < nframes &&
+               s.next < first_unconfirmed(&s) + o->window) {
             send_words(&s, frames[s.next].first_word, frames[s.next].end_word);
             s.next++;
             pump(&s, 0);
@@ -401,6 +555,8 @@ int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames
             if (frames[i].have && frames[i].board_crc != frames[i].crc)
                 readback(&s, i);
     finish(&s, t0);
+    if (r->interrupted)
+        return -2;
     if (s.failed)
         return -1;
     return r->matched == nframes ? 0 : 1;
@@ -468,28 +624,25 @@ static void send_tiles(streamer *s, const stream_tiles_frame *f, uint8_t *buf, s
             for (unsigned r = 0; r < h; r++)
                 memcpy(buf + 12 + (size_t)3 * w * r,
                        f->rgb + 3 * ((size_t)(y + r) * f->width + x), (size_t)3 * w);
-            send_packet(s, PROTO_T_TILE, buf, (uint32_t)(12 + (size_t)3 * w * h));
+            if (!send_packet(s, PROTO_T_TILE, buf, (uint32_t)(12 + (size_t)3 * w * h)))
+                sent_at(s, s->seq - 1)->b = (uint32_t)y << 16 | x;
         }
 }
 
 int stream_tiles(transport_t *t, const stream_tiles_frame *frames, unsigned nframes,
                  const stream_opts *o, stream_report *r)
 {
-    streamer s = {t, NULL, 0, NULL, 0, o, r, {0}, 0, NULL, false, false, 0, -1, 0, 0, "", false,
-                  {0}};
-    memset(r, 0, sizeof *r);
-    link_rx_init(&s.rx);
-    size_t max = t->max_payload < PROTO_MAX_PAYLOAD ? t->max_payload : PROTO_MAX_PAYLOAD;
-    s.pkt = malloc(PROTO_HEADER + PROTO_MAX_PAYLOAD + PROTO_TRAILER);
-    uint8_t *buf = malloc(max);
+    streamer s;
     double t0 = now();
+    start(&s, t, o, r);
+    uint8_t *buf = malloc(PROTO_MAX_PAYLOAD);
     uint8_t mode[PROTO_HID_REPORT + 1] = {PROTO_HID_MODE, PROTO_MODE_TILES};
-    if (!s.pkt || !buf) {
+    if (!buf && !s.failed) {
         problem(&s, "out of memory");
         s.failed = true;
-    } else if (max < 12 + 3) {
-        problem(&s, "the board takes payloads of %zu bytes: too small for a tile", max);
-        s.failed = true;
+    }
+    if (s.failed || board_payload(&s, 12 + 3, false)) {
+        /* reported */
     } else if (t->ops->hid_set(t, mode, PROTO_HID_REPORT)) {
         problem(&s, "the board refused frames mode (HID MODE 2: no display?): %s", t->error);
         s.failed = true;
@@ -503,8 +656,8 @@ int stream_tiles(transport_t *t, const stream_tiles_frame *frames, unsigned nfra
         for (;;) {
             s.need_resume = false;
             s.have_status = false;
-            uint32_t errors = r->board_errors[PROTO_E_BAD_CRC] + r->board_errors[PROTO_E_SEQ_GAP];
-            send_tiles(&s, &frames[i], buf, max);
+            uint64_t errors = r->board_errors[PROTO_E_BAD_CRC] + r->board_errors[PROTO_E_SEQ_GAP];
+            send_tiles(&s, &frames[i], buf, s.max);
             if (s.failed || send_packet(&s, PROTO_T_PING, NULL, 0))
                 break;
             while (!s.have_status && !s.failed && pump(&s, o->timeout_ms))
@@ -539,5 +692,5 @@ int stream_tiles(transport_t *t, const stream_tiles_frame *frames, unsigned nfra
     }
     finish(&s, t0);
     free(buf);
-    return s.failed ? -1 : 0;
+    return r->interrupted ? -2 : s.failed ? -1 : 0;
 }

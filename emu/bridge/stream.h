@@ -29,30 +29,43 @@ typedef struct {
 typedef struct {
     unsigned timeout_ms;            /* wait for a RESULT (default 2000) */
     unsigned retries;               /* resends of one frame (default 3) */
-    size_t chunk_bytes;             /* WORDS payload (default: board's max) */
+    size_t chunk_bytes;             /* WORDS payload, at most the board's (0: the board's) */
     unsigned window;                /* frames ahead of the last RESULT (16) */
     bool readback;                  /* locate the first wrong pixel of a bad frame */
     FILE *log;                      /* progress and events; NULL = quiet */
     bool progress;                  /* a progress line (terminal) */
+    /* set by a signal handler (Ctrl-C): stop at the next packet, report what
+     * was confirmed so far; NULL: never */
+    const volatile sig_atomic_t *stop;
 } stream_opts;
+
+#define STREAM_ERROR_CODES 9        /* PROTO_E_* 1..8; slot 0 counts unknown codes */
 
 typedef struct {
     unsigned frames, matched, crc_mismatch, cycle_mismatch;
     uint64_t bytes, packets, resumes, queries;
-    uint64_t board_errors[9];       /* ERROR packets by code */
-    uint64_t rx_crc_errors, rx_garbage, rx_gaps, rx_duplicates;
+    uint64_t board_errors[STREAM_ERROR_CODES];   /* ERROR packets by code */
+    uint64_t rx_crc_errors, rx_garbage, rx_gaps, rx_duplicates;   /* the host's decoder */
+    size_t max_payload;             /* payload used: the board's INFO, chunk_bytes */
+    bool interrupted;               /* o->stop was set: the report is partial */
     double seconds;
     char first_problem[600];        /* the first disagreement or failure, readable */
+    char first_link_error[300];     /* the first loss on the link, even if recovered:
+                                       which packet, what it carried */
 } stream_report;
+
+/* ERROR packets the board sent, all codes. */
+uint64_t stream_board_errors(const stream_report *r);
 
 void stream_opts_default(stream_opts *o);
 
 /* Split a word stream into frames (FRAME .. FRAME_END); -1 if malformed. */
 int stream_frames(const uint32_t *w, size_t n, stream_frame **frames, unsigned *nframes);
 
-/* Send w[0..n) through t; fill frames[].have/board_*; 0 if every frame came
- * back and matched, 1 if some disagreed, -1 if the link failed (the report
- * says why and where). */
+/* Send w[0..n) through t, in payloads no longer than the board's INFO
+ * report allows; fill frames[].have/board_*; 0 if every frame came back and
+ * matched, 1 if some disagreed, -1 if the link failed (the report says why
+ * and where), -2 if o->stop was set (r->frames: confirmed so far). */
 int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames, unsigned nframes,
                const stream_opts *o, stream_report *r);
 
@@ -67,8 +80,9 @@ typedef struct {
 /* Switch the board to frames mode (HID MODE), RESET, then each frame's tiles
  * and a PING whose STATUS confirms it; a frame whose tiles met a CRC error or
  * a gap on the way goes again (up to o->retries).  0 if every frame was
- * shown, -1 if the link failed (r says why).  r->frames counts the frames
- * confirmed, r->resumes the resends. */
+ * shown, -1 if the link failed (r says why), -2 if o->stop was set.
+ * r->frames counts the frames confirmed, r->resumes the resends.  Tiles fit
+ * the payload of the board's INFO report. */
 int stream_tiles(transport_t *t, const stream_tiles_frame *frames, unsigned nframes,
                  const stream_opts *o, stream_report *r);
 

@@ -5,6 +5,7 @@
 #ifndef ALBATROS_TRANSPORT_H
 #define ALBATROS_TRANSPORT_H
 
+#include <signal.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -39,27 +40,59 @@ struct transport {
     const transport_ops *ops;
     void *impl;
     char error[512];          /* the last error, with what we were doing */
-    size_t max_payload;       /* largest payload the board takes (from INFO) */
+    size_t max_payload;       /* largest payload the transport carries; the
+                                 board's own limit is in its INFO report,
+                                 which the streamer reads (stream.c) */
 };
 
 /* USB: the first device with vid:pid (or the one with this serial); waits
  * up to wait_ms for it to appear (hot-plug).  NULL with *err on failure. */
 transport_t *transport_usb_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
                                 char *err, size_t errlen);
-/* List matching USB devices on f; returns how many. */
-int transport_usb_list(uint16_t vid, uint16_t pid, void *f, char *err, size_t errlen);
+/* A flag a signal handler sets (Ctrl-C): once it is nonzero, a USB call
+ * that would block (bulk OUT while every transfer is in flight and the board
+ * NAKs, a read's wait) returns at once with TR_ERROR.  No effect on other
+ * transports, which never block for long. */
+void transport_usb_set_stop(transport_t *t, const volatile sig_atomic_t *stop);
+
+/* The board's HID interface alone (control: INFO, RESET, MODE, counters),
+ * through hidraw, so it works while another process streams on the bulk
+ * interface.  A system without a hidraw node for the board (no usbhid
+ * driver bound) falls back to HID class requests on endpoint 0 through
+ * libusb, which claims the HID interface, never the data interface.
+ * write/read fail: there is no bulk link.  NULL with *err on failure. */
+transport_t *transport_hid_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
+                                char *err, size_t errlen);
+
+typedef struct {
+    unsigned bus, address;
+    uint16_t vid, pid;
+    char serial[64];          /* "?" if it could not be read */
+    bool no_access;           /* LIBUSB_ERROR_ACCESS opening it: see firmware/udev/ */
+} tr_usb_device;
+
+/* Matching USB devices into out[0 .. max); returns how many there are
+ * (may exceed max), or -1 with *err. */
+int transport_usb_list(uint16_t vid, uint16_t pid, tr_usb_device *out, int max, char *err,
+                       size_t errlen);
 
 /* The simulated board (firmware/sim/): the firmware core and this project's
- * VP, in process.  profile_name: the VP it runs. */
+ * VP, in process.  profile_name: the VP it runs; max_payload: the largest
+ * payload it accepts and announces in INFO (0: PROTO_MAX_PAYLOAD; the FX2
+ * firmware takes 492, one USB packet less header and CRC). */
 struct sim_board;
-transport_t *transport_sim_open(const char *profile_name, char *err, size_t errlen);
+transport_t *transport_sim_open(const char *profile_name, size_t max_payload, char *err,
+                                size_t errlen);
 /* The simulated board behind a sim transport, for fault injection. */
 struct sim_board *transport_sim_board(transport_t *t);
 
-/* Faults on the link, for tests: a wrapper around any transport. */
+/* Faults on the link, for tests: a wrapper around any transport.  Every n
+ * counts from 1 (0 = no such fault); "packet" is a whole write call, so the
+ * n-th packet sent has sequence number n - 1 (the first is the RESET). */
 typedef struct {
-    uint64_t corrupt_byte;    /* flip a bit in the n-th byte sent (1-based; 0 = none) */
-    uint64_t drop_packet;     /* drop the n-th packet sent (whole write call) */
+    uint64_t corrupt_byte;    /* flip a bit in the n-th byte sent */
+    uint64_t drop_packet;     /* drop the n-th packet sent */
+    uint64_t truncate_packet; /* send only the first half of the n-th packet */
     uint64_t duplicate_packet;/* send the n-th packet twice */
     uint64_t swap_packet;     /* send the n-th and (n+1)-th packets in reverse order */
     uint64_t silence_after;   /* the board stops answering after n bytes read */

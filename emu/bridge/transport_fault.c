@@ -1,6 +1,6 @@
 /* transport_fault.c — a transport that misbehaves on purpose, for the
  * bridge's fault-injection tests: corrupted bytes either way, dropped,
- * duplicated and swapped packets, a board that falls silent, a device that
+ * truncated, duplicated and swapped packets, a board that falls silent, a device that
  * disconnects.  Each write call is one packet (the streamer writes so). */
 #include "transport.h"
 
@@ -49,6 +49,10 @@ static tr_status f_write(transport_t *t, const uint8_t *data, size_t len)
     }
     if (n == z->f.drop_packet) {
         /* lost on the wire */
+    } else if (n == z->f.truncate_packet) {
+        /* cut short: the receiver waits for the rest, takes the next
+         * packet's bytes for it, fails the CRC and resynchronises */
+        s = pass(t, z, copy, len / 2);
     } else if (n == z->f.swap_packet) {
         z->held = copy;
         z->held_len = len;

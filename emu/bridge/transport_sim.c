@@ -55,11 +55,17 @@ static void sim_close(transport_t *t)
 static const transport_ops sim_ops = {"sim", sim_write, sim_flush, sim_read, sim_hid_get,
                                       sim_hid_set, sim_close};
 
-transport_t *transport_sim_open(const char *profile_name, char *err, size_t errlen)
+transport_t *transport_sim_open(const char *profile_name, size_t max_payload, char *err,
+                                size_t errlen)
 {
     profile_t p;
     if (profile_lookup(profile_name, &p)) {
         snprintf(err, errlen, "simulated board: unknown profile %s", profile_name);
+        return NULL;
+    }
+    if (max_payload > PROTO_MAX_PAYLOAD) {
+        snprintf(err, errlen, "simulated board: a payload of %zu bytes is above the protocol's "
+                 "%u", max_payload, PROTO_MAX_PAYLOAD);
         return NULL;
     }
     transport_t *t = calloc(1, sizeof *t);
@@ -74,6 +80,8 @@ transport_t *transport_sim_open(const char *profile_name, char *err, size_t errl
         return NULL;
     }
     t->max_payload = PROTO_MAX_PAYLOAD;
+    if (max_payload)
+        sim_board_set_max_payload(t->impl, (uint16_t)max_payload);
     return t;
 }
 

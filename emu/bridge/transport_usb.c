@@ -3,7 +3,9 @@
  * through hidapi (hidraw back end, so the kernel keeps the HID interface and
  * libusb claims only the data interface).  Error messages carry
  * libusb_error_name() and what we were doing; LIBUSB_ERROR_ACCESS names the
- * udev rule to install (docs/usb-protocol.md, "Permissions"). */
+ * udev rule to install (docs/usb-protocol.md, "Permissions").  `albatros
+ * board` opens the HID interface alone (transport_hid_open), so it works
+ * beside a running stream. */
 #include "transport.h"
 #include "../../firmware/proto.h"
 
@@ -14,6 +16,7 @@
 #include <string.h>
 #include <sys/time.h>
 #include <time.h>
+#include <wchar.h>
 
 #define OUT_TRANSFERS 16      /* 16 x 64 KiB: ~0.5 s at a 2 MB/s stream */
 #define OUT_SIZE      (128u * PROTO_BULK_MAXPKT)
@@ -43,6 +46,9 @@ struct usb_link {
     bool gone, failed;
     char error[400];
     unsigned busy_out, busy_in;
+    bool hid_only;            /* transport_hid_open: no data interface, no transfers */
+    bool hid_by_libusb;       /* no hidraw node: HID class requests on endpoint 0 */
+    const volatile sig_atomic_t *stop;   /* transport_usb_set_stop */
 };
 
 static void set_error(usb_link *u, const char *doing, int rc)
@@ -203,6 +209,10 @@ static tr_status usb_write(transport_t *t, const uint8_t *data, size_t len)
                     ;
                 if (i < OUT_TRANSFERS)
                     break;
+                if (u->stop && *u->stop) {   /* Ctrl-C while the board NAKs */
+                    snprintf(t->error, sizeof t->error, "writing to the board: interrupted");
+                    return TR_ERROR;
+                }
                 events(u, 100);
             }
             if (u->failed)
@@ -236,6 +246,10 @@ static tr_status usb_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got,
         long ms = (long)(now.tv_sec - start.tv_sec) * 1000 + (now.tv_nsec - start.tv_nsec) / 1000000;
         if (ms >= (long)timeout_ms)
             return TR_TIMEOUT;
+        if (u->stop && *u->stop) {
+            snprintf(t->error, sizeof t->error, "reading from the board: interrupted");
+            return TR_ERROR;
+        }
         events(u, (unsigned)(timeout_ms - (unsigned)ms < 50 ? timeout_ms - (unsigned)ms : 50));
     }
     size_t n = u->rx_len < cap ? u->rx_len : cap;
@@ -246,9 +260,35 @@ static tr_status usb_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got,
     return n ? TR_OK : status_of(t, u);
 }
 
+/* HID class requests (HID 1.11, 7.2) on endpoint 0, for a board whose HID
+ * interface has no hidraw node: GET_REPORT / SET_REPORT of a feature report
+ * (wValue high byte 3), the report ID in buf[0] as hidapi has it. */
+#define HID_GET_REPORT   0x01
+#define HID_SET_REPORT   0x09
+#define HID_FEATURE      0x0300
+#define HID_CTRL_TIMEOUT 1000
+
+static tr_status libusb_hid(transport_t *t, bool get, uint8_t *buf, size_t len)
+{
+    usb_link *u = t->impl;
+    int rc = libusb_control_transfer(
+        u->h, (uint8_t)(LIBUSB_REQUEST_TYPE_CLASS | LIBUSB_RECIPIENT_INTERFACE |
+                        (get ? LIBUSB_ENDPOINT_IN : LIBUSB_ENDPOINT_OUT)),
+        get ? HID_GET_REPORT : HID_SET_REPORT, (uint16_t)(HID_FEATURE | buf[0]), PROTO_IF_HID, buf,
+        (uint16_t)len, HID_CTRL_TIMEOUT);
+    if (rc < 0) {
+        snprintf(t->error, sizeof t->error, "HID %s_REPORT %u through libusb (no hidraw node): %s",
+                 get ? "GET" : "SET", buf[0], libusb_error_name(rc));
+        return rc == LIBUSB_ERROR_NO_DEVICE ? TR_GONE : TR_ERROR;
+    }
+    return TR_OK;
+}
+
 static tr_status usb_hid_get(transport_t *t, uint8_t *buf, size_t len)
 {
     usb_link *u = t->impl;
+    if (u->hid_by_libusb)
+        return libusb_hid(t, true, buf, len);
     if (!u->hid) {
         snprintf(t->error, sizeof t->error, "no HID interface open");
         return TR_ERROR;
@@ -264,6 +304,13 @@ static tr_status usb_hid_get(transport_t *t, uint8_t *buf, size_t len)
 static tr_status usb_hid_set(transport_t *t, const uint8_t *buf, size_t len)
 {
     usb_link *u = t->impl;
+    if (u->hid_by_libusb) {
+        uint8_t copy[PROTO_HID_REPORT + 1];
+        if (len > sizeof copy)
+            len = sizeof copy;
+        memcpy(copy, buf, len);
+        return libusb_hid(t, false, copy, len);
+    }
     if (!u->hid || hid_send_feature_report(u->hid, buf, len) < 0) {
         snprintf(t->error, sizeof t->error, "HID SET_REPORT %u: %ls", buf[0],
                  u->hid ? hid_error(u->hid) : L"no HID interface open");
@@ -294,7 +341,8 @@ static void usb_close(transport_t *t)
         free(u->in[i].buf);
     }
     if (u->h) {
-        libusb_release_interface(u->h, PROTO_IF_DATA);
+        if (!u->hid_only)
+            libusb_release_interface(u->h, PROTO_IF_DATA);
         libusb_close(u->h);
     }
     if (u->hid)
@@ -309,6 +357,12 @@ static void usb_close(transport_t *t)
 
 static const transport_ops usb_ops = {"usb", usb_write, usb_flush, usb_read, usb_hid_get,
                                       usb_hid_set, usb_close};
+
+void transport_usb_set_stop(transport_t *t, const volatile sig_atomic_t *stop)
+{
+    if (t->ops == &usb_ops)
+        ((usb_link *)t->impl)->stop = stop;
+}
 
 static const char udev_hint[] =
     " — no permission to open the device: install firmware/udev/70-albatros.rules into "
@@ -359,6 +413,49 @@ static int find_and_open(usb_link *u, uint16_t vid, uint16_t pid, const char *se
                      rc == LIBUSB_ERROR_ACCESS ? udev_hint
                      : rc == LIBUSB_ERROR_NOT_FOUND ? " (is the board plugged in? 'albatros board "
                                                       "list' shows what is)" : "");
+            return -1;
+        }
+        struct timespec nap = {0, 100 * 1000000};
+        nanosleep(&nap, NULL);
+    }
+}
+
+/* hidapi takes the serial as a wide string */
+static int wide(const char *s, wchar_t *out, size_t cap)
+{
+    size_t n = mbstowcs(out, s, cap);
+    if (n == (size_t)-1 || n >= cap)
+        return -1;
+    return 0;
+}
+
+/* The HID interface through hidraw, of the board with this serial if one
+ * is given (the same string libusb matched), retried for wait_ms. */
+static int open_hid(usb_link *u, uint16_t vid, uint16_t pid, const char *serial,
+                    unsigned wait_ms, char *err, size_t errlen)
+{
+    wchar_t wserial[64];
+    if (serial && wide(serial, wserial, sizeof wserial / sizeof *wserial)) {
+        snprintf(err, errlen, "serial %s: not a serial number hidapi can take", serial);
+        return -1;
+    }
+    if (hid_init()) {
+        snprintf(err, errlen, "initialising hidapi: %ls", hid_error(NULL));
+        return -1;
+    }
+    struct timespec start;
+    clock_gettime(CLOCK_MONOTONIC, &start);
+    for (;;) {
+        u->hid = hid_open(vid, pid, serial ? wserial : NULL);
+        if (u->hid)
+            return 0;
+        struct timespec now;
+        clock_gettime(CLOCK_MONOTONIC, &now);
+        long ms = (long)(now.tv_sec - start.tv_sec) * 1000 + (now.tv_nsec - start.tv_nsec) / 1000000;
+        if (ms >= (long)wait_ms) {
+            snprintf(err, errlen, "opening the HID interface of %04x:%04x%s%s with hidapi: %ls "
+                     "(permissions? see docs/usb-protocol.md)", vid, pid, serial ? " serial " : "",
+                     serial ? serial : "", hid_error(NULL));
             return -1;
         }
         struct timespec nap = {0, 100 * 1000000};
@@ -427,11 +524,71 @@ transport_t *transport_usb_open(uint16_t vid, uint16_t pid, const char *serial, 
     }
     if (setup_transfers(u, err, errlen))
         goto fail;
-    if (hid_init() == 0)
-        u->hid = hid_open(vid, pid, NULL);
-    if (!u->hid) {
-        snprintf(err, errlen, "opening the HID interface of %04x:%04x with hidapi failed "
-                 "(permissions? see docs/usb-protocol.md)", vid, pid);
+    if (open_hid(u, vid, pid, serial, 0, err, errlen))
+        goto fail;
+    return t;
+fail:
+    usb_close(t);
+    return NULL;
+}
+
+static tr_status no_bulk(transport_t *t)
+{
+    snprintf(t->error, sizeof t->error, "the board was opened for HID control only: no bulk link");
+    return TR_ERROR;
+}
+
+static tr_status hid_only_write(transport_t *t, const uint8_t *data, size_t len)
+{
+    (void)data, (void)len;
+    return no_bulk(t);
+}
+
+static tr_status hid_only_flush(transport_t *t) { return no_bulk(t); }
+
+static tr_status hid_only_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got,
+                               unsigned timeout_ms)
+{
+    (void)buf, (void)cap, (void)timeout_ms;
+    *got = 0;
+    return no_bulk(t);
+}
+
+static const transport_ops hid_only_ops = {"hid", hid_only_write, hid_only_flush, hid_only_read,
+                                           usb_hid_get, usb_hid_set, usb_close};
+
+transport_t *transport_hid_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
+                                char *err, size_t errlen)
+{
+    transport_t *t = calloc(1, sizeof *t);
+    usb_link *u = calloc(1, sizeof *u);
+    if (!t || !u) {
+        free(t);
+        free(u);
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    t->ops = &hid_only_ops;
+    t->impl = u;
+    u->hid_only = true;
+    if (open_hid(u, vid, pid, serial, wait_ms, err, errlen) == 0)
+        return t;
+    /* No hidraw node (no usbhid driver bound, or a mocked bus): the same
+     * reports as class requests through libusb, after checking with an INFO
+     * that they get through.  The data interface stays free either way. */
+    char hid_err[300];
+    snprintf(hid_err, sizeof hid_err, "%s", err);
+    int rc = libusb_init(&u->ctx);
+    if (rc) {
+        snprintf(err, errlen, "%s; initialising libusb: %s", hid_err, libusb_error_name(rc));
+        goto fail;
+    }
+    if (find_and_open(u, vid, pid, serial, 0, err, errlen))
+        goto fail;
+    u->hid_by_libusb = true;
+    uint8_t info[PROTO_HID_REPORT + 1] = {PROTO_HID_INFO};
+    if (libusb_hid(t, true, info, PROTO_HID_REPORT)) {
+        snprintf(err, errlen, "%s", t->error);
         goto fail;
     }
     return t;
@@ -440,7 +597,8 @@ fail:
     return NULL;
 }
 
-int transport_usb_list(uint16_t vid, uint16_t pid, void *f, char *err, size_t errlen)
+int transport_usb_list(uint16_t vid, uint16_t pid, tr_usb_device *out, int max, char *err,
+                       size_t errlen)
 {
     libusb_context *ctx;
     int rc = libusb_init(&ctx);
@@ -464,9 +622,12 @@ int transport_usb_list(uint16_t vid, uint16_t pid, void *f, char *err, size_t er
                                                    sizeof sn);
             libusb_close(h);
         }
-        fprintf(f, "usb:%03u:%03u  %04x:%04x  serial %s%s\n", libusb_get_bus_number(list[i]),
-                libusb_get_device_address(list[i]), vid, pid, sn,
-                orc == LIBUSB_ERROR_ACCESS ? "  (no permission: see firmware/udev/)" : "");
+        if (found < max) {
+            tr_usb_device *d = &out[found];
+            *d = (tr_usb_device){libusb_get_bus_number(list[i]), libusb_get_device_address(list[i]),
+                                 vid, pid, "", orc == LIBUSB_ERROR_ACCESS};
+            snprintf(d->serial, sizeof d->serial, "%s", sn[0] ? sn : "?");
+        }
         found++;
     }
     if (n >= 0)

@@ -261,6 +261,12 @@ sim_board *sim_board_create(const profile_t *p, char *err, size_t errlen)
     return b;
 }
 
+void sim_board_set_max_payload(sim_board *b, uint16_t max_payload)
+{
+    /* rxbuf holds SIM_MAX_PAYLOAD; the core checks lengths against this */
+    b->core.max_payload = max_payload < SIM_MAX_PAYLOAD ? max_payload : SIM_MAX_PAYLOAD;
+}
+
 void sim_board_destroy(sim_board *b)
 {
     if (!b)

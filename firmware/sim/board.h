@@ -14,6 +14,10 @@ typedef struct sim_board sim_board;
 
 sim_board *sim_board_create(const profile_t *p, char *err, size_t errlen);
 void sim_board_destroy(sim_board *b);
+/* The largest payload the board accepts (and announces in INFO), at most
+ * PROTO_MAX_PAYLOAD: a board like the FX2, which takes 492 bytes.  Longer
+ * packets are then garbage to it, as to the real firmware (core.c). */
+void sim_board_set_max_payload(sim_board *b, uint16_t max_payload);
 /* Bytes from the host's bulk OUT transfers. */
 void sim_board_rx(sim_board *b, const uint8_t *data, size_t len);
 /* Bytes the board has for the host's bulk IN; returns how many were copied. */

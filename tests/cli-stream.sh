@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# cli-stream.sh ALBATROS — `albatros stream` and `albatros board` through the
+# simulated board: a board that takes 492-byte payloads (the FX2's), link
+# faults named in the report, text and JSON agreeing on every count, Ctrl-C
+# with its partial report, and the JSON of `board`.
+source "$(dirname "$0")/lib.sh"
+
+# a scene of many frames: the simulated board re-runs the stream for every
+# frame, so streaming it takes ~20 s (far longer under valgrind) unless stopped
+gem='albatros-scene 1
+near 0.5
+light 0.5 0.7 -0.6 ambient 0.25
+observer at 0 0 -12 fov 50
+object gem moving yaw 10
+ v 2 0 0 n 1 0 0
+ v -2 0 0 n -1 0 0
+ v 0 3 0 n 0 1 0
+ v 0 -3 0 n 0 -1 0
+ v 0 0 2 n 0 0 1
+ v 0 0 -2 n 0 0 -1
+ colour 230 140 40
+ f 5 3 1
+ f 2 3 5
+ f 6 3 2
+ f 1 3 6
+ f 1 4 5
+ f 5 4 2
+ f 2 4 6
+ f 6 4 1
+end'
+{ echo "$gem"; for ((i = 1; i <= 150; i++)); do printf 'frame\n pose gem yaw %d\n' $((7 * i)); done; } > "$tmp/long.scene"
+{ echo "$gem"; for ((i = 1; i <= 40; i++)); do printf 'frame\n pose gem yaw %d\n' $((9 * i)); done; } > "$tmp/forty.scene"
+
+# the board's payload comes from its INFO report: a board that takes 492
+# bytes (one USB packet, as the FX2 firmware) gets WORDS and TILEs that fit
+expect 0 "albatros-sim: .*payloads up to 492 bytes" "$bin" board info --sim --sim-payload 492
+expect 0 "4 of 4 frames match the emulator .*packets \(payloads up to 492 bytes\)" \
+    "$bin" stream --sim --sim-payload 492 --profile a256
+expect 0 '"max_payload": 492, "board_errors": 0' "$bin" stream --sim --sim-payload 492 --profile a256 --json
+expect 0 "4 of 4 frames shown; [0-9]+ packets \(payloads up to 492 bytes\)" \
+    "$bin" stream --sim --frames --sim-payload 492 --profile a256
+expect 0 '"max_payload": 492, .*"display": "identical"|"display": "identical".*"max_payload": 492' \
+    "$bin" stream --sim --frames --sim-payload 492 --profile a256 --json
+expect 0 "payloads up to 16384 bytes" "$bin" stream --sim --profile a256
+expect 2 "expected a number up to 16384" "$bin" stream --sim --sim-payload 20000
+# more frames than the window of 16 ahead of the last RESULT: the window slides
+expect 0 "40 of 40 frames match the emulator" "$bin" stream --sim --profile t32 "$tmp/forty.scene"
+
+# every ERROR code counted, the same in text and JSON: a corrupted RESET
+# leaves the board unsynchronised, so it refuses the next packets (MODE)
+expect 0 "board reported 3 errors \(wrong mode 3\)" "$bin" stream --sim --profile t32 --fault corrupt=3
+expect 0 '"board_errors": 3, "board_error_codes": \{"bad_crc": 0, "seq_gap": 0, "duplicate": 0, "bad_type": 0, "bad_length": 0, "stream": 0, "mode": 3, "overflow": 0, "unknown": 0\}' \
+    "$bin" stream --sim --profile t32 --fault corrupt=3 --json
+expect 0 '"first_link_error": "board: wrong mode at packet 1 \(WORDS: words 0\.\.' \
+    "$bin" stream --sim --profile t32 --fault corrupt=3 --json
+# the host's own decoder counts the board's corrupted bytes, in both forms
+expect 0 "host saw 1 bad CRCs, [1-9][0-9]* garbage bytes" "$bin" stream --sim --profile a256 --fault corrupt-reply=30
+expect 0 '"host_crc_errors": 1, "host_garbage_bytes": [1-9]' "$bin" stream --sim --profile a256 --fault corrupt-reply=30 --json
+
+# a lost packet is named: its sequence number, its words, its frame
+expect 0 "first link error: board: sequence gap: packet 5 \(WORDS: words [0-9]+\.\.[0-9]+, frame 2\) never arrived" \
+    "$bin" stream --sim --profile a256 --fault drop=6
+# a packet cut short: a bad CRC where it lay, then the gap; the stream recovers
+expect 0 "board reported 2 errors \(bad CRC 1, sequence gap 1\)" \
+    "$bin" stream --sim --profile a256 --fault truncate=6
+expect 0 "hardware agrees" "$bin" stream --sim --profile a256 --fault truncate=6
+expect 0 "first link error: board: bad CRC at packet 39 \(TILE: frame 0, tile at \(0, 19\)\)" \
+    "$bin" stream --sim --frames --profile a256 --sim-payload 492 --fault truncate=40
+expect 0 '"resends": 1, "display": "identical"' \
+    "$bin" stream --sim --frames --profile a256 --sim-payload 492 --fault truncate=40 --json
+expect 0 "truncate=N +send only the first half of the N-th packet" "$bin" stream --help
+expect 0 "corrupt=N +flip a bit of the N-th byte sent" "$bin" stream --help
+
+# Ctrl-C: stopped once the stream has begun (its first line, printed once
+# the handler is in place), however slowly the emulator's run before it goes
+"$bin" stream --sim --profile a256 "$tmp/long.scene" > "$tmp/int.out" 2>&1 &
+pid=$!
+for ((i = 0; i < 3000; i++)); do grep -q '^stream: 150 frames to send' "$tmp/int.out" && break; sleep 0.1; done
+kill -INT $pid
+wait $pid
+rc=$?
+[[ $rc -eq 130 ]] && grep -qE '^stream: interrupted: [0-9]+ of 150 frames confirmed by the board$' "$tmp/int.out" &&
+    grep -qE '^stream: [0-9]+ of 150 frames match the emulator' "$tmp/int.out" &&
+    ! grep -qE 'no result|DIFFERS' "$tmp/int.out" && ok || bad "SIGINT: exit $rc: $(cat "$tmp/int.out")"
+n=$(sed -nE 's/^stream: interrupted: ([0-9]+) of 150.*/\1/p' "$tmp/int.out")
+[[ -n $n && $n -lt 150 ]] && ok || bad "SIGINT: $n frames confirmed: not interrupted?"
+# SIGTERM the same
+"$bin" stream --sim --profile a256 "$tmp/long.scene" > "$tmp/term.out" 2>&1 &
+pid=$!
+for ((i = 0; i < 3000; i++)); do grep -q '^stream: 150 frames to send' "$tmp/term.out" && break; sleep 0.1; done
+kill -TERM $pid
+wait $pid
+rc=$?
+[[ $rc -eq 130 ]] && grep -qE '^stream: interrupted: [0-9]+ of 150 frames confirmed' "$tmp/term.out" &&
+    ok || bad "SIGTERM: exit $rc: $(cat "$tmp/term.out")"
+
+# board: JSON where asked, the usage names --wait
+expect 0 '^\{"boards": \[\{"id": "sim:0", "kind": "sim", "profile": "a256"\}\]\}$' "$bin" board list --sim --json --profile a256
+expect 0 '^\{"reset": "link, VP and counters"\}$' "$bin" board reset --sim --json
+expect 0 '"max_payload": 492\}$' "$bin" board info --sim --json --sim-payload 492
+expect 0 "usage: albatros board .*--wait MS" "$bin" board --help
+# the word-stream summary gives the rate, as frames mode does
+expect 0 "stream: 4 of 4 frames match .* MB in [0-9.]+ s \([0-9.]+ MB/s\)" "$bin" stream --sim --profile t32
+
+finish
