@@ -118,23 +118,20 @@ static int accuracy_opt(void *ctx, const char *name, const char *value)
     return 0;
 }
 
+/* A scene file loaded as render and reference load it: .scene or .obj (with
+ * the camera options), screen-space scenes resolved for the profile. */
 static int accuracy_scene_file(const char *path, const run_opts *o, accuracy *acc)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        fprintf(stderr, "albatros accuracy: %s: cannot open\n", path);
+    scene_t s;
+    if (cli_load_scene(path, o, &s))
         return -1;
-    }
-    static char text[1 << 22];
-    size_t n = fread(text, 1, sizeof text - 1, f);
-    fclose(f);
-    text[n] = 0;
-    char err[400];
-    if (accuracy_of_text(text, &o->prof, acc, err, sizeof err)) {
-        fprintf(stderr, "albatros accuracy: %s: %s\n", path, err);
-        return -1;
-    }
-    return 0;
+    diag_t d;
+    diag_init(&d, NULL);
+    int rc = accuracy_of_scene(&s, &o->prof, acc, &d);
+    if (rc)
+        diag_print(&d, stderr);
+    scene_free(&s);
+    return rc;
 }
 
 int cmd_accuracy(int argc, char **argv)
@@ -148,12 +145,13 @@ int cmd_accuracy(int argc, char **argv)
     if (cli_parse("accuracy", argc, argv, spec, accuracy_opt, &a, &o, pos, 64, &npos))
         return 2;
     if (a.help || (npos == 0 && a.random == 0)) {
-        printf("usage: albatros accuracy [SCENE.scene...] [--random N [--faces F] [--seed S]]\n"
+        printf("usage: albatros accuracy [SCENE...] [--random N [--faces F] [--seed S]]\n"
                "                         [--json] [--profile NAME] [--set KEY=VALUE]\n\n"
                "Render each scene (or N seeded random scenes of F faces) with the VP and the\n"
                "exact reference and count the pixels whose face differs, overall and among\n"
                "the pixels outside every quantisation bound (docs/reference.md), where the\n"
-               "VP must agree.  Exit 1 if any such pixel differs.\n");
+               "VP must agree.  Exit 1 if any such pixel differs.  A SCENE is read as render\n"
+               "reads it: a .scene file, or a .obj file with the camera options of render.\n");
         return a.help ? 0 : 2;
     }
     if (cli_check_profile(&o.prof))

@@ -6,6 +6,7 @@
 #include "gp_internal.h"
 #include "../common/fix.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -122,11 +123,56 @@ singular:
                    "face %u: system (11) is singular (vertices nearly collinear)", f->id);
 }
 
+/* ---- scene values the stream stores as they are ---- */
+
+/* FRAME's fog distances: Z/near in unsigned 24.8, rounded half up
+ * (docs/word-format.md §3); false if the word would exceed 2^32 - 1. */
+#define FOG_WORD_MAX 4294967295.0
+
+static bool fog_word(double dist, double near, uint32_t *word)
+{
+    double v = floor(dist / near * 256 + 0.5);
+    if (!(v >= 0 && v <= FOG_WORD_MAX))
+        return false;
+    *word = (uint32_t)v;
+    return true;
+}
+
+/* CONFIG's near is IEEE-754 binary32 (docs/word-format.md §1), taken in its
+ * normal range so the stream holds the scene's value to binary32 precision;
+ * fog needs both words in range and far's beyond near's, as the decoder does.
+ * The scene format itself takes any positive near (the reference methods run
+ * the stress family `coords` from 10^-60 to 10^60): this is where a scene the
+ * stream cannot carry is refused, at the line and column that set the value,
+ * rather than written into a stream the decoder rejects. */
+static alb_err check_stream_values(const scene_t *s, diag_t *d)
+{
+    if (!(s->near >= FLT_MIN && s->near <= FLT_MAX))
+        return diag_at(d, ALB_ERR_LIMIT, s->file, s->near_line, s->near_col,
+                       "near %g is outside %g .. %g: the word stream stores near as IEEE-754 "
+                       "binary32", s->near, FLT_MIN, FLT_MAX);
+    uint32_t wn, wf;
+    if (s->fog && !(fog_word(s->fog_far, s->near, &wf) && fog_word(s->fog_near, s->near, &wn)))
+        return diag_at(d, ALB_ERR_LIMIT, s->file, s->fog_line, s->fog_col,
+                       "fog far %g is %g times near (%g): the word stream's 24.8 fog distance "
+                       "holds at most %g; raise near or lower the fog distances", s->fog_far,
+                       s->fog_far / s->near, s->near, FOG_WORD_MAX / 256);
+    if (s->fog && wf <= wn)
+        return diag_at(d, ALB_ERR_LIMIT, s->file, s->fog_line, s->fog_col,
+                       "fog near %g and far %g are one value in the word stream's 24.8 fog "
+                       "distance (steps of near/256 = %g): move them further apart", s->fog_near,
+                       s->fog_far, s->near / 256);
+    return ALB_OK;
+}
+
 alb_err gp_create(gp_t **out, const scene_t *scene, const profile_t *prof, diag_t *d)
 {
     char msg[256];
     if (profile_check(prof, msg, sizeof msg))
         return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "%s", msg);
+    alb_err e = check_stream_values(scene, d);
+    if (e)
+        return e;
     gp_t *gp = calloc(1, sizeof *gp);
     if (!gp)
         return ALB_ERR_NOMEM;
@@ -143,7 +189,7 @@ alb_err gp_create(gp_t **out, const scene_t *scene, const profile_t *prof, diag_
         if (!gp->db[i])
             goto nomem;
         for (unsigned j = 0; j < o->nf; j++) {
-            alb_err e = prepare_face(scene, o, &o->f[j], &gp->db[i][j], d);
+            e = prepare_face(scene, o, &o->f[j], &gp->db[i][j], d);
             if (e) {
                 gp_destroy(gp);
                 return e;
@@ -447,12 +493,6 @@ static bool build_face(gp_t *gp, const scene_object *o, const scene_face *f, con
     return true;
 }
 
-static uint32_t fog_distance(double z, double near)
-{
-    double v = floor(z / near * 256 + 0.5);
-    return v >= 4294967295.0 ? 0xFFFFFFFFu : (uint32_t)v;
-}
-
 static uint32_t rgb_word(const uint8_t c[3])
 {
     return (uint32_t)c[0] << 16 | (uint32_t)c[1] << 8 | c[2];
@@ -475,11 +515,12 @@ alb_err gp_frame(gp_t *gp, unsigned frame, ws_buf *out, gp_stats *st, diag_t *d)
     const scene_frame *fr = &s->frames[frame];
     memset(st, 0, sizeof *st);
     size_t start = out->n;
-    ws_frame wf = {frame & 0xFFFFFF, rgb_word(s->background), s->fog, rgb_word(s->fog_rgb),
-                   s->fog ? fog_distance(s->fog_near, s->near) : 0,
-                   s->fog ? fog_distance(s->fog_far, s->near) : 0};
-    if (wf.fog && wf.fog_far <= wf.fog_near)
-        wf.fog_far = wf.fog_near + 1;
+    ws_frame wf = {frame & 0xFFFFFF, rgb_word(s->background), s->fog, rgb_word(s->fog_rgb), 0, 0};
+    /* in range, far beyond near: gp_create checked (check_stream_values) */
+    if (s->fog) {
+        fog_word(s->fog_near, s->near, &wf.fog_near);
+        fog_word(s->fog_far, s->near, &wf.fog_far);
+    }
     ws_put_frame(out, &wf);
     ws_face *face = malloc(sizeof *face);
     if (!face)

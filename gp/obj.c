@@ -538,13 +538,14 @@ static alb_err emit_face(importer *im, const unsigned *vi, unsigned n, bool *ok)
     if (!f)
         return ALB_ERR_NOMEM;
     f->line = im->line;
+    f->col = im->col;
     if (im->cur_mat >= 0)
         memcpy(f->rgb, im->mat[im->cur_mat].rgb, 3);
     f->shade = SHADE_FLAT;
     f->intensity = 1.0;
     f->texture = -1;
     f->texmap = TEXMAP_NONE;
-    *ok = scene_check_face(s, o, f, &im->chk) == ALB_OK;
+    *ok = scene_check_face(s, o, f, NULL, &im->chk) == ALB_OK;
     if (!*ok) {
         o->nf--;
         o->nidx -= n;

@@ -149,59 +149,113 @@ static unsigned vertex_number(const scene_object *o, const scene_face *f, unsign
     return o->idx[f->first + k] + 1;
 }
 
-alb_err scene_check_face(const scene_t *s, const scene_object *o, const scene_face *f, diag_t *d)
+/* Where an error about the face's k-th vertex is reported: the column of
+ * its number on the `f` line, or the face's own column if unknown. */
+static unsigned vertex_col(const scene_face *f, const unsigned *cols, unsigned k)
+{
+    return cols ? cols[k] : f->col;
+}
+
+/* Distance of the face's vertex k from the plane through the others: the
+ * Newell normal of the polygon without k, through the others' centroid.
+ * Negative if the others have no plane (they lie on one line). */
+static double distance_from_others(const scene_object *o, const scene_face *f, unsigned k)
+{
+    unsigned n = f->count;
+    vec3 nn = {0, 0, 0}, c = {0, 0, 0};
+    for (unsigned j = 0; j < n; j++) {
+        if (j == k)
+            continue;
+        unsigned next = (j + 1) % n == k ? (j + 2) % n : (j + 1) % n;
+        vec3 a = scene_face_vertex(o, f, j), b = scene_face_vertex(o, f, next);
+        nn.x += (a.y - b.y) * (a.z + b.z);
+        nn.y += (a.z - b.z) * (a.x + b.x);
+        nn.z += (a.x - b.x) * (a.y + b.y);
+        c = v3_add(c, a);
+    }
+    double nl = v3_len(nn);
+    if (!(nl > 0))
+        return -1;
+    c = v3_scale(c, 1.0 / (n - 1));
+    return fabs(v3_dot(v3_scale(nn, 1 / nl), v3_sub(scene_face_vertex(o, f, k), c)));
+}
+
+/* A face that is not planar: name the vertex farthest from the plane of the
+ * others.  Where one vertex was moved off a planar face, its distance is how
+ * far it moved, while each other vertex is measured against a plane the moved
+ * one has tilted (a plane through the centroid of all of them would put every
+ * vertex of a quad at the same distance, and name the first). */
+static alb_err not_planar(const scene_t *s, const scene_object *o, const scene_face *f,
+                          const unsigned *cols, double tol, diag_t *d)
+{
+    unsigned worst = 0;
+    double dist = -1;
+    for (unsigned k = 0; k < f->count; k++) {
+        double dk = distance_from_others(o, f, k);
+        if (dk > dist)
+            dist = dk, worst = k;
+    }
+    return diag_at(d, ALB_ERR_GEOMETRY, s->file, f->line, vertex_col(f, cols, worst),
+                   "face %u of object '%s' is not planar: vertex %u is %.3g from the plane of "
+                   "the others (tolerance %.3g)", f->id, o->name, vertex_number(o, f, worst),
+                   dist, tol);
+}
+
+alb_err scene_check_face(const scene_t *s, const scene_object *o, const scene_face *f,
+                         const unsigned *cols, diag_t *d)
 {
     const char *file = s->file;
     unsigned n = f->count;
     if (n < 3)
-        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
-                       "face %u of object '%s' has %u vertices; a face needs at least 3",
-                       f->id, o->name, n);
+        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
+                       "face %u of object '%s' has %u vertices: expected at least 3 vertex "
+                       "numbers", f->id, o->name, n);
     if (n > SCENE_MAX_FACE_VERTICES)
-        return diag_at(d, ALB_ERR_LIMIT, file, f->line, 0,
-                       "face %u of object '%s' has %u vertices; the GP takes at most %d",
-                       f->id, o->name, n, SCENE_MAX_FACE_VERTICES);
+        return diag_at(d, ALB_ERR_LIMIT, file, f->line, f->col,
+                       "face %u of object '%s' has more than %d vertices (%u)", f->id, o->name,
+                       SCENE_MAX_FACE_VERTICES, n);
     double L = 0;
     for (unsigned k = 0; k < n; k++) {
-        vec3 a = scene_face_vertex(o, f, k), b = scene_face_vertex(o, f, (k + 1) % n);
-        unsigned va = vertex_number(o, f, k), vb = vertex_number(o, f, (k + 1) % n);
+        unsigned k2 = (k + 1) % n;
+        vec3 a = scene_face_vertex(o, f, k), b = scene_face_vertex(o, f, k2);
+        unsigned va = vertex_number(o, f, k), vb = vertex_number(o, f, k2);
         if (!isfinite(a.x) || !isfinite(a.y) || !isfinite(a.z))
-            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, vertex_col(f, cols, k),
                            "face %u of object '%s': vertex %u is not finite", f->id, o->name, va);
+        /* the second of the two is the one to delete, unless the pair is the
+         * closing edge: then the last number written */
+        unsigned col = vertex_col(f, cols, k2 ? k2 : k);
         double len = v3_len(v3_sub(b, a));
         if (len == 0 && va == vb)
-            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, col,
                            "face %u of object '%s': vertex %u is given twice in a row "
                            "(zero-length edge)", f->id, o->name, va);
         if (len == 0)
-            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, col,
                            "face %u of object '%s': vertices %u and %u coincide (zero-length edge)",
                            f->id, o->name, va, vb);
         if (len > L)
             L = len;
     }
     if (!isfinite(L))
-        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
                        "face %u of object '%s': coordinates too large (edge length overflows)",
                        f->id, o->name);
     vec3 nn = scene_face_newell(o, f);
     double nl = v3_len(nn);
     if (!(nl > TOL_AREA * L * L))
-        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
                        "face %u of object '%s' has zero area (collinear vertices)", f->id, o->name);
+    /* Planar: every vertex within TOL_PLANE L of the plane of the Newell
+     * normal through the centroid. */
     vec3 u = v3_scale(nn, 1 / nl);
     vec3 c = {0, 0, 0};
     for (unsigned k = 0; k < n; k++)
         c = v3_add(c, scene_face_vertex(o, f, k));
     c = v3_scale(c, 1.0 / n);
-    for (unsigned k = 0; k < n; k++) {
-        double dist = fabs(v3_dot(u, v3_sub(scene_face_vertex(o, f, k), c)));
-        if (dist > TOL_PLANE * L)
-            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
-                           "face %u of object '%s' is not planar: vertex %u is %.3g from the "
-                           "face plane (tolerance %.3g)", f->id, o->name, vertex_number(o, f, k),
-                           dist, TOL_PLANE * L);
-    }
+    for (unsigned k = 0; k < n; k++)
+        if (fabs(v3_dot(u, v3_sub(scene_face_vertex(o, f, k), c))) > TOL_PLANE * L)
+            return not_planar(s, o, f, cols, TOL_PLANE * L, d);
     /* Convex and simple: every turn is non-negative about the Newell normal
      * and the turns add up to one full revolution. */
     double total = 0;
@@ -211,13 +265,13 @@ alb_err scene_check_face(const scene_t *s, const scene_object *o, const scene_fa
         vec3 e1 = v3_sub(b, a), e2 = v3_sub(e, b);
         double turn = atan2(v3_dot(v3_cross(e1, e2), u), v3_dot(e1, e2));
         if (turn < -TOL_TURN)
-            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, vertex_col(f, cols, k),
                            "face %u of object '%s' is not convex at vertex %u", f->id, o->name,
                            vertex_number(o, f, k));
         total += turn;
     }
     if (fabs(total - 2 * VEC3_PI) > 1e-6)
-        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, 0,
+        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
                        "face %u of object '%s' is not a simple convex polygon (it winds %.2f times)",
                        f->id, o->name, total / (2 * VEC3_PI));
     return ALB_OK;
@@ -267,16 +321,21 @@ perr(parser *p, unsigned col, const char *fmt, ...)
     return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, col, "%s", msg);
 }
 
+static alb_err err_found(parser *p, const token *t, const char *expected)
+{
+    char got[48];
+    snprintf(got, sizeof got, "%.*s", (int)(t->len > 40 ? 40 : t->len), t->s);
+    return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, t->col, "expected %s, found '%s'",
+                   expected, got);
+}
+
 static alb_err err_tok(parser *p, unsigned i, const char *expected)
 {
     if (i >= p->ntok) {
         unsigned col = p->ntok ? p->tok[p->ntok - 1].col + p->tok[p->ntok - 1].len : 1;
         return perr(p, col, "expected %s at end of line", expected);
     }
-    char got[48];
-    snprintf(got, sizeof got, "%.*s", (int)(p->tok[i].len > 40 ? 40 : p->tok[i].len), p->tok[i].s);
-    return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, p->tok[i].col,
-                   "expected %s, found '%s'", expected, got);
+    return err_found(p, &p->tok[i], expected);
 }
 
 bool scene_decimal_syntax(const char *s, size_t len)
@@ -315,15 +374,13 @@ const char *scene_byte_hint(const char *text, size_t len, size_t at)
  * needs more characters than this (a double round-trips in 24). */
 #define NUM_MAX_CHARS 63
 
-static alb_err num(parser *p, unsigned i, double *out)
+/* The number spelled by token t (a whole token, or part of one). */
+static alb_err num_token(parser *p, const token *t, double *out)
 {
-    if (i >= p->ntok)
-        return err_tok(p, i, "a number");
     char buf[NUM_MAX_CHARS + 1];
-    const token *t = &p->tok[i];
     if (t->len > NUM_MAX_CHARS) {
         if (!scene_decimal_syntax(t->s, t->len))
-            return err_tok(p, i, "a number");
+            return err_found(p, t, "a number");
         return perr(p, t->col, "number '%.40s...' is too long: %u characters, at most %d",
                     t->s, t->len, NUM_MAX_CHARS);
     }
@@ -338,10 +395,41 @@ static alb_err num(parser *p, unsigned i, double *out)
     if (whole && (isnan(v) || (isinf(v) && errno != ERANGE)))
         return perr(p, t->col, "number '%s' is not finite or out of range", buf);
     if (!whole || !scene_decimal_syntax(buf, t->len))
-        return err_tok(p, i, "a number");
+        return err_found(p, t, "a number");
     if (isinf(v))
         return perr(p, t->col, "number '%s' is not finite or out of range", buf);
     *out = v;   /* an underflow to 0 or a denormal is a faithful rounding */
+    return ALB_OK;
+}
+
+static alb_err num(parser *p, unsigned i, double *out)
+{
+    if (i >= p->ntok)
+        return err_tok(p, i, "a number");
+    return num_token(p, &p->tok[i], out);
+}
+
+/* An aspect ratio: a number, or W/H as two numbers (`aspect 4/3`). */
+static alb_err aspect_ratio(parser *p, unsigned i, double *out)
+{
+    if (i >= p->ntok)
+        return err_tok(p, i, "a number or W/H");
+    const token *t = &p->tok[i];
+    const char *slash = memchr(t->s, '/', t->len);
+    if (!slash)
+        return num_token(p, t, out);
+    unsigned wlen = (unsigned)(slash - t->s);
+    token w = {t->s, wlen, t->col}, h = {slash + 1, t->len - wlen - 1, t->col + wlen + 1};
+    double wv, hv;
+    alb_err e;
+    if (!w.len || !h.len)
+        return perr(p, w.len ? h.col : w.col, "expected W/H with a number on each side of '/', "
+                                             "found '%.*s'", (int)t->len, t->s);
+    if ((e = num_token(p, &w, &wv)) || (e = num_token(p, &h, &hv)))
+        return e;
+    if (!(hv > 0))
+        return perr(p, h.col, "aspect W/H needs H > 0");
+    *out = wv / hv;
     return ALB_OK;
 }
 
@@ -496,7 +584,7 @@ static alb_err st_observer(parser *p)
                 return perr(p, p->tok[i + 1].col, "field of view must be in (0, 180) degrees");
             o->fov_y = v;
         } else if (tok_is(&p->tok[i], "aspect")) {
-            if ((e = num(p, i + 1, &v)))
+            if ((e = aspect_ratio(p, i + 1, &v)))
                 return e;
             if (!(v > 0 && v < 100))
                 return perr(p, p->tok[i + 1].col, "aspect must be in (0, 100)");
@@ -697,7 +785,7 @@ static alb_err face_options(parser *p, unsigned i, scene_face *f)
 static alb_err st_face(parser *p)
 {
     scene_object *o = p->obj;
-    unsigned vidx[SCENE_MAX_FACE_VERTICES];
+    unsigned vidx[SCENE_MAX_FACE_VERTICES], cols[SCENE_MAX_FACE_VERTICES];
     unsigned n = 0, i = 1;
     for (; i < p->ntok; i++) {
         const token *t = &p->tok[i];
@@ -714,6 +802,7 @@ static alb_err st_face(parser *p)
         if (n == SCENE_MAX_FACE_VERTICES)
             return diag_at(p->d, ALB_ERR_LIMIT, p->file, p->line, t->col,
                            "face has more than %d vertices", SCENE_MAX_FACE_VERTICES);
+        cols[n] = t->col;
         vidx[n++] = (unsigned)v - 1;
     }
     if (n < 3)
@@ -722,6 +811,7 @@ static alb_err st_face(parser *p)
     if (!f)
         return ALB_ERR_NOMEM;
     f->line = p->line;
+    f->col = p->tok[0].col;
     memcpy(f->rgb, p->colour, 3);
     f->texture = p->texture;
     alb_err e = face_options(p, i, f);
@@ -744,7 +834,7 @@ static alb_err st_face(parser *p)
     }
     if (f->texture < 0)
         f->texmap = TEXMAP_NONE;
-    return scene_check_face(p->s, o, f, p->d);
+    return scene_check_face(p->s, o, f, cols, p->d);
 }
 
 static alb_err st_pose(parser *p)
@@ -851,6 +941,8 @@ static alb_err statement(parser *p)
         if (s->nobj)
             return perr(p, k->col, "'screenspace' must come before the first object");
         s->screenspace = true;
+        if (!s->near_line)
+            s->near = 1;   /* near/Z = depth / largest depth */
         return p->ntok > 1 ? err_tok(p, 1, "end of line") : ALB_OK;
     }
     if (tok_is(k, "near")) {
@@ -858,6 +950,10 @@ static alb_err statement(parser *p)
             return e;
         if (!(s->near > 0))
             return perr(p, p->tok[1].col, "near must be positive");
+        /* whether the stream can hold it is the GP's check (gp_create): the
+         * reference methods take any positive near */
+        s->near_line = p->line;
+        s->near_col = p->tok[1].col;
         return p->ntok > 2 ? err_tok(p, 2, "end of line") : ALB_OK;
     }
     if (tok_is(k, "background")) {
@@ -873,6 +969,8 @@ static alb_err statement(parser *p)
         s->fog = true;
         s->fog_near = v[0];
         s->fog_far = v[1];
+        s->fog_line = p->line;   /* for the GP's check of the stream's fog words */
+        s->fog_col = p->tok[5].col;
         return p->ntok > 6 ? err_tok(p, 6, "end of line") : ALB_OK;
     }
     return err_tok(p, 0, "a statement (object, texture, observer, light, near, background, "
@@ -1051,7 +1149,8 @@ alb_err scene_resolve_screenspace(scene_t *s, unsigned width, unsigned height, d
                 }
         }
     }
-    s->near = 1;
+    if (!s->near_line)
+        s->near = 1;
     for (unsigned f = 0; f < s->nframes; f++) {
         s->frames[f].obs.pose = (scene_pose){{0, 0, 0}, 0, 0, 0};
         s->frames[f].obs.fov_y = 90;

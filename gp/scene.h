@@ -36,7 +36,7 @@ typedef struct {
     texmap_kind texmap;
     double axes[8];          /* TEXMAP_AXES: Au Bu Cu Du Av Bv Cv Dv (object space) */
     bool fog;
-    unsigned line;           /* where it was defined */
+    unsigned line, col;      /* where it was defined (col: of the `f`; 0 unknown) */
     uint32_t id;             /* index in input order over the whole scene */
 } scene_face;
 
@@ -84,10 +84,12 @@ typedef struct {
 typedef struct {
     char file[256];
     double near;             /* depth scale: the VP stores near / Z */
+    unsigned near_line, near_col;   /* where near's value was written (0: default) */
     uint8_t background[3];
     bool fog;
     uint8_t fog_rgb[3];
     double fog_near, fog_far;
+    unsigned fog_line, fog_col;     /* where the fog statement's FAR was written */
     scene_object *obj;
     unsigned nobj, cap_obj;
     scene_texture *tex;
@@ -110,9 +112,11 @@ const char *scene_builtin_text(size_t *len);
 alb_err scene_load_builtin(scene_t *s, diag_t *d);
 
 /* Degenerate-face diagnostics: collinear, non-planar, non-convex, repeated
- * vertices.  Called by the parser and the OBJ importer. */
+ * vertices.  Called by the parser and the OBJ importer.  vertex_cols[k] is the
+ * column of the face's k-th vertex number on its line, where an error about
+ * that vertex is reported; NULL: every error at the face's own column. */
 alb_err scene_check_face(const scene_t *s, const scene_object *o, const scene_face *f,
-                         diag_t *d);
+                         const unsigned *vertex_cols, diag_t *d);
 
 /* Geometry helpers shared with the GP's database preparation. */
 vec3 scene_face_newell(const scene_object *o, const scene_face *f);
@@ -145,7 +149,8 @@ void scene_default_frame(scene_frame *f);
  * Converts them in place to observer-space points whose projection and 1/Z
  * are exactly those (docs/scene-format.md, "Screen space"), with the observer
  * at the origin and a 90-degree square view; faces are turned counter-
- * clockwise.  A scene without `screenspace` is left alone. */
+ * clockwise.  near/Z is near * depth / (largest depth), near the scene's if
+ * written, else 1.  A scene without `screenspace` is left alone. */
 alb_err scene_resolve_screenspace(scene_t *s, unsigned width, unsigned height, diag_t *d);
 
 /* Textures */

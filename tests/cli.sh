@@ -32,7 +32,7 @@ expect 2 "powers of two" "$bin" gp --json --set width=500
 expect 2 "expected three numbers" "$bin" gp --json --eye 1,2
 expect 1 "nope.scene: error: cannot open scene" "$bin" gp --json nope.scene
 printf 'albatros-scene 1\nobject t\n v 0 0 5\n v 1 0 5\n v 2 0 5\n f 1 2 3\nend\n' > "$tmp/line.scene"
-expect 1 "line.scene:6: error: face 0 of object 't' has zero area" "$bin" gp --json "$tmp/line.scene"
+expect 1 "line.scene:6:2: error: face 0 of object 't' has zero area" "$bin" gp --json "$tmp/line.scene"
 printf 'albatros-scene 1\nnear x\n' > "$tmp/bad.scene"
 expect 1 "bad.scene:2:6: error: expected a number, found 'x'" "$bin" gp --json "$tmp/bad.scene"
 

@@ -2,10 +2,13 @@
  * by the screen's corners (Fig. 1), intercepts by substitution, system (11)
  * by its own equations, and whole-pipeline output against ray casting. */
 #include "t.h"
+#include "gp_helpers.h"
 #include "../gp/gp_internal.h"
 #include "../common/fix.h"
 
+#include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -180,4 +183,285 @@ TEST(intensity_solution_reproduces_vertices_and_lies_in_plane)
     vec3 r[3] = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}};
     double val[3] = {0, 1, 2}, out[4];
     CHECK(gp_solve_linear(r, val, v3(1, -1, 0), out) != 0);
+}
+
+/* ---- bounding edges against the screen (§7), edge-on faces ---- */
+
+/* A sliver pointing along +x before a turn by quarter * 90 degrees: its tip at
+ * (tip, 0) and a blunt back, five points of a circle of radius 0.06 about
+ * (back, 0), counter-clockwise from the tip.  The observer looks along +Z with
+ * a 90-degree square view, so a vertex at Z = 1 is at screen (X, Y).  Every
+ * turn of the back is under 90 degrees and only the tip's (above 170) makes
+ * the sectors of its edges differ by 3 or 4: the tip alone gets a bounding
+ * edge, vertical (x = tip) when the sliver lies along x, horizontal along y. */
+#define SLIVER_N 6
+static void sliver(double tip, double back, int quarter, double pt[SLIVER_N][2])
+{
+    static const double deg[SLIVER_N - 1] = {95, 140, 185, 230, 265};
+    double c = cos(quarter * VEC3_PI / 2), s = sin(quarter * VEC3_PI / 2);
+    double u[SLIVER_N][2] = {{tip, 0}};
+    for (int k = 1; k < SLIVER_N; k++) {
+        double a = deg[k - 1] * VEC3_PI / 180;
+        u[k][0] = back + 0.06 * cos(a);
+        u[k][1] = 0.06 * sin(a);
+    }
+    for (int k = 0; k < SLIVER_N; k++) {
+        /* quarter turns: exact, so the tip stays exactly on an axis */
+        double x = u[k][0], y = u[k][1];
+        pt[k][0] = quarter % 2 ? -s * y : c * x;
+        pt[k][1] = quarter % 2 ? s * x : c * y;
+    }
+}
+
+static void polygon_scene(double (*pt)[2], unsigned n, char *buf, size_t len)
+{
+    size_t k = (size_t)snprintf(buf, len, "albatros-scene 1\nobserver fov 90 aspect 1\nobject s\n");
+    for (unsigned i = 0; i < n && k < len; i++)
+        k += (size_t)snprintf(buf + k, len - k, " v %.17g %.17g 1\n", pt[i][0], pt[i][1]);
+    if (k < len)
+        k += (size_t)snprintf(buf + k, len - k, " f");
+    for (unsigned i = 0; i < n && k < len; i++)
+        k += (size_t)snprintf(buf + k, len - k, " %u", i + 1);
+    if (k < len)
+        snprintf(buf + k, len - k, "\nend\n");
+}
+
+/* Eq. (18) decided by the screen's corners instead of |A| + |B| < |C|: the
+ * face is on the left of the edge p -> q (counter-clockwise). */
+static gp_line_class edge_by_corners(const double p[2], const double q[2])
+{
+    int in = 0, out = 0;
+    for (int cx = -1; cx <= 1; cx += 2)
+        for (int cy = -1; cy <= 1; cy += 2) {
+            double f = (q[0] - p[0]) * (cy - p[1]) - (q[1] - p[1]) * (cx - p[0]);
+            in += f > 0;
+            out += f < 0;
+        }
+    return in == 4 ? LINE_DROP_EDGE : out == 4 ? LINE_DROP_FACE : LINE_CROSSES;
+}
+
+/* Where the VP puts edge e at the other coordinate of point p: its distance
+ * from p along the edge's U axis. */
+static double edge_miss(const ws_edge *e, unsigned frac, const double p[2])
+{
+    double a = intercept_value(e->x1, frac), b = intercept_value(e->x2, frac);
+    if (e->u)
+        return fabs(a + (b - a) * (p[1] + 1) / 2 - p[0]);
+    return fabs(a + (b - a) * (p[0] + 1) / 2 - p[1]);
+}
+
+TEST(bounding_edge_screen_test_by_border)
+{
+    static const struct {
+        double tip, back;
+        int quarter;
+        bool face_dropped;     /* otherwise the tip's bounding edge is dropped */
+        const char *why;
+    } cases[] = {
+        /* tip beyond a border, the sliver across the screen: the bounding
+         * edge has the screen on its inside, so it goes */
+        {2, -0.3, 0, false, "x = 2, R = 1 (face at smaller x): v >= 1 drops the edge"},
+        {2, -0.3, 1, false, "y = 2, R = 1: v >= 1 drops the edge"},
+        {2, -0.3, 2, false, "x = -2, R = 0: v <= -1 drops the edge"},
+        {2, -0.3, 3, false, "y = -2, R = 0: v <= -1 drops the edge"},
+        /* the sliver wholly beyond a border, its tip toward the screen: every
+         * edge line of its own meets the screen or has it inside, and only
+         * the bounding edge at the tip has the screen outside */
+        {-1.2, -3.5, 0, true, "x = -1.2, R = 1: v <= -1 drops the face"},
+        {-1.2, -3.5, 1, true, "y = -1.2, R = 1: v <= -1 drops the face"},
+        {-1.2, -3.5, 2, true, "x = 1.2, R = 0: v >= 1 drops the face"},
+        {-1.2, -3.5, 3, true, "y = 1.2, R = 0: v >= 1 drops the face"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        double pt[SLIVER_N][2];
+        char text[1024];
+        sliver(cases[i].tip, cases[i].back, cases[i].quarter, pt);
+        polygon_scene(pt, SLIVER_N, text, sizeof text);
+        unsigned cross = 0, inside = 0, outside = 0, kept[SLIVER_N];
+        for (unsigned k = 0; k < SLIVER_N; k++) {
+            gp_line_class c = edge_by_corners(pt[k], pt[(k + 1) % SLIVER_N]);
+            if (c == LINE_CROSSES)
+                kept[cross++] = k;
+            inside += c == LINE_DROP_EDGE;
+            outside += c == LINE_DROP_FACE;
+        }
+        CHECK_MSG(outside == 0 && cross >= 2, "case %zu: the sliver is not as designed", i);
+        gp_run_result r;
+        if (gp_run_text(text, "bound=albatros", &r)) {
+            CHECK_MSG(0, "case %zu: %s", i, r.err);
+            continue;
+        }
+        CHECK_EQ(r.st.faces_in, 1);
+        CHECK_EQ(r.st.edges_offscreen, inside);
+        CHECK_EQ(r.st.bound_added, 0);
+        if (cases[i].face_dropped) {
+            CHECK_MSG(r.st.faces_offscreen == 1 && r.st.faces_out == 0 && r.st.bound_culled == 0,
+                      "case %zu (%s): offscreen %u out %u culled %u", i, cases[i].why,
+                      r.st.faces_offscreen, r.st.faces_out, r.st.bound_culled);
+            CHECK_EQ(r.nfaces, 0);
+        } else {
+            CHECK_MSG(r.st.faces_offscreen == 0 && r.st.faces_out == 1 && r.st.bound_culled == 1,
+                      "case %zu (%s): offscreen %u out %u culled %u", i, cases[i].why,
+                      r.st.faces_offscreen, r.st.faces_out, r.st.bound_culled);
+            CHECK_EQ(r.st.edges_out, cross);
+            if (r.nfaces == 1 && r.faces[0].n_edges == cross)
+                /* the face's own edges in vertex order, each through both
+                 * of its vertices, and nothing else */
+                for (unsigned j = 0; j < cross; j++) {
+                    const ws_edge *e = &r.faces[0].edge[j];
+                    unsigned k = kept[j];
+                    double miss = fmax(edge_miss(e, r.cfg.edge_frac_bits, pt[k]),
+                                       edge_miss(e, r.cfg.edge_frac_bits, pt[(k + 1) % SLIVER_N]));
+                    CHECK_MSG(miss < 1e-3, "case %zu: edge %u misses vertex by %g", i, j, miss);
+                }
+            else
+                CHECK_MSG(0, "case %zu: %u faces, expected 1 with %u edges", i, r.nfaces, cross);
+        }
+        gp_run_free(&r);
+    }
+}
+
+TEST(bounding_edge_on_the_screen_is_sent)
+{
+    /* tip at (0.5, 0): the vertical x = 0.5 with the face at smaller x */
+    double pt[SLIVER_N][2];
+    char text[1024];
+    sliver(0.5, -0.3, 0, pt);
+    polygon_scene(pt, SLIVER_N, text, sizeof text);
+    gp_run_result r;
+    if (gp_run_text(text, "bound=albatros", &r)) {
+        CHECK_MSG(0, "%s", r.err);
+        return;
+    }
+    CHECK(r.st.bound_added == 1 && r.st.bound_culled == 0 && r.st.edges_out == SLIVER_N + 1);
+    if (r.nfaces == 1 && r.faces[0].n_edges == SLIVER_N + 1) {
+        const ws_edge *b = &r.faces[0].edge[SLIVER_N];
+        unsigned frac = r.cfg.edge_frac_bits;
+        CHECK(b->u == 1 && b->r == 1 && b->x1 == b->x2);
+        CHECK_NEAR(intercept_value(b->x1, frac), 0.5, ldexp(0.5, -(int)frac));
+    } else {
+        CHECK_MSG(0, "%u faces", r.nfaces);
+    }
+    gp_run_free(&r);
+}
+
+TEST(edge_on_face_is_dropped)
+{
+    /* the plane y = 0 holds the observer: the face, either way round,
+     * projects onto the line y = 0 of the screen; the triangle in z = 3,
+     * counter-clockwise on the screen, is drawn */
+    static const char text[] =
+        "albatros-scene 1\nobserver fov 90 aspect 1\nobject s\n"
+        " v -1 0 2\n v 1 0 2\n v 0 0 4\n f 1 2 3\n f 3 2 1\n"
+        " v -1 -1 3\n v 1 -1 3\n v 0 1 3\n f 4 5 6\nend\n";
+    gp_run_result r;
+    if (gp_run_text(text, NULL, &r)) {
+        CHECK_MSG(0, "%s", r.err);
+        return;
+    }
+    CHECK_EQ(r.st.faces_in, 3);
+    CHECK_EQ(r.st.faces_edge_on, 2);    /* both sides of the plane through the eye */
+    CHECK_EQ(r.st.faces_backfacing, 0);
+    CHECK_EQ(r.st.faces_out, 1);
+    CHECK(r.nfaces == 1 && r.faces[0].id == 2);
+    gp_run_free(&r);
+}
+
+/* ---- scene values the stream holds as they are (docs/word-format.md) ---- */
+
+typedef struct {
+    alb_err e;
+    unsigned line, col;
+    char msg[600];
+    ws_config cfg;
+    ws_frame frame;
+} stream_check;
+
+/* Parse (the scene format takes any positive near), then create and run the
+ * GP; on success decode the CONFIG and first FRAME back. */
+static void gp_on_text(const char *body, stream_check *out)
+{
+    char text[1024];
+    snprintf(text, sizeof text, "albatros-scene 1\n%sobject t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n"
+                                " f 1 2 3\nend\n", body);
+    memset(out, 0, sizeof *out);
+    scene_t s;
+    diag_t d;
+    diag_init(&d, NULL);
+    profile_t p;
+    profile_lookup("a256", &p);
+    if ((out->e = scene_parse(text, strlen(text), "x.scene", &s, &d))) {
+        snprintf(out->msg, sizeof out->msg, "parse: %s", d.msg);
+        return;
+    }
+    gp_t *gp = NULL;
+    ws_buf b;
+    ws_buf_init(&b);
+    out->e = gp_create(&gp, &s, &p, &d);
+    if (!out->e)
+        out->e = gp_run(gp, &b, NULL, &d);
+    out->line = d.line, out->col = d.col;
+    snprintf(out->msg, sizeof out->msg, "%s", d.msg);
+    ws_reader rd;
+    ws_reader_init(&rd, b.w, b.n, "x.stream");
+    ws_event ev;
+    while (!out->e && !rd.ended && !(out->e = ws_next(&rd, &ev, &d))) {
+        if (ev.kind == WS_EV_CONFIG)
+            out->cfg = ev.u.config;
+        if (ev.kind == WS_EV_FRAME)
+            out->frame = ev.u.frame;
+    }
+    if (out->e && !out->line)
+        snprintf(out->msg, sizeof out->msg, "decoding: %s", d.msg);
+    gp_destroy(gp);
+    ws_buf_free(&b);
+    scene_free(&s);
+}
+
+TEST(gp_refuses_values_the_stream_cannot_hold)
+{
+    static const struct {
+        const char *body;
+        unsigned line, col;
+        const char *msg;     /* NULL: accepted */
+    } cases[] = {
+        /* near: binary32's normal range, FLT_MIN .. FLT_MAX */
+        {"near 1e40\n", 2, 6, "near 1e+40 is outside 1.17549e-38 .. 3.40282e+38: the word stream "
+                              "stores near as IEEE-754 binary32"},
+        {"near 1e-50\n", 2, 6, "near 1e-50 is outside"},
+        {"near 3.5e38\n", 2, 6, "near 3.5e+38 is outside"},
+        {"near 1.1e-38\n", 2, 6, "near 1.1e-38 is outside"},
+        {"near 3.4e38\n", 0, 0, NULL},
+        {"near 1.2e-38\n", 0, 0, NULL},
+        /* fog: Z/near in 24.8 below 2^32 (Z/near <= 2^24 - 1/512), far's
+         * word beyond near's; checked whichever of near and fog comes first */
+        {"fog 1 2 3 0 2e6\n", 2, 13, "fog far 2e+06 is 2e+07 times near (0.1): the word stream's "
+                                     "24.8 fog distance holds at most 1.67772e+07"},
+        {"fog 1 2 3 0 4294967296\nnear 256\n", 2, 13, "fog far 4.29497e+09 is 1.67772e+07 times"},
+        {"near 256\nfog 1 2 3 0 4294967295\n", 0, 0, NULL},
+        /* 1 and 1.0001 at near 0.1: 2560 and round(2560.256) = 2560 */
+        {"fog 1 2 3 1 1.0001\n", 2, 13, "fog near 1 and far 1.0001 are one value in the word "
+                                         "stream's 24.8 fog distance (steps of near/256"},
+        {"fog 1 2 3 1 1.0003\n", 0, 0, NULL},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        stream_check c;
+        gp_on_text(cases[i].body, &c);
+        if (!cases[i].msg) {
+            CHECK_MSG(c.e == ALB_OK, "case %zu: %s", i, c.msg);
+            continue;
+        }
+        CHECK_MSG(c.e != ALB_OK, "case %zu: accepted", i);
+        CHECK_MSG(c.line == cases[i].line && c.col == cases[i].col, "case %zu: at %u:%u (%s)", i,
+                  c.line, c.col, c.msg);
+        CHECK_STR_CONTAINS(c.msg, cases[i].msg);
+    }
+    /* what was accepted is stored as the decoder reads it back */
+    stream_check c;
+    gp_on_text("near 3.4e38\n", &c);
+    CHECK(c.e == ALB_OK && c.cfg.near == 3.4e38f);
+    gp_on_text("near 256\nfog 1 2 3 0 4294967295\n", &c);
+    CHECK(c.e == ALB_OK && c.frame.fog && c.frame.fog_near == 0 && c.frame.fog_far == 0xFFFFFFFFu);
+    gp_on_text("fog 1 2 3 1 1.0003\n", &c);   /* 2560 and round(2560.768) */
+    CHECK(c.e == ALB_OK && c.frame.fog_near == 2560 && c.frame.fog_far == 2561);
 }

@@ -116,7 +116,7 @@ TEST(obj_nonconvex_polygon_is_split)
         area += v3_len(scene_face_newell(o, &o->f[i])) / 2;
         diag_t chk;
         diag_init(&chk, NULL);
-        CHECK(scene_check_face(&s, o, &o->f[i], &chk) == ALB_OK);
+        CHECK(scene_check_face(&s, o, &o->f[i], NULL, &chk) == ALB_OK);
     }
     CHECK_NEAR(area, 3, 1e-12);
     CHECK_EQ(d.warnings, 1);   /* the degenerate "f 1 2 1" skipped with a warning */

@@ -67,20 +67,42 @@ TEST(scene_errors_name_line_column_and_expectation)
         {HDR "object t\n v 0 0\nend\n", 3, 7, "expected a number at end of line"},
         {HDR "object t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n f 1 2 4\nend\n", 6, 8, "vertices 1..3"},
         {HDR "object t\n v 0 0 5\n v 1 0 5\n f 1 2\nend\n", 5, 7, "at least 3 vertex numbers"},
-        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 2 0 5\n f 1 2 3\nend\n", 6, 0, "zero area"},
-        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 1 1 5\n v 0 1 6\n f 1 2 3 4\nend\n", 7, 0,
-         "not planar"},
-        {HDR "object t\n v 0 0 5\n v 2 0 5\n v 1 0.2 5\n v 1 2 5\n f 1 2 3 4\nend\n", 7, 0,
-         "not convex at vertex 3"},
-        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 1 1 5\n v 0 0 5\n f 1 2 3 4\nend\n", 7, 0,
-         "coincide"},
-        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n f 1 1 3\nend\n", 6, 0,
+        /* bad faces: at the column of the vertex number at fault, or of the
+         * `f` for the face as a whole */
+        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 2 0 5\n f 1 2 3\nend\n", 6, 2,
+         "face 0 of object 't' has zero area (collinear vertices)"},
+        /* vertex 4 lifted by 1 out of the plane z = 5 of the other three */
+        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 1 1 5\n v 0 1 6\n f 1 2 3 4\nend\n", 7, 10,
+         "is not planar: vertex 4 is 1 from the plane of the others (tolerance 1.41e-06)"},
+        /* a pentagon, vertex 4 lifted by 0.3: the plane through the centroid
+         * would put vertex 1 first beyond the tolerance */
+        {HDR "object t\n v 0 0 5\n v 2 0 5\n v 3 1.5 5\n v 1.5 3 5.3\n v 0 2 5\n"
+             " f 1 2 3 4 5\nend\n", 8, 10, "is not planar: vertex 4 is 0.3 from the plane of the "
+                                          "others"},
+        {HDR "object t\n v 0 0 5\n v 2 0 5\n v 1 0.2 5\n v 1 2 5\n f 1 2 3 4\nend\n", 7, 8,
+         "face 0 of object 't' is not convex at vertex 3"},
+        /* the closing edge: the last number written is the one at fault */
+        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 1 1 5\n v 0 0 5\n f 1 2 3 4\nend\n", 7, 10,
+         "vertices 4 and 1 coincide (zero-length edge)"},
+        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n f 1 1 3\nend\n", 6, 6,
          "vertex 1 is given twice in a row"},
         /* vertices named by the numbers written on the f line, not positions */
-        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n v 1 0 5\n f 1 2 4 3\nend\n", 7, 0,
+        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n v 1 0 5\n f 1 2 4 3\nend\n", 7, 8,
          "vertices 2 and 4 coincide"},
-        {HDR "object t\n v 0 0 5\n v 2 0 5\n v 1 0.2 5\n v 1 2 5\n f 4 1 2 3\nend\n", 7, 0,
+        {HDR "object t\n v 0 0 5\n v 2 0 5\n v 1 0.2 5\n v 1 2 5\n f 4 1 2 3\nend\n", 7, 10,
          "not convex at vertex 3"},
+        /* a pentagram: every turn 144 degrees, two revolutions */
+        {HDR "object t\n v 0 1 5\n v -0.951 0.309 5\n v -0.588 -0.809 5\n v 0.588 -0.809 5\n"
+             " v 0.951 0.309 5\n f 1 3 5 2 4\nend\n", 8, 2,
+         "is not a simple convex polygon (it winds 2.00 times)"},
+        /* aspect: a number or W/H */
+        {HDR "observer aspect 4/0\n" TRI, 2, 19, "aspect W/H needs H > 0"},
+        {HDR "observer aspect 4/\n" TRI, 2, 19, "expected W/H with a number on each side of '/', "
+                                               "found '4/'"},
+        {HDR "observer aspect /3\n" TRI, 2, 17, "expected W/H with a number"},
+        {HDR "observer aspect x/3\n" TRI, 2, 17, "expected a number, found 'x'"},
+        {HDR "observer aspect 4/3x\n" TRI, 2, 19, "expected a number, found '3x'"},
+        {HDR "observer aspect 400/3\n" TRI, 2, 17, "aspect must be in (0, 100)"},
         {HDR "object t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n f 1 2 3\n", 6, 1, "has no 'end'"},
         {HDR "object t\nend\n", 3, 1, "has no faces"},
         {HDR TRI "object t\n", 8, 8, "defined twice"},
@@ -98,6 +120,10 @@ TEST(scene_errors_name_line_column_and_expectation)
         {HDR "texture c file /nonexistent/x.png\n" TRI, 2, 16,
          "texture 'c': cannot open '/nonexistent/x.png': No such file or directory"},
         {HDR "observer fov 180\n" TRI, 2, 14, "(0, 180)"},
+        /* the scene format takes any positive near; whether the word stream
+         * can hold it is the GP's check (test_gp.c) */
+        {HDR "near 1e40\n" TRI, 0, 0, NULL},
+        {HDR "near 1e-50\n" TRI, 0, 0, NULL},
         {HDR "object t\n v 0 0 5 n 0 0 0\nend\n", 3, 10, "zero length"},
         {HDR "near 1\xff\n" TRI, 2, 7, "byte 0xff"},
         {"\xef\xbb\xbf" HDR TRI, 1, 1, "byte 0xef: scene files are ASCII text (this is a UTF-8 "
@@ -141,6 +167,61 @@ TEST(scene_errors_name_line_column_and_expectation)
                   cases[i].col, d.msg);
         CHECK_STR_CONTAINS(d.msg, cases[i].msg);
         CHECK(strcmp(d.file, "x.scene") == 0);
+    }
+}
+
+TEST(scene_aspect_takes_a_ratio)
+{
+    static const struct {
+        const char *text;
+        double aspect;
+    } cases[] = {
+        {HDR "observer aspect 4/3\n" TRI, 4.0 / 3},
+        {HDR "observer aspect 16/9 fov 50\n" TRI, 16.0 / 9},
+        {HDR "observer aspect 1.5e0/.5\n" TRI, 3},
+        {HDR "observer aspect 1.25\n" TRI, 1.25},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        scene_t s;
+        diag_t d;
+        diag_init(&d, NULL);
+        if (scene_parse(cases[i].text, strlen(cases[i].text), "x.scene", &s, &d)) {
+            CHECK_MSG(0, "case %zu: %u:%u: %s", i, d.line, d.col, d.msg);
+            continue;
+        }
+        CHECK(s.frames[0].obs.aspect == cases[i].aspect);
+        scene_free(&s);
+    }
+}
+
+/* Screen space: near/Z = near * depth / (largest depth), near 1 unless the
+ * scene says, before or after `screenspace` (docs/scene-format.md). */
+TEST(screenspace_keeps_a_written_near)
+{
+    static const struct {
+        const char *head;
+        double near;
+    } cases[] = {
+        {"screenspace\n", 1},
+        {"screenspace\nnear 0.5\n", 0.5},
+        {"near 0.25\nscreenspace\n", 0.25},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char text[256];
+        snprintf(text, sizeof text, HDR "%sobject t\n v 0 0 2\n v 32 0 4\n v 0 32 4\n f 1 2 3\nend\n",
+                 cases[i].head);
+        scene_t s;
+        diag_t d;
+        diag_init(&d, NULL);
+        if (scene_parse(text, strlen(text), "x.scene", &s, &d) ||
+            scene_resolve_screenspace(&s, 32, 32, &d)) {
+            CHECK_MSG(0, "case %zu: %s", i, d.msg);
+            continue;
+        }
+        CHECK(s.near == cases[i].near);
+        /* the vertex at the largest depth at Z = 1, the one at half of it at 2 */
+        CHECK(s.obj[0].v[1].p.z == 1 && s.obj[0].v[0].p.z == 2);
+        scene_free(&s);
     }
 }
 

@@ -175,6 +175,28 @@ static int measure_frame(void *ctx, const frame_t *f, const vp_stats *st)
     return 0;
 }
 
+int accuracy_of_scene(const scene_t *s, const profile_t *p, accuracy *acc, diag_t *d)
+{
+    gp_t *gp = NULL;
+    vp_t *vp = NULL;
+    ws_buf b;
+    ws_buf_init(&b);
+    measure_ctx m = {s, p, &b, acc, 0};
+    alb_err e = gp_create(&gp, s, p, d);
+    if (!e)
+        e = gp_run(gp, &b, NULL, d);
+    if (!e)
+        e = vp_create(&vp, p, d);
+    if (!e)
+        e = vp_run_stream(vp, b.w, b.n, "generated", measure_frame, &m, d);
+    if (e && m.rc)
+        diag_at(d, ALB_ERR_NOMEM, s->file, 0, 0, "out of memory");
+    vp_destroy(vp);
+    gp_destroy(gp);
+    ws_buf_free(&b);
+    return e ? -1 : 0;
+}
+
 int accuracy_of_text(const char *text, const profile_t *p, accuracy *acc, char *err, size_t len)
 {
     scene_t s;
@@ -184,23 +206,9 @@ int accuracy_of_text(const char *text, const profile_t *p, accuracy *acc, char *
         snprintf(err, len, "%u:%u: %s", d.line, d.col, d.msg);
         return -1;
     }
-    gp_t *gp = NULL;
-    vp_t *vp = NULL;
-    ws_buf b;
-    ws_buf_init(&b);
-    measure_ctx m = {&s, p, &b, acc, 0};
-    alb_err e = gp_create(&gp, &s, p, &d);
-    if (!e)
-        e = gp_run(gp, &b, NULL, &d);
-    if (!e)
-        e = vp_create(&vp, p, &d);
-    if (!e)
-        e = vp_run_stream(vp, b.w, b.n, "generated", measure_frame, &m, &d);
-    if (e)
-        snprintf(err, len, "%s", m.rc ? "out of memory" : d.msg);
-    vp_destroy(vp);
-    gp_destroy(gp);
-    ws_buf_free(&b);
+    int rc = accuracy_of_scene(&s, p, acc, &d);
+    if (rc)
+        snprintf(err, len, "%s", d.msg);
     scene_free(&s);
-    return e ? -1 : 0;
+    return rc;
 }

@@ -25,7 +25,10 @@ typedef struct {
 int accuracy_measure(const scene_t *s, const profile_t *p, unsigned frame, const uint32_t *stream,
                      size_t nwords, const frame_t *vp, const frame_t *ref, accuracy *out);
 
-/* Run GP, VP and reference on scene text; sums into *acc.  err on failure. */
+/* Run GP, VP and reference on a scene (ready for the GP: screen-space
+ * scenes resolved); sums into *acc.  -1 with d saying why on failure. */
+int accuracy_of_scene(const scene_t *s, const profile_t *p, accuracy *acc, diag_t *d);
+/* The same on scene text. */
 int accuracy_of_text(const char *text, const profile_t *p, accuracy *acc, char *err, size_t len);
 
 #endif
