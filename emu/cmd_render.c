@@ -30,12 +30,35 @@ typedef struct {
     const char *vcd;
     bool vcd_window;          /* --vcd-window given */
     uint64_t vcd_from, vcd_to;
+    bool vcd_units_given;     /* --vcd-units given */
+    unsigned vcd_units;       /* mask of sim_trace_units_parse */
     profile_t prof;
     /* run state */
     unsigned nframes, done;
     const char *cmd;
     bool progress;
 } render_args;
+
+/* --vcd-units LIST; an unknown name is reported with the valid ones. */
+static int parse_vcd_units(render_args *a, const char *value)
+{
+    const char *bad;
+    size_t badlen;
+    if (!sim_trace_units_parse(value, &a->vcd_units, &bad, &badlen)) {
+        a->vcd_units_given = true;
+        return 0;
+    }
+    if (badlen)
+        fprintf(stderr, "albatros %s: --vcd-units %s: unknown unit '%.*s'; units are all", a->cmd,
+                value, (int)badlen, bad);
+    else
+        fprintf(stderr, "albatros %s: --vcd-units %s: empty unit name; units are all", a->cmd,
+                value);
+    for (unsigned i = 0; sim_trace_unit_name(i); i++)
+        fprintf(stderr, ", %s", sim_trace_unit_name(i));
+    fputc('\n', stderr);
+    return -1;
+}
 
 static int render_opt(void *ctx, const char *name, const char *value)
 {
@@ -89,6 +112,9 @@ static int render_opt(void *ctx, const char *name, const char *value)
         a->vcd_window = true;
         a->vcd_from = from;
         a->vcd_to = to;
+    } else if (strcmp(name, "vcd-units") == 0) {
+        if (parse_vcd_units(a, value))
+            return -1;
     } else if (strcmp(name, "json") == 0)
         a->json = true;
     else if (strcmp(name, "quiet") == 0 || strcmp(name, "q") == 0)
@@ -259,6 +285,15 @@ static int run_vp(render_args *a, const profile_t *prof, const uint32_t *w, size
             diag_print(&d, stderr);
             return 1;
         }
+        /* --vcd-units: the writer keeps those units' scopes, the model
+         * records only what the writer keeps */
+        for (unsigned i = 0; a->vcd_units_given && a->vcd_units != SIM_TRACE_ALL &&
+                             sim_trace_unit_name(i); i++)
+            if (a->vcd_units >> i & 1 && vcd_keep_scope(opt.vcd, sim_trace_unit_name(i))) {
+                fprintf(stderr, "albatros %s: --vcd-units: too many units\n", a->cmd);
+                vcd_close(opt.vcd);
+                return 2;
+            }
     }
     a->nframes = count_frames(w, n);
     sink_ctx s = {a, profile_levels(prof)};
@@ -299,6 +334,9 @@ static const char render_help[] =
     "                      core); the frames are bit-identical for every N\n"
     "  --vcd FILE          VCD waveform of the cycle model (with --fidelity cycle)\n"
     "  --vcd-window A:B    trace only cycles A to B (with --vcd)\n"
+    "  --vcd-units LIST    trace only these units (with --vcd), comma-separated:\n"
+    "                      gp, fifo, parser, engine, fill, pipe, or all (default);\n"
+    "                      clk and frame_open are always traced\n"
     "  --json              per-frame VP statistics (and counters) as JSON on stdout\n"
     "                      (docs/microarchitecture.md, \"JSON output\")\n"
     "  -q, --quiet         no summary\n\n";
@@ -309,13 +347,18 @@ static const char vp_help[] =
     "Run the VP alone on a word stream (as written by albatros gp), as an RTL test\n"
     "bench replays it.  The profile must match the stream's CONFIG formats.\n"
     "Options as for render: -o, --png, --view, --json, --fidelity, --threads, --vcd,\n"
-    "--vcd-window.\n\n";
+    "--vcd-window, --vcd-units.\n\n";
 
 static int check_outputs(render_args *a)
 {
     /* a window of no trace would be silently ignored */
     if (a->vcd_window && !a->vcd) {
         fprintf(stderr, "albatros %s: --vcd-window limits a trace: add --vcd FILE (and "
+                        "--fidelity cycle)\n", a->cmd);
+        return 2;
+    }
+    if (a->vcd_units_given && !a->vcd) {
+        fprintf(stderr, "albatros %s: --vcd-units limits a trace: add --vcd FILE (and "
                         "--fidelity cycle)\n", a->cmd);
         return 2;
     }
@@ -331,7 +374,7 @@ int cmd_render(int argc, char **argv)
 {
     static const char *const spec[] = {"output=", "png=", "view=", "stream=", "json", "quiet",
                                        "q", "help", "fidelity=", "threads=", "vcd=", "vcd-window=",
-                                       NULL};
+                                       "vcd-units=", NULL};
     render_args a = {.cmd = "render", .progress = cli_isatty_stderr()};
     run_opts o;
     run_opts_init(&o);
@@ -377,7 +420,8 @@ int cmd_render(int argc, char **argv)
 int cmd_vp(int argc, char **argv)
 {
     static const char *const spec[] = {"output=", "png=", "view=", "json", "quiet", "q", "help",
-                                       "fidelity=", "threads=", "vcd=", "vcd-window=", NULL};
+                                       "fidelity=", "threads=", "vcd=", "vcd-window=",
+                                       "vcd-units=", NULL};
     render_args a = {.cmd = "vp", .progress = cli_isatty_stderr()};
     run_opts o;
     run_opts_init(&o);

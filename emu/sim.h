@@ -9,6 +9,7 @@
 #include "../vp/frame.h"
 #include "../vp/vp.h"
 
+#include <stddef.h>
 #include <stdint.h>
 
 typedef enum { FIDELITY_FUNCTIONAL, FIDELITY_TIMED, FIDELITY_CYCLE } fidelity;
@@ -33,6 +34,15 @@ typedef struct {
     X(parser_blocked) X(engine_busy) X(engine_stall) X(fill_busy) X(fifo_sum) X(fifo_peak)
 
 struct vcd;
+
+/* The units a VCD trace can be limited to, by their scope names
+ * (docs/microarchitecture.md, "Traces"): bit i of a mask is unit i.  A
+ * trace keeps the units whose scopes its writer keeps (vcd_keep_scope). */
+const char *sim_trace_unit_name(unsigned i);   /* NULL past the last */
+#define SIM_TRACE_ALL 0x3fu                     /* every unit */
+/* A comma-separated list of unit names, or "all", into *mask; -1 on an
+ * unknown or empty name, its start and length in *bad and *badlen. */
+int sim_trace_units_parse(const char *list, unsigned *mask, const char **bad, size_t *badlen);
 
 typedef struct {
     fidelity fid;

@@ -101,7 +101,7 @@ typedef struct {                 /* fill unit (and the queue before it) */
     int64_t last_write;          /* cycle the last issued sample is written */
 } fill_unit;
 
-/* The depth/shade pipeline as the trace shows it, kept only when tracing
+/* The depth/shade pipeline as the trace shows it, kept only when tracing it
  * (the pixels themselves come from vp_fill when the fill unit takes a cell):
  * which samples of the cell in fill win the depth test, and for each of the
  * L stages the samples in it and how many of them won. */
@@ -122,7 +122,7 @@ typedef struct {
     engine_unit engine;
     fill_unit fill;
     pipe_trace pipe;
-    bool tracing;
+    bool pipe_traced;            /* the trace has the pipe scope: keep pipe_trace */
     slot *slots;
     uint64_t faces_loaded, faces_started;   /* FIFO order of slots */
     /* frames: frame_open (= frames retired) is the one whose faces may run;
@@ -374,7 +374,7 @@ static void fill_tick(machine *m, int64_t t, uint64_t queue_start)
         f->samples = vp_cell_samples(&qc->cell);
         f->next = 0;
         cycle_map_charge(&m->map, m->vp, &qc->cell, f->left);
-        if (m->tracing)
+        if (m->pipe_traced)
             fill_traced(m, qc);
         else
             vp_fill(m->vp, &qc->fs, &qc->cell);
@@ -416,53 +416,151 @@ static void retire_check(machine *m, int64_t t)
 
 /* ---- trace ---- */
 
+/* Identifiers by signal, the same whichever units are traced, so a
+ * signal keeps its code in every trace. */
 enum { SIG_CLK, SIG_FIFO_LEVEL, SIG_FIFO_PUSH, SIG_FIFO_POP, SIG_FIFO_FULL, SIG_FIFO_EMPTY,
        SIG_GP_STATE, SIG_PARSER_STATE, SIG_SLOTS, SIG_ENGINE_STATE, SIG_FACE, SIG_LEVEL,
        SIG_CELL_X, SIG_CELL_Y, SIG_RESULT, SIG_ACTIVE, SIG_FILL_BUSY, SIG_QUEUE, SIG_FRAME,
        SIG_FILL_ISSUED, SIG_PIPE_SAMPLES, SIG_PIPE_WRITE, SIG_PIPE_WRITTEN, SIG_COUNT };
 
-static void trace_declare(vcd_t *v)
+static void trace_gp(const machine *m, vcd_t *v)
 {
+    vcd_set(v, SIG_GP_STATE, m->gp.state);
+}
+
+static void trace_fifo(const machine *m, vcd_t *v)
+{
+    vcd_set(v, SIG_FIFO_LEVEL, m->fifo.count);
+    vcd_set(v, SIG_FIFO_PUSH, m->fifo.push);
+    vcd_set(v, SIG_FIFO_POP, m->fifo.pop);
+    vcd_set(v, SIG_FIFO_FULL, m->fifo.count >= m->p->fifo_depth);
+    vcd_set(v, SIG_FIFO_EMPTY, m->fifo.count == 0);
+}
+
+static void trace_parser(const machine *m, vcd_t *v)
+{
+    vcd_set(v, SIG_PARSER_STATE, m->parser.state);
+    vcd_set(v, SIG_SLOTS, m->faces_loaded - m->faces_started);
+}
+
+static void trace_engine(const machine *m, vcd_t *v)
+{
+    const engine_unit *e = &m->engine;
+    vcd_set(v, SIG_ENGINE_STATE, e->busy ? (e->stalled ? 2 : 1) : 0);
+    if (e->busy) {
+        vcd_set(v, SIG_FACE, m->slots[e->slot].face.fs.id);
+        vcd_set(v, SIG_LEVEL, e->step.cell.level);
+        vcd_set(v, SIG_CELL_X, e->step.cell.c0);
+        vcd_set(v, SIG_CELL_Y, e->step.cell.r0);
+        vcd_set(v, SIG_RESULT, (uint64_t)e->step.kind + 1);
+        vcd_set(v, SIG_ACTIVE, e->step.edges);
+    } else {
+        vcd_set(v, SIG_RESULT, 0);
+    }
+}
+
+static void trace_fill(const machine *m, vcd_t *v)
+{
+    /* not fill.left, which is 0 after a cell's last cycle */
+    vcd_set(v, SIG_FILL_BUSY, m->fill.issued > 0);
+    vcd_set(v, SIG_QUEUE, m->fill.count);
+    vcd_set(v, SIG_FILL_ISSUED, m->fill.issued);
+}
+
+static void trace_pipe(const machine *m, vcd_t *v)
+{
+    vcd_set(v, SIG_PIPE_SAMPLES, m->pipe.out);
+    vcd_set(v, SIG_PIPE_WRITE, m->pipe.written > 0);
+    vcd_set(v, SIG_PIPE_WRITTEN, m->pipe.written);
+}
+
+/* The units below the top scope, in trace order (--vcd-units picks
+ * some; docs/microarchitecture.md, "Traces"): each a $scope of its signals
+ * and the function that records them.  A unit left out is neither declared
+ * nor recorded: a trace of a few units costs little more than their values. */
+typedef struct {
+    unsigned id;
+    const char *name;
+    unsigned width;
+} trace_signal;
+
+enum { UNIT_GP, UNIT_FIFO, UNIT_PARSER, UNIT_ENGINE, UNIT_FILL, UNIT_PIPE, TRACE_UNITS };
+_Static_assert(SIM_TRACE_ALL == (1u << TRACE_UNITS) - 1, "SIM_TRACE_ALL: one bit a unit");
+
+static const struct {
+    const char *scope;
+    void (*record)(const machine *m, vcd_t *v);
+    trace_signal sig[8];         /* up to the first without a name */
+} trace_units[TRACE_UNITS] = {
+    [UNIT_GP] = {"gp", trace_gp, {{SIG_GP_STATE, "state", 2}}},
+    [UNIT_FIFO] = {"fifo", trace_fifo, {{SIG_FIFO_LEVEL, "level", 21}, {SIG_FIFO_PUSH, "push", 1},
+                                        {SIG_FIFO_POP, "pop", 1}, {SIG_FIFO_FULL, "full", 1},
+                                        {SIG_FIFO_EMPTY, "empty", 1}}},
+    [UNIT_PARSER] = {"parser", trace_parser, {{SIG_PARSER_STATE, "state", 2},
+                                              {SIG_SLOTS, "slots_loaded", 7}}},
+    [UNIT_ENGINE] = {"engine", trace_engine, {{SIG_ENGINE_STATE, "state", 2},
+                                              {SIG_FACE, "face", 32}, {SIG_LEVEL, "level", 5},
+                                              {SIG_CELL_X, "cell_x", 16},
+                                              {SIG_CELL_Y, "cell_y", 16},
+                                              {SIG_RESULT, "result", 3},
+                                              {SIG_ACTIVE, "active_edges", 7}}},
+    [UNIT_FILL] = {"fill", trace_fill, {{SIG_FILL_BUSY, "busy", 1}, {SIG_QUEUE, "queue", 11},
+                                        {SIG_FILL_ISSUED, "issued", 9}}},
+    [UNIT_PIPE] = {"pipe", trace_pipe, {{SIG_PIPE_SAMPLES, "samples", 9},
+                                        {SIG_PIPE_WRITE, "write", 1},
+                                        {SIG_PIPE_WRITTEN, "written", 9}}},
+};
+
+const char *sim_trace_unit_name(unsigned i)
+{
+    return i < TRACE_UNITS ? trace_units[i].scope : NULL;
+}
+
+int sim_trace_units_parse(const char *list, unsigned *mask, const char **bad, size_t *badlen)
+{
+    *mask = 0;
+    for (const char *p = list;; p++) {
+        size_t n = strcspn(p, ",");
+        unsigned bit = 0;
+        if (n == 3 && !strncmp(p, "all", 3))
+            bit = SIM_TRACE_ALL;
+        for (unsigned u = 0; u < TRACE_UNITS && !bit; u++)
+            if (strlen(trace_units[u].scope) == n && !strncmp(p, trace_units[u].scope, n))
+                bit = 1u << u;
+        if (!bit) {
+            *bad = p;
+            *badlen = n;
+            return -1;
+        }
+        *mask |= bit;
+        p += n;
+        if (!*p)
+            return 0;
+    }
+}
+
+/* Every signal: the clock and the open frame at the top, each unit in its
+ * scope.  The writer drops the scopes it was not asked to keep
+ * (vcd_keep_scope); the units it kept, a mask, are the ones recorded. */
+static unsigned trace_declare(vcd_t *v)
+{
+    unsigned units = 0;
     vcd_scope(v, "albatros");
     vcd_var(v, SIG_CLK, "clk", 1);
     vcd_var(v, SIG_FRAME, "frame_open", 24);
-    vcd_scope(v, "gp");
-    vcd_var(v, SIG_GP_STATE, "state", 2);
+    for (unsigned u = 0; u < TRACE_UNITS; u++) {
+        vcd_scope(v, trace_units[u].scope);
+        for (const trace_signal *sg = trace_units[u].sig; sg->name; sg++)
+            vcd_var(v, sg->id, sg->name, sg->width);
+        vcd_upscope(v);
+        if (vcd_declared(v, trace_units[u].sig[0].id))
+            units |= 1u << u;
+    }
     vcd_upscope(v);
-    vcd_scope(v, "fifo");
-    vcd_var(v, SIG_FIFO_LEVEL, "level", 21);
-    vcd_var(v, SIG_FIFO_PUSH, "push", 1);
-    vcd_var(v, SIG_FIFO_POP, "pop", 1);
-    vcd_var(v, SIG_FIFO_FULL, "full", 1);
-    vcd_var(v, SIG_FIFO_EMPTY, "empty", 1);
-    vcd_upscope(v);
-    vcd_scope(v, "parser");
-    vcd_var(v, SIG_PARSER_STATE, "state", 2);
-    vcd_var(v, SIG_SLOTS, "slots_loaded", 7);
-    vcd_upscope(v);
-    vcd_scope(v, "engine");
-    vcd_var(v, SIG_ENGINE_STATE, "state", 2);
-    vcd_var(v, SIG_FACE, "face", 32);
-    vcd_var(v, SIG_LEVEL, "level", 5);
-    vcd_var(v, SIG_CELL_X, "cell_x", 16);
-    vcd_var(v, SIG_CELL_Y, "cell_y", 16);
-    vcd_var(v, SIG_RESULT, "result", 3);
-    vcd_var(v, SIG_ACTIVE, "active_edges", 7);
-    vcd_upscope(v);
-    vcd_scope(v, "fill");
-    vcd_var(v, SIG_FILL_BUSY, "busy", 1);
-    vcd_var(v, SIG_QUEUE, "queue", 11);
-    vcd_var(v, SIG_FILL_ISSUED, "issued", 9);
-    vcd_upscope(v);
-    vcd_scope(v, "pipe");
-    vcd_var(v, SIG_PIPE_SAMPLES, "samples", 9);
-    vcd_var(v, SIG_PIPE_WRITE, "write", 1);
-    vcd_var(v, SIG_PIPE_WRITTEN, "written", 9);
-    vcd_upscope(v);
-    vcd_upscope(v);
+    return units;
 }
 
-/* The pipeline's stages this cycle (every cycle while tracing, in or out of
+/* The pipeline's stages this cycle (every cycle while tracing it, in or out of
  * the window): the samples issued now enter the first stage; the last stage
  * holds those issued L - 1 cycles ago, written at the end of this cycle. */
 static void pipe_record(machine *m, int64_t t)
@@ -481,38 +579,14 @@ static void pipe_record(machine *m, int64_t t)
     pt->written = last[1];
 }
 
-static void trace_cycle(machine *m, vcd_t *v, int64_t t)
+static void trace_cycle(const machine *m, vcd_t *v, int64_t t, unsigned units)
 {
-    const engine_unit *e = &m->engine;
     vcd_time(v, (uint64_t)t, 0);
     vcd_set(v, SIG_CLK, 1);
     vcd_set(v, SIG_FRAME, m->frame_open);
-    vcd_set(v, SIG_GP_STATE, m->gp.state);
-    vcd_set(v, SIG_FIFO_LEVEL, m->fifo.count);
-    vcd_set(v, SIG_FIFO_PUSH, m->fifo.push);
-    vcd_set(v, SIG_FIFO_POP, m->fifo.pop);
-    vcd_set(v, SIG_FIFO_FULL, m->fifo.count >= m->p->fifo_depth);
-    vcd_set(v, SIG_FIFO_EMPTY, m->fifo.count == 0);
-    vcd_set(v, SIG_PARSER_STATE, m->parser.state);
-    vcd_set(v, SIG_SLOTS, m->faces_loaded - m->faces_started);
-    vcd_set(v, SIG_ENGINE_STATE, e->busy ? (e->stalled ? 2 : 1) : 0);
-    if (e->busy) {
-        vcd_set(v, SIG_FACE, m->slots[e->slot].face.fs.id);
-        vcd_set(v, SIG_LEVEL, e->step.cell.level);
-        vcd_set(v, SIG_CELL_X, e->step.cell.c0);
-        vcd_set(v, SIG_CELL_Y, e->step.cell.r0);
-        vcd_set(v, SIG_RESULT, (uint64_t)e->step.kind + 1);
-        vcd_set(v, SIG_ACTIVE, e->step.edges);
-    } else {
-        vcd_set(v, SIG_RESULT, 0);
-    }
-    /* not fill.left, which is 0 after a cell's last cycle */
-    vcd_set(v, SIG_FILL_BUSY, m->fill.issued > 0);
-    vcd_set(v, SIG_QUEUE, m->fill.count);
-    vcd_set(v, SIG_FILL_ISSUED, m->fill.issued);
-    vcd_set(v, SIG_PIPE_SAMPLES, m->pipe.out);
-    vcd_set(v, SIG_PIPE_WRITE, m->pipe.written > 0);
-    vcd_set(v, SIG_PIPE_WRITTEN, m->pipe.written);
+    for (unsigned u = 0; u < TRACE_UNITS; u++)
+        if (units >> u & 1)
+            trace_units[u].record(m, v);
     vcd_time(v, (uint64_t)t, 1);
     vcd_set(v, SIG_CLK, 0);
 }
@@ -554,7 +628,7 @@ static void tick(machine *m, int64_t t)
     retire_check(m, t);
 }
 
-static alb_err machine_init(machine *m, const profile_t *p, bool tracing, diag_t *d)
+static alb_err machine_init(machine *m, const profile_t *p, bool pipe_traced, diag_t *d)
 {
     memset(m, 0, sizeof *m);
     m->p = p;
@@ -567,10 +641,10 @@ static alb_err machine_init(machine *m, const profile_t *p, bool tracing, diag_t
         return e;
     m->slots = calloc(p->face_slots, sizeof *m->slots);
     m->fill.q = calloc(p->fill_queue, sizeof *m->fill.q);
-    m->tracing = tracing;
-    if (tracing)
+    m->pipe_traced = pipe_traced;
+    if (pipe_traced)
         m->pipe.stage = calloc(m->latency, sizeof *m->pipe.stage);
-    if (!m->slots || !m->fill.q || (tracing && !m->pipe.stage) || bins_init(&m->bins) ||
+    if (!m->slots || !m->fill.q || (pipe_traced && !m->pipe.stage) || bins_init(&m->bins) ||
         cycle_map_init(&m->map, m->vp) || vp_frame_alloc(m->vp, &m->frame, true))
         return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the cycle model");
     for (unsigned i = 0; i < p->face_slots; i++)
@@ -602,23 +676,26 @@ alb_err sim_run_cycle(const profile_t *p, const uint32_t *w, size_t n, const cha
     catch_signal(SIGINT, on_interrupt, &old_int);
     catch_signal(SIGTERM, on_interrupt, &old_term);
     machine m;
-    alb_err e = machine_init(&m, p, opt->vcd != NULL, d);
+    vcd_t *v = opt->vcd;
+    unsigned units = 0;
+    if (v) {
+        units = trace_declare(v);
+        vcd_begin(v, 1000000000ull / p->clock_khz);
+    }
+    /* the pipeline's record (which samples win) only for the pipe's signals */
+    alb_err e = machine_init(&m, p, units >> UNIT_PIPE & 1, d);
     if (!e)
         e = decode_all(w, n, name, p->frame_faces, &m.ps, d);
     m.sink = sink;
     m.ctx = ctx;
-    vcd_t *v = opt->vcd;
-    if (v) {
-        trace_declare(v);
-        vcd_begin(v, 1000000000ull / p->clock_khz);
-    }
     int64_t t = 0;
     while (!e && !m.err) {
         tick(&m, t);
         if (v) {
-            pipe_record(&m, t);
+            if (m.pipe_traced)
+                pipe_record(&m, t);
             if ((uint64_t)t >= opt->vcd_from && (uint64_t)t <= opt->vcd_to)
-                trace_cycle(&m, v, t);
+                trace_cycle(&m, v, t, units);
         }
         t++;
         if (m.ended && drained(&m, t))

@@ -1,5 +1,6 @@
 /* vcd.c — the VCD writer (IEEE 1364 §18): a $timescale of 1 ps with times at
- * the modelled clock's edges, one $scope module per unit, identifiers of
+ * the modelled clock's edges, one $scope module per unit (or per unit kept:
+ * vcd_keep_scope drops the others' declarations and values), identifiers of
  * printable characters, $dumpvars with initial values, no $date — two runs
  * give byte-identical files.  Its buffer is written with write(2), which a
  * signal handler may call, so SIGINT, SIGTERM, SIGABRT and SIGSEGV still
@@ -15,6 +16,7 @@
 #include <unistd.h>
 
 #define BUF 65536
+#define MAX_KEEP 16
 
 struct vcd {
     int fd;
@@ -27,6 +29,10 @@ struct vcd {
     uint64_t period;          /* ps */
     uint64_t now, written;    /* current time; last "#t" written (+1, 0 = none) */
     uint64_t last_cycle;
+    char keep[MAX_KEEP][32];  /* scopes kept below the top one; none: all */
+    unsigned nkeep;
+    unsigned depth;           /* of the scope being declared */
+    unsigned dropped;         /* depth of the dropped scope being declared, 0 none */
 };
 
 /* The trace a fatal signal must complete: one per process. */
@@ -105,14 +111,44 @@ vcd_t *vcd_open(const char *path, diag_t *d)
     return v;
 }
 
+int vcd_keep_scope(vcd_t *v, const char *module)
+{
+    if (v->nkeep == MAX_KEEP || strlen(module) >= sizeof v->keep[0])
+        return -1;
+    strcpy(v->keep[v->nkeep++], module);
+    return 0;
+}
+
+static int kept(const vcd_t *v, const char *module)
+{
+    for (unsigned i = 0; i < v->nkeep; i++)
+        if (!strcmp(v->keep[i], module))
+            return 1;
+    return !v->nkeep;
+}
+
 void vcd_scope(vcd_t *v, const char *module)
 {
     char line[128];
+    v->depth++;
+    if (!v->dropped && v->depth == 2 && !kept(v, module))
+        v->dropped = v->depth;
+    if (v->dropped)
+        return;
     snprintf(line, sizeof line, "$scope module %s $end\n", module);
     puts_(v, line);
 }
 
-void vcd_upscope(vcd_t *v) { puts_(v, "$upscope $end\n"); }
+void vcd_upscope(vcd_t *v)
+{
+    if (v->dropped) {
+        if (v->depth-- == v->dropped)
+            v->dropped = 0;
+        return;
+    }
+    v->depth -= v->depth > 0;
+    puts_(v, "$upscope $end\n");
+}
 
 /* Identifier of variable id: printable characters '!' .. '~'. */
 static int ident(unsigned id, char *out)
@@ -129,7 +165,7 @@ static int ident(unsigned id, char *out)
 void vcd_var(vcd_t *v, unsigned id, const char *name, unsigned width)
 {
     char line[160], code[8];
-    if (id >= VCD_MAX_VARS)
+    if (id >= VCD_MAX_VARS || v->dropped)
         return;
     ident(id, code);
     snprintf(line, sizeof line, "$var wire %u %s %s $end\n", width, code, name);
@@ -137,6 +173,11 @@ void vcd_var(vcd_t *v, unsigned id, const char *name, unsigned width)
     v->width[id] = width;
     if (id >= v->nvars)
         v->nvars = id + 1;
+}
+
+int vcd_declared(const vcd_t *v, unsigned id)
+{
+    return id < v->nvars && v->width[id];
 }
 
 static void value_line(vcd_t *v, unsigned id, uint64_t value)
@@ -180,7 +221,8 @@ void vcd_time(vcd_t *v, uint64_t cycle, int half)
 
 void vcd_set(vcd_t *v, unsigned id, uint64_t value)
 {
-    if (id >= v->nvars || v->value[id] == value)
+    /* a variable not declared or in a dropped scope has width 0 */
+    if (id >= v->nvars || v->value[id] == value || !v->width[id])
         return;
     if (v->written != v->now + 1) {
         char t[32];

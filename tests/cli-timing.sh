@@ -76,4 +76,71 @@ got_w=$(sum written) got_c=$(sum samples)
 [[ $want_c -gt $want_w && $got_c -eq $want_c ]] && ok || bad "trace passes $got_c samples, frames $want_c"
 grep -qE '^\$var wire 1 [^ ]+ write \$end' "$tmp/p.vcd" && ok || bad "no write strobe declared"
 
+# --vcd-units: a trace of some units; like --vcd-window it needs --vcd
+expect 2 '--vcd-units limits a trace: add --vcd FILE' "$bin" render "$tmp/t.scene" --profile t32 --json --vcd-units fifo
+expect 2 'albatros vp: --vcd-units limits a trace' "$bin" vp "$tmp/t.stream" --profile t32 --json --vcd-units fifo
+units='all, gp, fifo, parser, engine, fill, pipe'
+expect 2 "--vcd-units fifo,fills: unknown unit 'fills'; units are $units\$" \
+    "$bin" render "$tmp/t.scene" --profile t32 --fidelity cycle -q --vcd "$tmp/x.vcd" --vcd-units fifo,fills
+expect 2 "albatros vp: --vcd-units Fifo: unknown unit 'Fifo'; units are $units\$" \
+    "$bin" vp "$tmp/t.stream" --profile t32 --fidelity cycle -q --vcd "$tmp/x.vcd" --vcd-units Fifo
+expect 2 "empty unit name; units are $units\$" \
+    "$bin" render "$tmp/t.scene" --profile t32 --fidelity cycle -q --vcd "$tmp/x.vcd" --vcd-units fifo,
+# the valid names are the scopes of a full trace, in --help and the docs
+for u in ${units//,/}; do
+    [[ $u == all ]] || grep -qE "^\\\$scope module $u \\\$end" "$tmp/p.vcd" || bad "unit $u is not a scope of the trace"
+    "$bin" render --help | sed -n '/--vcd-units/,/--json/p' | grep -qw "$u" || bad "render --help lacks unit $u"
+    grep -q "\`$u\`" "$docs/microarchitecture.md" || bad "unit $u is not in docs/microarchitecture.md"
+done
+ok
+expect 0 '--vcd-units' "$bin" vp --help
+
+# changes UNIT FILE: "time scope.signal value" for the top scope's signals
+# and UNIT's, identifiers mapped to names
+changes() {
+    awk -v want="$1" '
+        $1 == "$scope" { scope[++depth] = $3; next }
+        $1 == "$upscope" { depth--; next }
+        $1 == "$var" { if (depth == 1 || scope[depth] == want) name[$4] = (depth > 1 ? want "." : "") $5; next }
+        /^\$/ { next }
+        /^#/ { now = substr($1, 2); next }
+        /^b/ { if ($2 in name) print now, name[$2], substr($1, 2); next }
+        { id = substr($1, 2); if (id in name) print now, name[id], substr($1, 1, 1) }' "$2"
+}
+# the two-frame scene, cycles 20 to 400, in full and of the fifo alone
+"$bin" render "$tmp/two.scene" --profile t32 --fidelity cycle -q --vcd "$tmp/all.vcd" --vcd-window 20:400 \
+    && ok || bad "full trace"
+"$bin" render "$tmp/two.scene" --profile t32 --fidelity cycle -q --vcd "$tmp/f.vcd" --vcd-window 20:400 \
+    --vcd-units fifo && ok || bad "trace of the fifo"
+scopes=$(grep -oE '^\$scope module [a-z]+' "$tmp/f.vcd" | awk '{ print $3 }' | tr '\n' ' ')
+[[ $scopes == 'albatros fifo ' ]] && ok || bad "trace of the fifo has scopes: $scopes"
+grep -qE '^\$var wire 1 [^ ]+ clk \$end' "$tmp/f.vcd" && grep -q '^\$enddefinitions \$end' "$tmp/f.vcd" \
+    && grep -q '^\$dumpvars' "$tmp/f.vcd" && ok || bad "trace of the fifo: header"
+[[ $(grep -c '^\$var' "$tmp/f.vcd") -eq 7 ]] && ok || bad "trace of the fifo: not 7 variables"
+# no values of the units left out: every change is of a declared identifier
+undeclared=$(awk '$1 == "$var" { id[$4] = 1; next } /^[#$]/ { next }
+    /^b/ { if (!($2 in id)) n++; next } { if (!(substr($1, 2) in id)) n++ } END { print n + 0 }' "$tmp/f.vcd")
+[[ $undeclared -eq 0 ]] && ok || bad "trace of the fifo: $undeclared changes of undeclared signals"
+changes fifo "$tmp/all.vcd" > "$tmp/all.ch"
+changes fifo "$tmp/f.vcd" > "$tmp/f.ch"
+n=$(grep -c ' fifo\.push 1$' "$tmp/f.ch")
+[[ $n -gt 5 ]] && ok || bad "trace of the fifo: $n pushes"
+cmp -s "$tmp/all.ch" "$tmp/f.ch" && ok || bad "fifo changes differ from the full trace: $(diff "$tmp/all.ch" "$tmp/f.ch" | head -5)"
+full=$(wc -c < "$tmp/all.vcd") part=$(wc -c < "$tmp/f.vcd")
+[[ $part -lt $full ]] && ok || bad "trace of the fifo ($part bytes) not smaller than the full one ($full)"
+"$bin" render "$tmp/two.scene" --profile t32 --fidelity cycle -q --vcd "$tmp/f2.vcd" --vcd-window 20:400 \
+    --vcd-units fifo && cmp -s "$tmp/f.vcd" "$tmp/f2.vcd" && ok || bad "two traces of the fifo differ"
+# all is the full trace; vp takes the option too, and a list keeps trace order
+"$bin" render "$tmp/two.scene" --profile t32 --fidelity cycle -q --vcd "$tmp/a.vcd" --vcd-window 20:400 \
+    --vcd-units pipe,all && cmp -s "$tmp/all.vcd" "$tmp/a.vcd" && ok || bad "--vcd-units pipe,all is not the full trace"
+"$bin" gp "$tmp/two.scene" --profile t32 -q -o "$tmp/two.stream" && ok || bad "gp two.scene"
+"$bin" vp "$tmp/two.stream" --profile t32 --fidelity cycle -q --vcd "$tmp/v.vcd" --vcd-units pipe,engine \
+    && ok || bad "vp --vcd-units"
+scopes=$(grep -oE '^\$scope module [a-z]+' "$tmp/v.vcd" | awk '{ print $3 }' | tr '\n' ' ')
+[[ $scopes == 'albatros engine pipe ' ]] && ok || bad "vp trace of pipe,engine has scopes: $scopes"
+"$bin" vp "$tmp/two.stream" --profile t32 --fidelity cycle -q --vcd "$tmp/vall.vcd" && ok || bad "vp trace"
+for u in engine pipe; do
+    cmp -s <(changes $u "$tmp/vall.vcd") <(changes $u "$tmp/v.vcd") && ok || bad "vp: $u changes differ"
+done
+
 finish
