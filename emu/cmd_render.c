@@ -207,7 +207,7 @@ static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st, const 
         width_warnings(f, st);
     if (a->output) {
         numbered(path, sizeof path, a->output, f->number, a->nframes);
-        if (exr_write_frame(path, f, &d)) {
+        if (exr_write_frame_threads(path, f, a->threads ? a->threads : vp_cores(), &d)) {
             diag_print(&d, stderr);
             return -1;
         }
@@ -330,8 +330,9 @@ static const char render_help[] =
     "  --stream FILE       also write the GP's word stream\n"
     "  --fidelity F        functional (default: pixels only), timed or cycle (cycle\n"
     "                      counts, unit counters, vp.cycles; docs/microarchitecture.md)\n"
-    "  --threads N         threads of the functional renderer (default 0: one per\n"
-    "                      core); the frames are bit-identical for every N\n"
+    "  --threads N         threads of the functional renderer and of the EXR\n"
+    "                      compression (default 0: one per core); frames and files\n"
+    "                      are bit-identical for every N\n"
     "  --vcd FILE          VCD waveform of the cycle model (with --fidelity cycle)\n"
     "  --vcd-window A:B    trace only cycles A to B (with --vcd)\n"
     "  --vcd-units LIST    trace only these units (with --vcd), comma-separated:\n"

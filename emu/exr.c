@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -235,35 +236,79 @@ static uint16_t to_half(double v)
     return imath_float_to_half((float)v);
 }
 
-/* Row y of channel k in its file type (HALF: 2 bytes, else 4) into dst. */
-static void fill_row(const frame_t *f, int k, unsigned y, unsigned char *dst)
+/* What every chunk's rows are made from: the frame and its HALF values,
+ * converted once per frame rather than once per pixel. */
+typedef struct {
+    const frame_t *f;
+    uint16_t *colour_half;     /* frame store value -> HALF, 2^colour_bits entries */
+    uint16_t *coverage_half;   /* covered samples -> HALF, 4^aa + 1 entries */
+} row_src;
+
+static int row_src_init(row_src *r, const frame_t *f)
 {
-    double cmax = ldexp(1.0, (int)f->colour_bits) - 1.0;
-    double samples = ldexp(1.0, 2 * (int)f->aa_levels);
-    size_t bytes = chan_bytes(k);
-    for (unsigned x = 0; x < f->width; x++) {
-        size_t i = (size_t)y * f->width + x;
-        uint16_t h = 0;
-        uint32_t u = 0;
-        float z = 0;
-        switch (k) {
-        case CH_R: case CH_G: case CH_B: h = to_half(f->rgb[3 * i + (size_t)(k - CH_R)] / cmax); break;
-        case CH_A: h = to_half(f->coverage[i] / samples); break;
-        case CH_Z: z = frame_z(f, f->depth[i]); break;
-        case CH_FACE: u = f->face[i]; break;
-        case CH_LEVEL: u = f->level[i]; break;
-        case CH_DEPTH: u = f->depth[i]; break;
-        case CH_VR: case CH_VG: case CH_VB: u = f->rgb[3 * i + (size_t)(k - CH_VR)]; break;
-        case CH_COVERAGE: u = f->coverage[i]; break;
-        case CH_CYCLES: u = f->cycles[i]; break;
-        default: break;
+    size_t ncol = (size_t)1 << f->colour_bits, ncov = ((size_t)1 << (2 * f->aa_levels)) + 1;
+    double cmax = (double)(ncol - 1), samples = (double)(ncov - 1);
+    r->f = f;
+    r->colour_half = malloc(ncol * sizeof *r->colour_half);
+    r->coverage_half = malloc(ncov * sizeof *r->coverage_half);
+    if (!r->colour_half || !r->coverage_half)
+        return -1;
+    for (size_t v = 0; v < ncol; v++)
+        r->colour_half[v] = to_half((double)v / cmax);
+    for (size_t v = 0; v < ncov; v++)
+        r->coverage_half[v] = to_half((double)v / samples);
+    return 0;
+}
+
+static void row_src_free(row_src *r)
+{
+    free(r->colour_half);
+    free(r->coverage_half);
+}
+
+/* Row y of channel k in its file type (HALF: 2 bytes, else 4) into dst. */
+static void fill_row(const row_src *src, int k, unsigned y, unsigned char *dst)
+{
+    const frame_t *f = src->f;
+    const size_t w = f->width, row = (size_t)y * w;
+    uint16_t *h = (uint16_t *)(void *)dst;
+    uint32_t *u = (uint32_t *)(void *)dst;
+    float *z = (float *)(void *)dst;
+    /* values beyond the tables cannot come from a VP; converted all the same */
+    const uint32_t cmax = (1u << f->colour_bits) - 1, most = 1u << (2 * f->aa_levels);
+    switch (k) {
+    case CH_R: case CH_G: case CH_B:
+        for (size_t x = 0; x < w; x++) {
+            uint32_t v = f->rgb[3 * (row + x) + (size_t)(k - CH_R)];
+            h[x] = v <= cmax ? src->colour_half[v] : to_half((double)v / cmax);
         }
-        if (bytes == 2)
-            memcpy(dst + x * bytes, &h, bytes);
-        else if (k == CH_Z)
-            memcpy(dst + x * bytes, &z, bytes);
-        else
-            memcpy(dst + x * bytes, &u, bytes);
+        break;
+    case CH_A:
+        for (size_t x = 0; x < w; x++) {
+            uint32_t c = f->coverage[row + x];
+            h[x] = c <= most ? src->coverage_half[c] : to_half((double)c / most);
+        }
+        break;
+    case CH_Z:
+        for (size_t x = 0; x < w; x++)
+            z[x] = frame_z(f, f->depth[row + x]);
+        break;
+    case CH_FACE: memcpy(u, f->face + row, w * 4); break;
+    case CH_LEVEL:
+        for (size_t x = 0; x < w; x++)
+            u[x] = f->level[row + x];
+        break;
+    case CH_DEPTH: memcpy(u, f->depth + row, w * 4); break;
+    case CH_VR: case CH_VG: case CH_VB:
+        for (size_t x = 0; x < w; x++)
+            u[x] = f->rgb[3 * (row + x) + (size_t)(k - CH_VR)];
+        break;
+    case CH_COVERAGE:
+        for (size_t x = 0; x < w; x++)
+            u[x] = f->coverage[row + x];
+        break;
+    case CH_CYCLES: memcpy(u, f->cycles + row, w * 4); break;
+    default: break;
     }
 }
 
@@ -277,14 +322,67 @@ static void set_layout(exr_coding_channel_info_t *ch, int16_t bytes, exr_pixel_t
     ch->user_line_stride = (int32_t)bytes * (int32_t)width;
 }
 
-static exr_result_t encode_chunk(exr_context_t c, const frame_t *f, int y, unsigned char *buf,
-                                 size_t slot, exr_encode_pipeline_t *enc, bool *started)
+/* ---- chunks, compressed on several threads, written in order ------------
+ * Each thread takes the next chunk, packs and compresses it with a pipeline
+ * of its own, then waits for its turn to write: the file's chunks are in
+ * increasing y and its bytes are the same on any number of threads. */
+
+typedef struct {
+    exr_context_t c;
+    row_src src;
+    int lines;
+    unsigned chunks;
+    size_t slot;               /* bytes of one channel's rows in a chunk */
+    pthread_mutex_t mu;
+    pthread_cond_t turn;
+    unsigned next_take, next_write;
+    bool failed;               /* stop: every thread leaves */
+    exr_result_t rv;           /* the first failure, and its chunk */
+    unsigned failed_chunk;
+} chunk_writer;
+
+typedef struct {
+    chunk_writer *w;
+    unsigned chunk;
+    exr_result_t (*write)(exr_encode_pipeline_t *);   /* the library's */
+} chunk_job;
+
+static void fail_chunk(chunk_writer *w, unsigned chunk, exr_result_t rv)
 {
+    if (!w->failed || chunk < w->failed_chunk) {
+        w->rv = rv;
+        w->failed_chunk = chunk;
+    }
+    w->failed = true;
+    pthread_cond_broadcast(&w->turn);
+}
+
+/* The pipeline's write step: in chunk order, one at a time. */
+static exr_result_t write_in_turn(exr_encode_pipeline_t *enc)
+{
+    chunk_job *job = enc->encoding_user_data;
+    chunk_writer *w = job->w;
+    pthread_mutex_lock(&w->mu);
+    while (w->next_write != job->chunk && !w->failed)
+        pthread_cond_wait(&w->turn, &w->mu);
+    exr_result_t rv = w->failed ? EXR_ERR_UNKNOWN : job->write(enc);
+    if (rv == EXR_ERR_SUCCESS) {
+        w->next_write++;
+        pthread_cond_broadcast(&w->turn);
+    }
+    pthread_mutex_unlock(&w->mu);
+    return rv;
+}
+
+static exr_result_t encode_chunk(chunk_writer *w, chunk_job *job, unsigned char *buf,
+                                 exr_encode_pipeline_t *enc, bool *started)
+{
+    const frame_t *f = w->src.f;
     exr_chunk_info_t ci;
-    exr_result_t rv = exr_write_scanline_chunk_info(c, PART, y, &ci);
+    exr_result_t rv = exr_write_scanline_chunk_info(w->c, PART, (int)job->chunk * w->lines, &ci);
     if (rv == EXR_ERR_SUCCESS)
-        rv = *started ? exr_encoding_update(c, PART, &ci, enc)
-                      : exr_encoding_initialize(c, PART, &ci, enc);
+        rv = *started ? exr_encoding_update(w->c, PART, &ci, enc)
+                      : exr_encoding_initialize(w->c, PART, &ci, enc);
     if (rv != EXR_ERR_SUCCESS)
         return rv;
     *started = true;
@@ -293,51 +391,93 @@ static exr_result_t encode_chunk(exr_context_t c, const frame_t *f, int y, unsig
         int k = chan_kind(ch->channel_name, strlen(ch->channel_name));
         if (k < 0)
             return EXR_ERR_INVALID_ARGUMENT;   /* we defined every channel */
-        unsigned char *dst = buf + slot * (size_t)k;
+        unsigned char *dst = buf + w->slot * (size_t)k;
         size_t bytes = chan_bytes(k);
         for (int r = 0; r < ci.height; r++)
-            fill_row(f, k, (unsigned)(ci.start_y + r), dst + (size_t)r * bytes * f->width);
+            fill_row(&w->src, k, (unsigned)(ci.start_y + r), dst + (size_t)r * bytes * f->width);
         set_layout(ch, (int16_t)bytes, chans[k].type, f->width);
         ch->encode_from_ptr = dst;
     }
-    rv = exr_encoding_choose_default_routines(c, PART, enc);
-    if (rv == EXR_ERR_SUCCESS)
-        rv = exr_encoding_run(c, PART, enc);
-    return rv;
+    rv = exr_encoding_choose_default_routines(w->c, PART, enc);
+    if (rv != EXR_ERR_SUCCESS)
+        return rv;
+    job->write = enc->write_fn;
+    enc->write_fn = write_in_turn;
+    /* the library's wait would refuse a chunk whose turn has not come;
+     * write_in_turn waits for it instead */
+    enc->yield_until_ready_fn = NULL;
+    enc->encoding_user_data = job;
+    return exr_encoding_run(w->c, PART, enc);
 }
 
-static alb_err write_chunks(exr_context_t c, const frame_t *f, const char *path,
-                            const exr_io *io, diag_t *d)
+static void *chunk_worker(void *arg)
 {
-    int32_t lines = 0;
-    exr_result_t rv = exr_get_scanlines_per_chunk(c, PART, &lines);
-    if (rv != EXR_ERR_SUCCESS || lines < 1)
-        return exr_fail(d, path, io, rv, "cannot lay out OpenEXR chunks");
-    size_t slot = (size_t)f->width * (size_t)lines * 4;
-    unsigned char *buf = malloc(slot * CH_COUNT);
-    if (!buf)
-        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory writing OpenEXR");
+    chunk_writer *w = arg;
+    unsigned char *buf = malloc(w->slot * CH_COUNT);
     exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
     bool started = false;
-    alb_err e = ALB_OK;
-    for (unsigned y = 0; y < f->height && e == ALB_OK; y += (unsigned)lines) {
-        rv = encode_chunk(c, f, (int)y, buf, slot, &enc, &started);
-        if (rv != EXR_ERR_SUCCESS) {
-            char what[64];
-            snprintf(what, sizeof what, "cannot write lines from %u", y);
-            e = exr_fail(d, path, io, rv, what);
-        }
+    chunk_job job = {w, 0, NULL};
+    pthread_mutex_lock(&w->mu);
+    if (!buf)
+        fail_chunk(w, w->next_take, EXR_ERR_OUT_OF_MEMORY);
+    while (!w->failed && w->next_take < w->chunks) {
+        job.chunk = w->next_take++;
+        pthread_mutex_unlock(&w->mu);
+        exr_result_t rv = encode_chunk(w, &job, buf, &enc, &started);
+        pthread_mutex_lock(&w->mu);
+        /* a chunk stopped because another failed is not a failure of its own */
+        if (rv != EXR_ERR_SUCCESS && !w->failed)
+            fail_chunk(w, job.chunk, rv);
     }
-    if (started) {
-        rv = exr_encoding_destroy(c, &enc);
-        if (rv != EXR_ERR_SUCCESS && e == ALB_OK)
-            e = exr_fail(d, path, io, rv, "cannot finish encoding");
+    pthread_mutex_unlock(&w->mu);
+    if (started && exr_encoding_destroy(w->c, &enc) != EXR_ERR_SUCCESS) {
+        pthread_mutex_lock(&w->mu);
+        fail_chunk(w, w->chunks, EXR_ERR_UNKNOWN);
+        pthread_mutex_unlock(&w->mu);
     }
     free(buf);
-    return e;
+    return NULL;
 }
 
-static alb_err write_ctx(exr_context_t c, const frame_t *f, const char *path,
+static alb_err write_chunks(exr_context_t c, const frame_t *f, unsigned threads,
+                            const char *path, const exr_io *io, diag_t *d)
+{
+    chunk_writer w = {.c = c};
+    exr_result_t rv = exr_get_scanlines_per_chunk(c, PART, &w.lines);
+    if (rv != EXR_ERR_SUCCESS || w.lines < 1)
+        return exr_fail(d, path, io, rv, "cannot lay out OpenEXR chunks");
+    w.chunks = (f->height + (unsigned)w.lines - 1) / (unsigned)w.lines;
+    w.slot = (size_t)f->width * (size_t)w.lines * 4;
+    if (row_src_init(&w.src, f)) {
+        row_src_free(&w.src);
+        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory writing OpenEXR");
+    }
+    pthread_mutex_init(&w.mu, NULL);
+    pthread_cond_init(&w.turn, NULL);
+    threads = threads < 1 ? 1 : threads > w.chunks ? w.chunks : threads;
+    pthread_t tid[EXR_MAX_THREADS];
+    unsigned started = 0;
+    while (started + 1 < threads && started < EXR_MAX_THREADS &&
+           pthread_create(&tid[started], NULL, chunk_worker, &w) == 0)
+        started++;
+    chunk_worker(&w);   /* this thread works too: one thread is no thread */
+    for (unsigned i = 0; i < started; i++)
+        pthread_join(tid[i], NULL);
+    pthread_cond_destroy(&w.turn);
+    pthread_mutex_destroy(&w.mu);
+    row_src_free(&w.src);
+    if (!w.failed)
+        return ALB_OK;
+    if (w.rv == EXR_ERR_OUT_OF_MEMORY)
+        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory writing OpenEXR");
+    if (w.failed_chunk >= w.chunks)
+        return exr_fail(d, path, io, w.rv, "cannot finish encoding");
+    char what[64];
+    snprintf(what, sizeof what, "cannot write lines from %u", w.failed_chunk * (unsigned)w.lines);
+    return exr_fail(d, path, io, w.rv, what);
+}
+
+static alb_err write_ctx(exr_context_t c, const frame_t *f, unsigned threads, const char *path,
                          const exr_io *io, diag_t *d)
 {
     bool present[CH_COUNT];
@@ -348,10 +488,15 @@ static alb_err write_ctx(exr_context_t c, const frame_t *f, const char *path,
     rv = exr_write_header(c);
     if (rv != EXR_ERR_SUCCESS)
         return exr_fail(d, path, io, rv, "cannot write the OpenEXR header");
-    return write_chunks(c, f, path, io, d);
+    return write_chunks(c, f, threads, path, io, d);
 }
 
 alb_err exr_write_frame(const char *path, const frame_t *f, diag_t *d)
+{
+    return exr_write_frame_threads(path, f, 1, d);
+}
+
+alb_err exr_write_frame_threads(const char *path, const frame_t *f, unsigned threads, diag_t *d)
 {
     alb_err e = check_frame(path, f, d);
     if (e != ALB_OK)
@@ -365,7 +510,7 @@ alb_err exr_write_frame(const char *path, const frame_t *f, diag_t *d)
     if (rv != EXR_ERR_SUCCESS)
         e = exr_fail(d, path, &io, rv, "cannot start an OpenEXR file");
     else
-        e = write_ctx(c, f, path, &io, d);
+        e = write_ctx(c, f, threads, path, &io, d);
     /* exr_finish writes the chunk offset table: its failure is ours too */
     rv = exr_finish(&c);
     if (rv != EXR_ERR_SUCCESS && e == ALB_OK)

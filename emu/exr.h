@@ -31,6 +31,11 @@
  * aa_levels 0..7), ALB_ERR_NOMEM, ALB_ERR_IO.  A partly written file is
  * removed. */
 alb_err exr_write_frame(const char *path, const frame_t *f, diag_t *d);
+/* The same file, its chunks compressed on up to `threads` threads (0 or 1:
+ * this one only) and written in order; the bytes do not depend on the
+ * number.  ZIP compression is most of a large frame's writing time. */
+#define EXR_MAX_THREADS 64
+alb_err exr_write_frame_threads(const char *path, const frame_t *f, unsigned threads, diag_t *d);
 
 /* Read a frame written by exr_write_frame back; *f is allocated with
  * frame_alloc (the caller frees it with frame_free) and is left empty on
