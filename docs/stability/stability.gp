@@ -19,9 +19,12 @@ plot 'docs/stability/stability-sliver.dat' using 1:2 with linespoints title 'zbu
      'docs/stability/stability-sliver.dat' using 1:10 with linespoints title 'vp-bound-none', \
      'docs/stability/stability-sliver.dat' using 1:11 with linespoints title 'vp-bound-box', \
      'docs/stability/stability-sliver.dat' using 1:12 with linespoints title 'vp-bound-bisector', \
-     'docs/stability/stability-sliver.dat' using 1:13 with linespoints title 'vp-edge-4', \
-     'docs/stability/stability-sliver.dat' using 1:14 with linespoints title 'vp-depth16', \
-     'docs/stability/stability-sliver.dat' using 1:15 with linespoints title 'vp-aa2'
+     'docs/stability/stability-sliver.dat' using 1:13 with linespoints title 'vp-edge-2', \
+     'docs/stability/stability-sliver.dat' using 1:14 with linespoints title 'vp-edge-4', \
+     'docs/stability/stability-sliver.dat' using 1:15 with linespoints title 'vp-depth20', \
+     'docs/stability/stability-sliver.dat' using 1:16 with linespoints title 'vp-depth16', \
+     'docs/stability/stability-sliver.dat' using 1:17 with linespoints title 'vp-aa1', \
+     'docs/stability/stability-sliver.dat' using 1:18 with linespoints title 'vp-aa2'
 set title 'crossing-z0'
 set xtics ('0' 1, '0.3' 2, '0.7' 3, '0.95' 4)
 plot 'docs/stability/stability-crossing-z0.dat' using 1:2 with linespoints title '', \
@@ -37,7 +40,10 @@ plot 'docs/stability/stability-crossing-z0.dat' using 1:2 with linespoints title
      'docs/stability/stability-crossing-z0.dat' using 1:12 with linespoints title '', \
      'docs/stability/stability-crossing-z0.dat' using 1:13 with linespoints title '', \
      'docs/stability/stability-crossing-z0.dat' using 1:14 with linespoints title '', \
-     'docs/stability/stability-crossing-z0.dat' using 1:15 with linespoints title ''
+     'docs/stability/stability-crossing-z0.dat' using 1:15 with linespoints title '', \
+     'docs/stability/stability-crossing-z0.dat' using 1:16 with linespoints title '', \
+     'docs/stability/stability-crossing-z0.dat' using 1:17 with linespoints title '', \
+     'docs/stability/stability-crossing-z0.dat' using 1:18 with linespoints title ''
 set title 'far'
 set xtics ('10' 1, '1000' 2, '10000' 3, '1e+06' 4)
 plot 'docs/stability/stability-far.dat' using 1:2 with linespoints title '', \
@@ -53,7 +59,10 @@ plot 'docs/stability/stability-far.dat' using 1:2 with linespoints title '', \
      'docs/stability/stability-far.dat' using 1:12 with linespoints title '', \
      'docs/stability/stability-far.dat' using 1:13 with linespoints title '', \
      'docs/stability/stability-far.dat' using 1:14 with linespoints title '', \
-     'docs/stability/stability-far.dat' using 1:15 with linespoints title ''
+     'docs/stability/stability-far.dat' using 1:15 with linespoints title '', \
+     'docs/stability/stability-far.dat' using 1:16 with linespoints title '', \
+     'docs/stability/stability-far.dat' using 1:17 with linespoints title '', \
+     'docs/stability/stability-far.dat' using 1:18 with linespoints title ''
 set title 'texture-far'
 set xtics ('10' 1, '10000' 2, '1e+08' 3, '1e+12' 4)
 plot 'docs/stability/stability-texture-far.dat' using 1:2 with linespoints title '', \
@@ -69,7 +78,10 @@ plot 'docs/stability/stability-texture-far.dat' using 1:2 with linespoints title
      'docs/stability/stability-texture-far.dat' using 1:12 with linespoints title '', \
      'docs/stability/stability-texture-far.dat' using 1:13 with linespoints title '', \
      'docs/stability/stability-texture-far.dat' using 1:14 with linespoints title '', \
-     'docs/stability/stability-texture-far.dat' using 1:15 with linespoints title ''
+     'docs/stability/stability-texture-far.dat' using 1:15 with linespoints title '', \
+     'docs/stability/stability-texture-far.dat' using 1:16 with linespoints title '', \
+     'docs/stability/stability-texture-far.dat' using 1:17 with linespoints title '', \
+     'docs/stability/stability-texture-far.dat' using 1:18 with linespoints title ''
 set title 'interpenetrating'
 set xtics ('45' 1, '5' 2, '0.5' 3, '0.01' 4)
 plot 'docs/stability/stability-interpenetrating.dat' using 1:2 with linespoints title '', \
@@ -85,7 +97,10 @@ plot 'docs/stability/stability-interpenetrating.dat' using 1:2 with linespoints 
      'docs/stability/stability-interpenetrating.dat' using 1:12 with linespoints title '', \
      'docs/stability/stability-interpenetrating.dat' using 1:13 with linespoints title '', \
      'docs/stability/stability-interpenetrating.dat' using 1:14 with linespoints title '', \
-     'docs/stability/stability-interpenetrating.dat' using 1:15 with linespoints title ''
+     'docs/stability/stability-interpenetrating.dat' using 1:15 with linespoints title '', \
+     'docs/stability/stability-interpenetrating.dat' using 1:16 with linespoints title '', \
+     'docs/stability/stability-interpenetrating.dat' using 1:17 with linespoints title '', \
+     'docs/stability/stability-interpenetrating.dat' using 1:18 with linespoints title ''
 set title 'cyclic'
 set xtics ('0.05' 1, '0.1' 2, '0.2' 3, '0.4' 4)
 plot 'docs/stability/stability-cyclic.dat' using 1:2 with linespoints title '', \
@@ -101,7 +116,10 @@ plot 'docs/stability/stability-cyclic.dat' using 1:2 with linespoints title '', 
      'docs/stability/stability-cyclic.dat' using 1:12 with linespoints title '', \
      'docs/stability/stability-cyclic.dat' using 1:13 with linespoints title '', \
      'docs/stability/stability-cyclic.dat' using 1:14 with linespoints title '', \
-     'docs/stability/stability-cyclic.dat' using 1:15 with linespoints title ''
+     'docs/stability/stability-cyclic.dat' using 1:15 with linespoints title '', \
+     'docs/stability/stability-cyclic.dat' using 1:16 with linespoints title '', \
+     'docs/stability/stability-cyclic.dat' using 1:17 with linespoints title '', \
+     'docs/stability/stability-cyclic.dat' using 1:18 with linespoints title ''
 set title 'degenerate'
 set xtics ('0.1' 1, '0.001' 2, '1e-06' 3, '1e-09' 4)
 plot 'docs/stability/stability-degenerate.dat' using 1:2 with linespoints title '', \
@@ -117,7 +135,10 @@ plot 'docs/stability/stability-degenerate.dat' using 1:2 with linespoints title 
      'docs/stability/stability-degenerate.dat' using 1:12 with linespoints title '', \
      'docs/stability/stability-degenerate.dat' using 1:13 with linespoints title '', \
      'docs/stability/stability-degenerate.dat' using 1:14 with linespoints title '', \
-     'docs/stability/stability-degenerate.dat' using 1:15 with linespoints title ''
+     'docs/stability/stability-degenerate.dat' using 1:15 with linespoints title '', \
+     'docs/stability/stability-degenerate.dat' using 1:16 with linespoints title '', \
+     'docs/stability/stability-degenerate.dat' using 1:17 with linespoints title '', \
+     'docs/stability/stability-degenerate.dat' using 1:18 with linespoints title ''
 set title 'tjunction'
 set xtics ('2' 1, '8' 2, '32' 3, '64' 4)
 plot 'docs/stability/stability-tjunction.dat' using 1:2 with linespoints title '', \
@@ -133,7 +154,10 @@ plot 'docs/stability/stability-tjunction.dat' using 1:2 with linespoints title '
      'docs/stability/stability-tjunction.dat' using 1:12 with linespoints title '', \
      'docs/stability/stability-tjunction.dat' using 1:13 with linespoints title '', \
      'docs/stability/stability-tjunction.dat' using 1:14 with linespoints title '', \
-     'docs/stability/stability-tjunction.dat' using 1:15 with linespoints title ''
+     'docs/stability/stability-tjunction.dat' using 1:15 with linespoints title '', \
+     'docs/stability/stability-tjunction.dat' using 1:16 with linespoints title '', \
+     'docs/stability/stability-tjunction.dat' using 1:17 with linespoints title '', \
+     'docs/stability/stability-tjunction.dat' using 1:18 with linespoints title ''
 set title 'deep'
 set xtics ('1' 1, '8' 2, '32' 3, '64' 4)
 plot 'docs/stability/stability-deep.dat' using 1:2 with linespoints title '', \
@@ -149,7 +173,10 @@ plot 'docs/stability/stability-deep.dat' using 1:2 with linespoints title '', \
      'docs/stability/stability-deep.dat' using 1:12 with linespoints title '', \
      'docs/stability/stability-deep.dat' using 1:13 with linespoints title '', \
      'docs/stability/stability-deep.dat' using 1:14 with linespoints title '', \
-     'docs/stability/stability-deep.dat' using 1:15 with linespoints title ''
+     'docs/stability/stability-deep.dat' using 1:15 with linespoints title '', \
+     'docs/stability/stability-deep.dat' using 1:16 with linespoints title '', \
+     'docs/stability/stability-deep.dat' using 1:17 with linespoints title '', \
+     'docs/stability/stability-deep.dat' using 1:18 with linespoints title ''
 set title 'coords'
 set xtics ('0' 1, '10' 2, '25' 3, '40' 4)
 plot 'docs/stability/stability-coords.dat' using 1:2 with linespoints title '', \
@@ -165,5 +192,8 @@ plot 'docs/stability/stability-coords.dat' using 1:2 with linespoints title '', 
      'docs/stability/stability-coords.dat' using 1:12 with linespoints title '', \
      'docs/stability/stability-coords.dat' using 1:13 with linespoints title '', \
      'docs/stability/stability-coords.dat' using 1:14 with linespoints title '', \
-     'docs/stability/stability-coords.dat' using 1:15 with linespoints title ''
+     'docs/stability/stability-coords.dat' using 1:15 with linespoints title '', \
+     'docs/stability/stability-coords.dat' using 1:16 with linespoints title '', \
+     'docs/stability/stability-coords.dat' using 1:17 with linespoints title '', \
+     'docs/stability/stability-coords.dat' using 1:18 with linespoints title ''
 unset multiplot
