@@ -32,11 +32,16 @@ BRIDGE_SRC := emu/bridge/link.c emu/bridge/stream.c emu/bridge/transport_sim.c \
               emu/bridge/transport_fault.c emu/bridge/transport_usb.c
 EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cmd_render.c emu/cmd_compare.c emu/cmd_scene.c emu/cmd_stream.c emu/cmd_stability.c \
               emu/cli.c
-LIB_SRC    := $(COMMON_SRC) $(GP_SRC) $(VP_SRC) $(TOOLS_SRC) $(SINK_SRC) $(FW_SRC) $(BRIDGE_SRC) \
-              $(BUILD)/gen/builtin_scene.c
+LIB_SRC    := $(COMMON_SRC) $(TOOLS_SRC) $(SINK_SRC) $(FW_SRC) $(BRIDGE_SRC)
 TEST_SRC   := $(wildcard tests/test_*.c) tests/t.c tests/gp_helpers.c
 
-LIB_OBJ  := $(patsubst %.c,$(BUILD)/%.o,$(LIB_SRC:$(BUILD)/%=%))
+# gp/ and vp/ are libraries, each with one public header (gp/gp.h, vp/vp.h);
+# everything else links them as archives, after its own objects
+LIBGP    := $(BUILD)/libgp.a
+LIBVP    := $(BUILD)/libvp.a
+GP_OBJ   := $(patsubst %.c,$(BUILD)/%.o,$(GP_SRC)) $(BUILD)/gen/builtin_scene.o
+VP_OBJ   := $(patsubst %.c,$(BUILD)/%.o,$(VP_SRC))
+LIB_OBJ  := $(patsubst %.c,$(BUILD)/%.o,$(LIB_SRC)) $(LIBGP) $(LIBVP)
 EMU_OBJ  := $(patsubst %.c,$(BUILD)/%.o,$(EMU_SRC))
 TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 
@@ -104,6 +109,14 @@ $(BUILD)/tools/embed: tools/embed.c
 $(BUILD)/gen/builtin_scene.c: gp/builtin.scene $(BUILD)/tools/embed
 	@mkdir -p $(dir $@)
 	$(BUILD)/tools/embed scene_builtin_data $< $@
+
+$(LIBGP): $(GP_OBJ)
+	rm -f $@
+	$(AR) rcsD $@ $^
+
+$(LIBVP): $(VP_OBJ)
+	rm -f $@
+	$(AR) rcsD $@ $^
 
 $(ALBATROS): $(EMU_OBJ) $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@

@@ -5,7 +5,7 @@
 #define ALBATROS_CLI_H
 
 #include "../common/profile.h"
-#include "../gp/scene.h"
+#include "../gp/gp.h"
 
 #include <stdbool.h>
 #include <stdio.h>

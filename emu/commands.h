@@ -3,7 +3,7 @@
 #define ALBATROS_COMMANDS_H
 
 #include "../gp/gp.h"
-#include "../vp/frame.h"
+#include "../vp/vp.h"
 
 #include <stdio.h>
 

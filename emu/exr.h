@@ -5,7 +5,7 @@
 #define ALBATROS_EXR_H
 
 #include "../common/diag.h"
-#include "../vp/frame.h"
+#include "../vp/vp.h"
 
 /* Channels written (OpenEXR stores them sorted by name):
  *   R, G, B      HALF   frame store value / (2^colour_bits - 1)

@@ -5,7 +5,7 @@
 #define ALBATROS_PREVIEW_H
 
 #include "../common/diag.h"
-#include "../vp/frame.h"
+#include "../vp/vp.h"
 
 typedef enum {
     PREVIEW_COLOUR,    /* frame store scaled to 8 bits, rounded */

@@ -6,7 +6,7 @@
 
 #include "../common/diag.h"
 #include "../common/profile.h"
-#include "../vp/frame.h"
+#include "../vp/vp.h"
 #include "../vp/vp.h"
 
 #include <stddef.h>

@@ -4,6 +4,9 @@
 #define ALBATROS_SIM_INTERNAL_H
 
 #include "sim.h"
+/* The one reach past vp/vp.h: the clocked models drive the VP's own units
+ * (edge store, subdivision walk, fill) one step at a time, so they use the
+ * unit-level interface the functional renderer is built from. */
 #include "../vp/vp_internal.h"
 
 #include <stddef.h>

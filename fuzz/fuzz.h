@@ -7,7 +7,7 @@
 
 #include "../common/profile.h"
 #include "../common/words.h"
-#include "../gp/scene.h"
+#include "../gp/gp.h"
 
 #include <stddef.h>
 #include <stdint.h>

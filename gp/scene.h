@@ -1,6 +1,7 @@
 /* scene.h — the 3-D database the GP reads: objects of planar convex faces,
  * textures, lights, the observer, and per-frame poses.  Parsed from the text
- * format of docs/scene-format.md or imported from Wavefront OBJ. */
+ * format of docs/scene-format.md or imported from Wavefront OBJ.  Part of the
+ * GP library's public interface: include gp/gp.h, which includes this. */
 #ifndef ALBATROS_SCENE_H
 #define ALBATROS_SCENE_H
 

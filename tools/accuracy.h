@@ -6,8 +6,8 @@
 #define ALBATROS_ACCURACY_H
 
 #include "../common/profile.h"
-#include "../gp/scene.h"
-#include "../vp/frame.h"
+#include "../gp/gp.h"
+#include "../vp/vp.h"
 
 #include <stddef.h>
 #include <stdint.h>

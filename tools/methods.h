@@ -9,8 +9,8 @@
 #define ALBATROS_METHODS_H
 
 #include "../common/profile.h"
-#include "../gp/scene.h"
-#include "../vp/frame.h"
+#include "../gp/gp.h"
+#include "../vp/vp.h"
 
 typedef struct {
     const char *name;      /* "zbuffer", "painter", ... */

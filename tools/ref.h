@@ -7,8 +7,8 @@
 #define ALBATROS_REF_H
 
 #include "../common/profile.h"
-#include "../gp/scene.h"
-#include "../vp/frame.h"
+#include "../gp/gp.h"
+#include "../vp/vp.h"
 
 /* A face of one frame in observer space, as the reference sees it. */
 typedef struct {

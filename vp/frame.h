@@ -1,7 +1,8 @@
 /* frame.h — a finished frame as the VP's output stage delivers it: the frame
  * store (colour), depth store, face ids, decision levels and coverage, per
  * pixel, row 0 at the top of the screen (docs/vp.md, "Frames").  Sinks (EXR,
- * PNG, USB) read this and nothing else of the VP. */
+ * PNG, USB) read this and nothing else of the VP.  Part of the VP library's
+ * public interface: include vp/vp.h, which includes this. */
 #ifndef ALBATROS_FRAME_H
 #define ALBATROS_FRAME_H
 
