@@ -313,3 +313,15 @@ int cli_split_words(char *text, char **argv, int max)
 }
 
 bool cli_isatty_stderr(void) { return isatty(2) != 0; }
+
+void cli_frame_path(char *out, size_t len, const char *path, unsigned number, unsigned nframes)
+{
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    if (nframes <= 1) {
+        snprintf(out, len, "%s", path);
+        return;
+    }
+    if (!dot || (slash && dot < slash))
+        dot = path + strlen(path);
+    snprintf(out, len, "%.*s.%04u%s", (int)(dot - path), path, number, dot);
+}

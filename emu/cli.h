@@ -47,4 +47,8 @@ int cli_split_words(char *text, char **argv, int max);
 
 bool cli_isatty_stderr(void);
 
+/* An output path for one frame of nframes: "dir/f.exr" itself for a single
+ * frame, "dir/f.0003.exr" (the number before the extension) for more. */
+void cli_frame_path(char *out, size_t len, const char *path, unsigned number, unsigned nframes);
+
 #endif

@@ -124,19 +124,6 @@ static int render_opt(void *ctx, const char *name, const char *value)
     return 0;
 }
 
-/* "dir/frame.exr" for one frame; "dir/frame.0003.exr" when there are more. */
-static void numbered(char *out, size_t len, const char *path, unsigned number, unsigned nframes)
-{
-    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
-    if (nframes <= 1) {
-        snprintf(out, len, "%s", path);
-        return;
-    }
-    if (!dot || (slash && dot < slash))
-        dot = path + strlen(path);
-    snprintf(out, len, "%.*s.%04u%s", (int)(dot - path), path, number, dot);
-}
-
 static void stats_json(FILE *f, const frame_t *fr, const vp_stats *st, unsigned levels,
                        const sim_counters *sc, const profile_t *p)
 {
@@ -206,21 +193,21 @@ static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st, const 
     if (st)
         width_warnings(f, st);
     if (a->output) {
-        numbered(path, sizeof path, a->output, f->number, a->nframes);
+        cli_frame_path(path, sizeof path, a->output, f->number, a->nframes);
         if (exr_write_frame_threads(path, f, a->threads ? a->threads : vp_cores(), &d)) {
             diag_print(&d, stderr);
             return -1;
         }
     }
     if (a->png) {
-        numbered(path, sizeof path, a->png, f->number, a->nframes);
+        cli_frame_path(path, sizeof path, a->png, f->number, a->nframes);
         if (preview_write(path, f, PREVIEW_COLOUR, &d)) {
             diag_print(&d, stderr);
             return -1;
         }
     }
     for (unsigned i = 0; i < a->nviews; i++) {
-        numbered(path, sizeof path, a->views[i].path, f->number, a->nframes);
+        cli_frame_path(path, sizeof path, a->views[i].path, f->number, a->nframes);
         if (preview_write(path, f, a->views[i].view, &d)) {
             diag_print(&d, stderr);
             return -1;

@@ -300,38 +300,23 @@ static void method_usage(FILE *f)
     fputc('\n', f);
 }
 
-/* "dir/frame.exr" for one frame; "dir/frame.0003.exr" when there are more
- * (as albatros render names them). */
-static void method_numbered(char *out, size_t len, const char *path, unsigned number,
-                            unsigned nframes)
-{
-    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
-    if (nframes <= 1) {
-        snprintf(out, len, "%s", path);
-        return;
-    }
-    if (!dot || (slash && dot < slash))
-        dot = path + strlen(path);
-    snprintf(out, len, "%.*s.%04u%s", (int)(dot - path), path, number, dot);
-}
-
 static int method_write(const method_args *a, const frame_t *f, unsigned nframes)
 {
     char path[1024];
     diag_t d;
     diag_init(&d, NULL);
     if (a->output) {
-        method_numbered(path, sizeof path, a->output, f->number, nframes);
+        cli_frame_path(path, sizeof path, a->output, f->number, nframes);
         if (exr_write_frame(path, f, &d))
             goto fail;
     }
     if (a->png) {
-        method_numbered(path, sizeof path, a->png, f->number, nframes);
+        cli_frame_path(path, sizeof path, a->png, f->number, nframes);
         if (preview_write(path, f, PREVIEW_COLOUR, &d))
             goto fail;
     }
     for (unsigned i = 0; i < a->nviews; i++) {
-        method_numbered(path, sizeof path, a->views[i].path, f->number, nframes);
+        cli_frame_path(path, sizeof path, a->views[i].path, f->number, nframes);
         if (preview_write(path, f, a->views[i].view, &d))
             goto fail;
     }

@@ -12,6 +12,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Apply "key=value key=value ..." to a profile (the test's own, valid). */
+static void profile_set_all(profile_t *p, const char *sets)
+{
+    char buf[256], err[256];
+    snprintf(buf, sizeof buf, "%s", sets);
+    for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
+        profile_set(p, tok, err, sizeof err);
+}
+
 #define MAX_FRAMES 8
 
 typedef struct {
@@ -273,16 +282,12 @@ TEST(timing_cycle_equals_timed_on_random_scenes)
         "aa=1 fill_rate=3 edge_units=3 gp_edge_cycles=40",
     };
     scenegen_params gp = scenegen_defaults();
-    char err[256];
     for (uint64_t seed = 1; seed <= 200; seed++) {
         profile_t p;
         profile_lookup("t32", &p);
         p.width = p.height = 64;
         p.edge_frac_bits = 11;
-        char buf[256];
-        snprintf(buf, sizeof buf, "%s", sets[seed % 5]);
-        for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
-            profile_set(&p, tok, err, sizeof err);
+        profile_set_all(&p, sets[seed % 5]);
         gp.faces = 2 + (unsigned)(seed % 23);
         char *text = scenegen_random(seed, &gp);
         ws_buf b;
@@ -331,14 +336,10 @@ TEST(timing_more_faces_never_fewer_cycles)
         "aa=1 fill_rate=3 edge_units=3 gp_edge_cycles=40",
     };
     scenegen_params gp = scenegen_defaults();
-    char err[256];
     for (uint64_t seed = 1; seed <= 40; seed++) {
         profile_t p;
         profile_lookup("t32", &p);
-        char buf[256];
-        snprintf(buf, sizeof buf, "%s", sets[seed % 5]);
-        for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
-            profile_set(&p, tok, err, sizeof err);
+        profile_set_all(&p, sets[seed % 5]);
         uint64_t prev = 0, prev_end = 0;
         for (unsigned n = 1; n <= 12; n++) {
             gp.faces = n;
@@ -684,14 +685,10 @@ TEST(timing_vcd_pixel_writes_match_the_counters)
         "aa=1 fill_rate=16 divider_latency=30",
     };
     scenegen_params gp = scenegen_defaults();
-    char err[256];
     for (uint64_t seed = 1; seed <= 8; seed++) {
         profile_t p;
         profile_lookup("t32", &p);
-        char buf[256];
-        snprintf(buf, sizeof buf, "%s", sets[seed % 4]);
-        for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
-            profile_set(&p, tok, err, sizeof err);
+        profile_set_all(&p, sets[seed % 4]);
         gp.faces = 5 + (unsigned)(seed % 11);
         /* 1 to 3 frames of the same faces (each `frame` copies the last) */
         unsigned frames = 1 + (unsigned)(seed % 3);

@@ -491,8 +491,8 @@ nomem:
     return -1;
 }
 
-transport_t *transport_usb_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
-                                char *err, size_t errlen)
+/* A transport with its (empty) USB state, or NULL with a message. */
+static transport_t *usb_transport_new(const transport_ops *ops, char *err, size_t errlen)
 {
     transport_t *t = calloc(1, sizeof *t);
     usb_link *u = calloc(1, sizeof *u);
@@ -502,8 +502,18 @@ transport_t *transport_usb_open(uint16_t vid, uint16_t pid, const char *serial, 
         snprintf(err, errlen, "out of memory");
         return NULL;
     }
-    t->ops = &usb_ops;
+    t->ops = ops;
     t->impl = u;
+    return t;
+}
+
+transport_t *transport_usb_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
+                                char *err, size_t errlen)
+{
+    transport_t *t = usb_transport_new(&usb_ops, err, errlen);
+    if (!t)
+        return NULL;
+    usb_link *u = t->impl;
     t->max_payload = PROTO_MAX_PAYLOAD;
     /* libusb reads LIBUSB_DEBUG from the environment itself */
     int rc = libusb_init(&u->ctx);
@@ -560,16 +570,10 @@ static const transport_ops hid_only_ops = {"hid", hid_only_write, hid_only_flush
 transport_t *transport_hid_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
                                 char *err, size_t errlen)
 {
-    transport_t *t = calloc(1, sizeof *t);
-    usb_link *u = calloc(1, sizeof *u);
-    if (!t || !u) {
-        free(t);
-        free(u);
-        snprintf(err, errlen, "out of memory");
+    transport_t *t = usb_transport_new(&hid_only_ops, err, errlen);
+    if (!t)
         return NULL;
-    }
-    t->ops = &hid_only_ops;
-    t->impl = u;
+    usb_link *u = t->impl;
     u->hid_only = true;
     if (open_hid(u, vid, pid, serial, wait_ms, err, errlen) == 0)
         return t;
