@@ -222,8 +222,10 @@ static void check_profile(const char *name, const char *const *sets, unsigned fa
     /* every verdict occurs, so the comparison is not vacuous */
     for (int v = 0; v < 5; v++)
         CHECK_MSG(verdicts[v] > 0, "%s: verdict %d never met", name, v);
-    /* the edge registers: |h| within 40 bits (docs/vp.md §2) */
-    CHECK_MSG(hw.maxbits <= 40, "%s: |h| needs %d bits", name, hw.maxbits);
+    /* the edge registers: |h| < 2^(F + 6 + max(lw, lh)) (docs/vp.md §2) */
+    int bound = (int)vp->cfg.edge_frac_bits + 6 + (int)(vp->lw > vp->lh ? vp->lw : vp->lh);
+    CHECK_MSG(hw.maxbits <= bound, "%s: |h| needs %d bits, more than %d", name, hw.maxbits,
+              bound);
     printf("# %s: %lu steps (out %lu, split %lu, fill %lu, sample in %lu, out %lu), |h| < 2^%d\n",
            name, steps, verdicts[0], verdicts[1], verdicts[2], verdicts[3], verdicts[4],
            hw.maxbits);
