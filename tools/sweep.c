@@ -452,6 +452,17 @@ static bool family_present(unsigned fam, const row *r, size_t n)
     return false;
 }
 
+/* The top of a family's panel: its largest value with a margin, and at
+ * least 1% (a family where nothing differs still gets an axis). */
+static double family_ymax(unsigned fam, const row *r, size_t n)
+{
+    double m = 0;
+    for (size_t i = 0; i < n; i++)
+        if (!strcmp(r[i].family, families[fam].family) && r[i].have && r[i].face > m)
+            m = r[i].face;
+    return m * 1.05 > 1 ? m * 1.05 : 1;
+}
+
 static int stability_chart(const char *dir, const row *r, size_t n)
 {
     char path[600];
@@ -471,14 +482,15 @@ static int stability_chart(const char *dir, const row *r, size_t n)
                "set output '%s/stability.png'\n"
                "set multiplot layout %u,2 title 'Pixels whose face differs from the exact "
                "reference (%%) against severity'\nset key outside right font ',7'\n"
-               "set yrange [0:*]\nset grid\nset datafile missing 'NaN'\n", dir,
+               "set grid\nset datafile missing 'NaN'\n", dir,
             (present + 1) / 2);
     unsigned nc = config_count();
     bool first = true;
     for (unsigned f = 0; f < NFAMILIES; f++) {
         if (!family_present(f, r, n))
             continue;
-        fprintf(g, "set title '%s'\nset xtics (", families[f].family);
+        fprintf(g, "set title '%s'\nset yrange [0:%g]\nset xtics (", families[f].family,
+                family_ymax(f, r, n));
         for (unsigned j = 0; j < SWEEP_SEVERITIES; j++)
             fprintf(g, "%s'%g' %u", j ? ", " : "", families[f].severity[j], j + 1);
         fprintf(g, ")\nplot ");

@@ -3,10 +3,10 @@ set terminal pngcairo size 1600,2000 font ',9' noenhanced
 set output 'docs/stability/stability.png'
 set multiplot layout 5,2 title 'Pixels whose face differs from the exact reference (%) against severity'
 set key outside right font ',7'
-set yrange [0:*]
 set grid
 set datafile missing 'NaN'
 set title 'sliver'
+set yrange [0:1]
 set xtics ('10' 1, '1' 2, '0.1' 3, '0.01' 4)
 plot 'docs/stability/stability-sliver.dat' using 1:2 with linespoints title 'zbuffer', \
      'docs/stability/stability-sliver.dat' using 1:3 with linespoints title 'scanline-zbuffer', \
@@ -26,6 +26,7 @@ plot 'docs/stability/stability-sliver.dat' using 1:2 with linespoints title 'zbu
      'docs/stability/stability-sliver.dat' using 1:17 with linespoints title 'vp-aa1', \
      'docs/stability/stability-sliver.dat' using 1:18 with linespoints title 'vp-aa2'
 set title 'crossing-z0'
+set yrange [0:1]
 set xtics ('0' 1, '0.3' 2, '0.7' 3, '0.95' 4)
 plot 'docs/stability/stability-crossing-z0.dat' using 1:2 with linespoints title '', \
      'docs/stability/stability-crossing-z0.dat' using 1:3 with linespoints title '', \
@@ -45,6 +46,7 @@ plot 'docs/stability/stability-crossing-z0.dat' using 1:2 with linespoints title
      'docs/stability/stability-crossing-z0.dat' using 1:17 with linespoints title '', \
      'docs/stability/stability-crossing-z0.dat' using 1:18 with linespoints title ''
 set title 'far'
+set yrange [0:41.5363]
 set xtics ('10' 1, '1000' 2, '10000' 3, '1e+06' 4)
 plot 'docs/stability/stability-far.dat' using 1:2 with linespoints title '', \
      'docs/stability/stability-far.dat' using 1:3 with linespoints title '', \
@@ -64,6 +66,7 @@ plot 'docs/stability/stability-far.dat' using 1:2 with linespoints title '', \
      'docs/stability/stability-far.dat' using 1:17 with linespoints title '', \
      'docs/stability/stability-far.dat' using 1:18 with linespoints title ''
 set title 'texture-far'
+set yrange [0:1]
 set xtics ('10' 1, '10000' 2, '1e+08' 3, '1e+12' 4)
 plot 'docs/stability/stability-texture-far.dat' using 1:2 with linespoints title '', \
      'docs/stability/stability-texture-far.dat' using 1:3 with linespoints title '', \
@@ -83,6 +86,7 @@ plot 'docs/stability/stability-texture-far.dat' using 1:2 with linespoints title
      'docs/stability/stability-texture-far.dat' using 1:17 with linespoints title '', \
      'docs/stability/stability-texture-far.dat' using 1:18 with linespoints title ''
 set title 'interpenetrating'
+set yrange [0:10.1426]
 set xtics ('45' 1, '5' 2, '0.5' 3, '0.01' 4)
 plot 'docs/stability/stability-interpenetrating.dat' using 1:2 with linespoints title '', \
      'docs/stability/stability-interpenetrating.dat' using 1:3 with linespoints title '', \
@@ -102,6 +106,7 @@ plot 'docs/stability/stability-interpenetrating.dat' using 1:2 with linespoints 
      'docs/stability/stability-interpenetrating.dat' using 1:17 with linespoints title '', \
      'docs/stability/stability-interpenetrating.dat' using 1:18 with linespoints title ''
 set title 'cyclic'
+set yrange [0:3.64098]
 set xtics ('0.05' 1, '0.1' 2, '0.2' 3, '0.4' 4)
 plot 'docs/stability/stability-cyclic.dat' using 1:2 with linespoints title '', \
      'docs/stability/stability-cyclic.dat' using 1:3 with linespoints title '', \
@@ -121,6 +126,7 @@ plot 'docs/stability/stability-cyclic.dat' using 1:2 with linespoints title '', 
      'docs/stability/stability-cyclic.dat' using 1:17 with linespoints title '', \
      'docs/stability/stability-cyclic.dat' using 1:18 with linespoints title ''
 set title 'degenerate'
+set yrange [0:1]
 set xtics ('0.1' 1, '0.001' 2, '1e-06' 3, '1e-09' 4)
 plot 'docs/stability/stability-degenerate.dat' using 1:2 with linespoints title '', \
      'docs/stability/stability-degenerate.dat' using 1:3 with linespoints title '', \
@@ -140,6 +146,7 @@ plot 'docs/stability/stability-degenerate.dat' using 1:2 with linespoints title 
      'docs/stability/stability-degenerate.dat' using 1:17 with linespoints title '', \
      'docs/stability/stability-degenerate.dat' using 1:18 with linespoints title ''
 set title 'tjunction'
+set yrange [0:1.79445]
 set xtics ('2' 1, '8' 2, '32' 3, '64' 4)
 plot 'docs/stability/stability-tjunction.dat' using 1:2 with linespoints title '', \
      'docs/stability/stability-tjunction.dat' using 1:3 with linespoints title '', \
@@ -159,6 +166,7 @@ plot 'docs/stability/stability-tjunction.dat' using 1:2 with linespoints title '
      'docs/stability/stability-tjunction.dat' using 1:17 with linespoints title '', \
      'docs/stability/stability-tjunction.dat' using 1:18 with linespoints title ''
 set title 'deep'
+set yrange [0:1]
 set xtics ('1' 1, '8' 2, '32' 3, '64' 4)
 plot 'docs/stability/stability-deep.dat' using 1:2 with linespoints title '', \
      'docs/stability/stability-deep.dat' using 1:3 with linespoints title '', \
@@ -178,6 +186,7 @@ plot 'docs/stability/stability-deep.dat' using 1:2 with linespoints title '', \
      'docs/stability/stability-deep.dat' using 1:17 with linespoints title '', \
      'docs/stability/stability-deep.dat' using 1:18 with linespoints title ''
 set title 'coords'
+set yrange [0:15.2055]
 set xtics ('0' 1, '10' 2, '25' 3, '40' 4)
 plot 'docs/stability/stability-coords.dat' using 1:2 with linespoints title '', \
      'docs/stability/stability-coords.dat' using 1:3 with linespoints title '', \
