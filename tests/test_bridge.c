@@ -259,6 +259,52 @@ TEST(bridge_board_payload_limit_from_info)
     free_fixture(&x);
 }
 
+/* A board whose HID side fails (INFO unreadable) but whose bulk link works:
+ * the stream goes on in payloads every board takes, and still agrees. */
+static tr_status (*real_hid_get)(transport_t *, uint8_t *, size_t);
+
+static tr_status info_fails(transport_t *t, uint8_t *buf, size_t len)
+{
+    if (len > 0 && buf[0] == PROTO_HID_INFO) {
+        snprintf(t->error, sizeof t->error, "HID report 1: broken on purpose");
+        return TR_ERROR;
+    }
+    return real_hid_get(t, buf, len);
+}
+
+TEST(bridge_unreadable_info_falls_back_to_the_smallest_payload)
+{
+    fixture x;
+    if (make_fixture(&x, "a256")) {
+        CHECK_MSG(0, "fixture");
+        return;
+    }
+    char err[300];
+    transport_t *t = transport_sim_open("a256", 0, err, sizeof err);
+    CHECK(t != NULL);
+    if (!t) {
+        free_fixture(&x);
+        return;
+    }
+    static transport_ops broken;
+    broken = *t->ops;
+    real_hid_get = t->ops->hid_get;
+    broken.hid_get = info_fails;
+    const transport_ops *sim_ops = t->ops;
+    t->ops = &broken;
+    stream_opts o;
+    stream_opts_default(&o);
+    o.timeout_ms = 20;
+    reset_results(&x);
+    stream_report r;
+    CHECK_EQ(stream_run(t, x.b.w, x.b.n, x.f, x.nf, &o, &r), 0);
+    CHECK_EQ(r.matched, x.nf);
+    CHECK_EQ(r.max_payload, PROTO_BULK_MAXPKT - PROTO_HEADER - PROTO_TRAILER);
+    t->ops = sim_ops;
+    t->ops->close(t);
+    free_fixture(&x);
+}
+
 /* A stop flag (Ctrl-C) already set: the stream ends at once, marked partial,
  * and the link is left for the caller to close. */
 TEST(bridge_stop_flag_ends_the_stream)
