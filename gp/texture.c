@@ -99,8 +99,12 @@ static alb_err png_read(scene_texture *t, const char *path, FILE *f, diag_t *d)
         return ALB_ERR_NOMEM;
     }
     /* Negative stride: PNG row 0 is the image top; texel row 0 is v = 0, the
-     * bottom, as in OBJ and the paper's y-up screen. */
-    if (!png_image_finish_read(&img, NULL, rgb,
+     * bottom, as in OBJ and the paper's y-up screen.  An image with alpha is
+     * composited onto black: without a background libpng composites onto
+     * whatever the buffer holds, which made such texels vary from run to run
+     * (found by valgrind on the fuzz seeds). */
+    static const png_color black = {0, 0, 0};
+    if (!png_image_finish_read(&img, &black, rgb,
                                -(png_int_32)(img.width * 3), NULL)) {
         free(rgb);
         free(t->texels);

@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
-# fuzz-replay.sh BUILD — every fuzz harness, built without libFuzzer
-# (BUILD/fuzz/replay_TARGET), over its seeds (fuzz/corpus/TARGET) and the
-# inputs that once crashed it (fuzz/regress/TARGET).  Under `make asan` the
-# sanitizers check them too.  Ends with "N passed, N failed".
+# fuzz-replay.sh BUILD [WRAPPER ...] — every fuzz harness, built without
+# libFuzzer (BUILD/fuzz/replay_TARGET), over its seeds (fuzz/corpus/TARGET)
+# and the inputs that once crashed it (fuzz/regress/TARGET).  Under `make
+# asan` the sanitizers check them too; `make memcheck` runs each harness
+# under the WRAPPER (valgrind).  Ends with "N passed, N failed".
 set -u
 build=${1:-build}
+wrap=("${@:2}")
 pass=0 fail=0
 for t in scene obj stream png options fw link; do
     bin=$build/fuzz/replay_$t
@@ -15,7 +17,7 @@ for t in scene obj stream png options fw link; do
         fail=$((fail + 1))
         continue
     fi
-    out=$("$bin" "${dirs[@]}")
+    out=$("${wrap[@]}" "$bin" "${dirs[@]}")
     rc=$?
     line=$(tail -n 1 <<<"$out")
     echo "$t: $line"

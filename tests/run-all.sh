@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # run-all.sh BUILD [--memcheck] — every test runner of the project, then the
 # total.  Each runner ends with "N passed, N failed"; this sums them.
-# --memcheck: the unit tests and every albatros process
-# of the CLI, vector and malformed-input runners under valgrind.
+# --memcheck: the unit tests, the fuzz harnesses and every albatros process
+# of the other runners under valgrind (the firmware runner builds with sdcc
+# and runs nothing of ours).
 set -u
 build=${1:-build}
 bin=$build/albatros unit=()
@@ -41,10 +42,8 @@ for t in tests/cli-*.sh; do   # one per area: cli-stream.sh, cli-stability.sh, .
 done
 run vectors "$bin" vectors check test-vectors
 run malformed bash tests/malformed.sh "$bin"
-if [[ ${#unit[@]} -eq 0 ]]; then   # not under memcheck: these fork or preload
-    run fuzz-replay bash tests/fuzz-replay.sh "$build"
-    run firmware bash tests/firmware.sh "$build"
-    run usb-umockdev bash tests/usb-umockdev.sh "$build"
-fi
+run fuzz-replay bash tests/fuzz-replay.sh "$build" "${unit[@]}"
+run firmware bash tests/firmware.sh "$build"
+run usb-umockdev bash tests/usb-umockdev.sh "$build" "$bin"
 echo "$total_pass passed, $total_fail failed"
 [[ $status -eq 0 && $total_fail -eq 0 ]]

@@ -3,6 +3,7 @@
 #include "t.h"
 #include "../gp/scene.h"
 
+#include <malloc.h>
 #include <png.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -292,6 +293,47 @@ TEST(texture_png_errors_say_why)
         CHECK_MSG(strstr(d.msg, path) != NULL, "%s: the path is not named", d.msg);
         CHECK(t.texels == NULL);
     }
+}
+
+/* A texture with alpha: opaque texels as they are, transparent ones black
+ * (composited onto black, never onto whatever memory held — that varied
+ * from run to run). */
+TEST(texture_png_alpha_composited_onto_black)
+{
+    uint8_t rgba[4 * 4 * 4];
+    for (int i = 0; i < 16; i++) {
+        bool opaque = i % 2 == 0;
+        rgba[4 * i] = 200, rgba[4 * i + 1] = 100, rgba[4 * i + 2] = 50;
+        rgba[4 * i + 3] = opaque ? 255 : 0;
+    }
+    png_image img;
+    memset(&img, 0, sizeof img);
+    img.version = PNG_IMAGE_VERSION;
+    img.width = img.height = 4;
+    img.format = PNG_FORMAT_RGBA;
+    const char *path = tmp_path("alpha.png");
+    CHECK(png_image_write_to_file(&img, path, 0, rgba, 0, NULL));
+    /* fresh memory filled with a pattern, as a reused heap would hold */
+    mallopt(M_PERTURB, 0x5a);
+    for (int run = 0; run < 2; run++) {
+        scene_texture t = {0};
+        diag_t d;
+        diag_init(&d, NULL);
+        if (scene_texture_png(&t, path, &d) != ALB_OK) {
+            CHECK_MSG(0, "%s", d.msg);
+            return;
+        }
+        for (int y = 0; y < 4; y++)
+            for (int x = 0; x < 4; x++) {
+                /* texel row 0 is the image's bottom row */
+                bool opaque = ((3 - y) * 4 + x) % 2 == 0;
+                uint32_t want = opaque ? 0xC86432u : 0;
+                CHECK_MSG(t.texels[y * 4 + x] == want, "texel (%d, %d) = %06x, expected %06x", x,
+                          y, t.texels[y * 4 + x], want);
+            }
+        free(t.texels);
+    }
+    mallopt(M_PERTURB, 0);
 }
 
 TEST(builtin_scene_parses)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# usb-umockdev.sh BUILD — the USB transport against a board that exists only
+# usb-umockdev.sh BUILD [ALBATROS] — the USB transport against a board that exists only
 # in sysfs and /dev, mocked by umockdev (no hardware, no kernel module, no
 # root): enumeration finds our board by its descriptors and ignores other
 # devices; what needs real transfers (HID reports, bulk) fails with a clear
@@ -9,7 +9,7 @@
 # Ends with "N passed, N failed".
 set -u
 build=${1:-build}
-bin=$build/albatros
+bin=${2:-$build/albatros}   # make memcheck passes a valgrind wrapper
 pass=0 fail=0
 ok()  { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
