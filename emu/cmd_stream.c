@@ -126,6 +126,26 @@ static transport_t *open_link(const link_args *a, const profile_t *p, sim_board 
     return t;
 }
 
+/* After a disconnect (stream_opts.reattach, with --wait): the old link
+ * closed, the board waited for up to --wait ms and opened as at the start —
+ * a new device, so without the link faults of --fault. */
+typedef struct {
+    const link_args *a;
+    const profile_t *p;
+} reattach_ctx;
+
+static transport_t *reattach_link(void *ctx, transport_t *old, char *err, size_t errlen)
+{
+    const reattach_ctx *c = ctx;
+    old->ops->close(old);
+    link_args again = *c->a;
+    again.any_fault = false;
+    transport_t *t = open_link(&again, c->p, NULL, false);
+    if (!t)
+        snprintf(err, errlen, "not back within --wait %u ms (the reason is above)", c->a->wait_ms);
+    return t;
+}
+
 /* ---- the emulator's view of each frame ---- */
 
 typedef struct {
@@ -264,6 +284,9 @@ static void report_text(const stream_report *r, const stream_frame *f, unsigned 
                     "queries\n", r->matched, nf, (unsigned long long)r->packets, r->max_payload,
             (double)r->bytes / 1e6, r->seconds, (double)r->bytes / 1e6 / secs,
             (unsigned long long)r->resumes, (unsigned long long)r->queries);
+    if (r->reattaches)
+        fprintf(stderr, "  the board disconnected %u time%s and came back; the stream started "
+                        "over each time\n", r->reattaches, r->reattaches > 1 ? "s" : "");
     link_text(r);
     if (r->first_problem[0])
         fprintf(stderr, "  first problem: %s\n", r->first_problem);
@@ -280,9 +303,10 @@ static void report_json(const stream_report *r, const stream_frame *f, unsigned 
                f[i].have ? "true" : "false", f[i].crc, f[i].board_crc,
                (unsigned long long)f[i].cycles, (unsigned long long)f[i].board_cycles);
     printf("], \"matched\": %u, \"confirmed\": %u, \"packets\": %llu, \"bytes\": %llu, "
-           "\"seconds\": %.3f, \"resumes\": %llu, \"queries\": %llu, ", r->matched, r->frames,
-           (unsigned long long)r->packets, (unsigned long long)r->bytes, r->seconds,
-           (unsigned long long)r->resumes, (unsigned long long)r->queries);
+           "\"seconds\": %.3f, \"resumes\": %llu, \"queries\": %llu, \"reattaches\": %u, ",
+           r->matched, r->frames, (unsigned long long)r->packets, (unsigned long long)r->bytes,
+           r->seconds, (unsigned long long)r->resumes, (unsigned long long)r->queries,
+           r->reattaches);
     link_json(r);
     printf("}\n");
 }
@@ -379,7 +403,9 @@ static const char stream_help[] =
     "                     16384; the FX2 firmware takes 492)\n"
     "  --vid, --pid       USB ids (default 1209:0001, the pid.codes test PID)\n"
     "  --serial S         the board with this serial number\n"
-    "  --wait MS          wait this long for the board to appear (hot-plug)\n"
+    "  --wait MS          wait this long for the board to appear (hot-plug; default\n"
+    "                     2000), and again after a disconnect: the stream then\n"
+    "                     starts over (0: a disconnect ends it)\n"
     "  --timeout MS       wait this long for a frame's result (default 2000)\n"
     "  --no-readback      do not fetch a differing frame to name its first wrong pixel\n"
     "  --frames           frames mode: the rendered frames, RGB888 tiles, to a display\n"
@@ -477,6 +503,11 @@ int cmd_stream(int argc, char **argv)
     sopt.log = a.quiet || a.json ? NULL : stderr;
     sopt.progress = sopt.log && cli_isatty_stderr();
     sopt.stop = &stream_stop;
+    reattach_ctx rctx = {&a, &o.prof};
+    if (a.wait_ms) {   /* hot-plug: a board that goes away is waited for again */
+        sopt.reattach = reattach_link;
+        sopt.reattach_ctx = &rctx;
+    }
     stop_handlers h;
     catch_stop(&h);
     if (sopt.log)   /* also the sign, for a test, that Ctrl-C is now caught */
@@ -484,7 +515,9 @@ int cmd_stream(int argc, char **argv)
                 "the board");
     stream_report r;
     rc = exit_of(stream_run(t, b.w, b.n, frames, nf, &sopt, &r));
-    t->ops->close(t);   /* cancels the transfers in flight, before a long report */
+    t = r.link;   /* another after a disconnect, or none if the board did not come back */
+    if (t)
+        t->ops->close(t);   /* cancels the transfers in flight, before a long report */
     t = NULL;
     if (a.json)
         report_json(&r, frames, nf, rc);

@@ -130,7 +130,10 @@ expect 0 "hardware agrees" "$bin" stream --sim --profile a256 --fault swap=3
 expect 0 "resuming from frame 2" "$bin" stream --sim --profile a256 --fault drop=6
 expect 1 "frame 0: the board's frame CRC .* first at pixel \(5, 7\) channel G" "$bin" stream --sim --profile a256 "$tmp/t.scene" --fault flip=0
 expect 3 "the board stopped answering" "$bin" stream --sim --profile a256 "$tmp/t.scene" --fault silence=1 --timeout 50
-expect 3 "device disconnected" "$bin" stream --sim --profile a256 "$tmp/t.scene" --fault disconnect=100
+expect 3 "device disconnected" "$bin" stream --sim --profile a256 "$tmp/t.scene" --fault disconnect=100 --wait 0
+# hot-plug: the board comes back (a new simulated board) and the stream starts over
+expect 0 "disconnected 1 time and came back" "$bin" stream --sim --profile a256 "$tmp/t.scene" --fault disconnect=100
+expect 0 '"reattaches": 1' "$bin" stream --sim --profile a256 --fault disconnect=3000 --json
 # frames mode: the rendered frames as tiles; the simulated display ends on the last
 expect 0 "the simulated display shows frame 3: identical" "$bin" stream --sim --frames --profile a256
 expect 0 "1 resends" "$bin" stream --sim --frames --profile a256 --fault drop=3

@@ -357,6 +357,84 @@ TEST(bridge_silent_board_and_disconnect_fail_cleanly)
     free_fixture(&x);
 }
 
+/* Hot-plug: a board that disconnects mid-stream comes back as a fresh board
+ * (another simulated one, with the same faults when `again` is set); the
+ * stream starts over and every frame is confirmed once. */
+typedef struct {
+    const tr_faults *again;
+    unsigned opened;
+    bool never;
+} comeback;
+
+static transport_t *come_back(void *ctx, transport_t *old, char *err, size_t errlen)
+{
+    comeback *c = ctx;
+    old->ops->close(old);
+    if (c->never) {
+        snprintf(err, errlen, "gone for good");
+        return NULL;
+    }
+    transport_t *t = transport_sim_open("a256", 0, err, errlen);
+    c->opened++;
+    if (t && c->again) {
+        transport_t *f = transport_faulty(t, c->again);
+        if (!f)
+            t->ops->close(t);
+        t = f;
+    }
+    return t;
+}
+
+static int run_reattach(fixture *x, comeback *c, stream_report *r)
+{
+    char err[300];
+    transport_t *t = transport_sim_open("a256", 0, err, sizeof err);
+    tr_faults gone = {.disconnect_after = 1500};
+    transport_t *f = t ? transport_faulty(t, &gone) : NULL;
+    if (!f)
+        return -9;
+    stream_opts o;
+    stream_opts_default(&o);
+    o.timeout_ms = 20;
+    o.chunk_bytes = 256;
+    o.reattach = come_back;
+    o.reattach_ctx = c;
+    reset_results(x);
+    int rc = stream_run(f, x->b.w, x->b.n, x->f, x->nf, &o, r);
+    if (r->link)
+        r->link->ops->close(r->link);
+    return rc;
+}
+
+TEST(bridge_board_that_comes_back_gets_the_stream_again)
+{
+    fixture x;
+    if (make_fixture(&x, "a256")) {
+        CHECK_MSG(0, "fixture");
+        return;
+    }
+    stream_report r;
+    comeback once = {0};
+    CHECK_EQ(run_reattach(&x, &once, &r), 0);
+    CHECK_EQ(r.reattaches, 1);
+    CHECK_EQ(once.opened, 1);
+    CHECK_EQ(r.matched, x.nf);
+    CHECK_EQ(r.frames, x.nf);   /* a frame confirmed twice is counted once */
+    CHECK_STR_CONTAINS(r.first_link_error, "disconnected");
+    /* a board that disconnects every time: three are survived, the fourth ends it */
+    tr_faults gone = {.disconnect_after = 1500};
+    comeback flaky = {.again = &gone};
+    CHECK_EQ(run_reattach(&x, &flaky, &r), -1);
+    CHECK_EQ(r.reattaches, 3);
+    CHECK_STR_CONTAINS(r.first_problem, "disconnected");
+    /* one that never comes back */
+    comeback never = {.never = true};
+    CHECK_EQ(run_reattach(&x, &never, &r), -1);
+    CHECK_STR_CONTAINS(r.first_problem, "did not come back: gone for good");
+    CHECK(r.link == NULL);
+    free_fixture(&x);
+}
+
 TEST(bridge_host_decoder_resyncs_after_garbage)
 {
     uint8_t pkt[64], buf[400];

@@ -41,6 +41,8 @@ typedef struct {
     size_t max;               /* payload in use (board_payload) */
     sent_packet *sent;        /* SENT_RING, indexed by seq */
     bool need_resume, failed;
+    bool gone;                /* the device disconnected; o->reattach will be tried */
+    bool can_reattach;        /* stream_run, with o->reattach */
     unsigned next;            /* next frame to send */
     /* a READBACK in progress */
     int rb_frame;
@@ -58,6 +60,7 @@ void stream_opts_default(stream_opts *o)
     o->retries = 3;
     o->window = 16;
     o->readback = true;
+    o->reattach_max = 3;
 }
 
 static void __attribute__((format(printf, 2, 3))) problem(streamer *s, const char *fmt, ...)
@@ -132,8 +135,24 @@ static void describe(streamer *s, uint32_t seq, char *out, size_t cap)
     }
 }
 
+/* A disconnect the stream may survive: marked, named as the first loss on
+ * the link, and left to the main loop (reattach). */
+static bool may_reattach(streamer *s, const char *doing, uint32_t seq)
+{
+    if (!s->can_reattach || s->r->reattaches >= s->o->reattach_max)
+        return false;
+    s->gone = true;
+    if (!s->r->first_link_error[0])
+        snprintf(s->r->first_link_error, sizeof s->r->first_link_error,
+                 "the device disconnected while %s (packet %u): %.200s", doing, (unsigned)seq,
+                 s->t->error);
+    return true;
+}
+
 static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32_t len)
 {
+    if (s->gone)
+        return -1;
     if (stopped(s))
         return -1;
     *sent_at(s, s->seq) = (sent_packet){s->seq, type, true, len >= 4 ? PROTO_GET32(payload) : 0, 0};
@@ -144,6 +163,8 @@ static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32
     if (stopped(s))
         return -1;
     if (st != TR_OK) {
+        if (st == TR_GONE && may_reattach(s, "sending", s->seq - 1))
+            return -1;
         problem(s, "link failed while sending packet %u (%s): %s", (unsigned)(s->seq - 1),
                 st == TR_GONE ? "device disconnected" : "I/O error", s->t->error);
         s->failed = true;
@@ -208,7 +229,7 @@ static int send_words(streamer *s, size_t from, size_t to)
     uint8_t *buf = malloc(per * 4);
     if (!buf)
         return -1;
-    for (size_t i = from; i < to && !s->failed; i += per) {
+    for (size_t i = from; i < to && !s->failed && !s->gone; i += per) {
         size_t k = to - i < per ? to - i : per;
         for (size_t j = 0; j < k; j++)
             PROTO_PUT32(buf + 4 * j, s->w[i + j]);
@@ -217,7 +238,7 @@ static int send_words(streamer *s, size_t from, size_t to)
                                                     (uint32_t)(i + k)};
     }
     free(buf);
-    return s->failed ? -1 : 0;
+    return s->failed || s->gone ? -1 : 0;
 }
 
 static int frame_index(const streamer *s, uint32_t number)
@@ -354,10 +375,14 @@ static bool pump(streamer *s, unsigned timeout_ms)
 {
     uint8_t buf[65536];
     bool any = false;
+    if (s->gone)
+        return false;
     for (;;) {
         size_t got = 0;
         tr_status st = s->t->ops->read(s->t, buf, sizeof buf, &got, any ? 0 : timeout_ms);
         if (stopped(s))
+            return any;
+        if (st == TR_GONE && may_reattach(s, "reading", s->seq - 1))
             return any;
         if (st == TR_GONE || st == TR_ERROR) {
             problem(s, "link failed while reading from the board: %s", s->t->error);
@@ -478,6 +503,33 @@ static void start(streamer *s, transport_t *t, const stream_opts *o, stream_repo
     }
 }
 
+/* The device went away: the link opened again (o->reattach) and the
+ * stream started over from RESET and its preamble — a board that was
+ * unplugged or reconfigured has lost its words, results and textures. */
+static void reattach(streamer *s, size_t preamble)
+{
+    s->gone = false;
+    s->r->reattaches++;
+    note(s, "the board disconnected: waiting for it to come back (%u of at most %u)",
+         s->r->reattaches, s->o->reattach_max);
+    char err[600] = "";
+    s->t = s->o->reattach(s->o->reattach_ctx, s->t, err, sizeof err);
+    if (!s->t) {
+        problem(s, "the board disconnected and did not come back: %s", err);
+        s->failed = true;
+        return;
+    }
+    /* what the old link left half-read is not the new board's */
+    s->rx.start = s->rx.len = 0;
+    s->rx.have_seq = false;
+    note(s, "the board is back: starting the stream over (%u of %u frames already confirmed)",
+         first_unconfirmed(s), s->nf);
+    if (board_payload(s, 4, true) || send_packet(s, PROTO_T_RESET, NULL, 0))
+        return;
+    send_words(s, 0, preamble);
+    s->next = 0;
+}
+
 uint64_t stream_board_errors(const stream_report *r)
 {
     uint64_t n = 0;
@@ -496,11 +548,18 @@ int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames
     s.n = n;
     s.f = frames;
     s.nf = nframes;
+    s.can_reattach = o->reattach != NULL;
     size_t preamble = nframes ? frames[0].first_word : n;
     bool end_sent = false, queried = false;
     if (!s.failed && !board_payload(&s, 4, true) && send_packet(&s, PROTO_T_RESET, NULL, 0) == 0)
         send_words(&s, 0, preamble);
     while (!s.failed && !stopped(&s)) {
+        if (s.gone) {
+            reattach(&s, preamble);
+            s.need_resume = false;
+            end_sent = queried = false;
+            continue;
+        }
         if (s.need_resume) {
             resume(&s);
             end_sent = false;
@@ -510,13 +569,13 @@ int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames
          * fixed at its start stalls a stream of more than `window` frames
          * once the board has answered everything sent (it then waits for
          * words, the host for a RESULT) */
-        while (!s.failed && !s.need_resume && s.next < nframes &&
+        while (!s.failed && !s.gone && !s.need_resume && s.next < nframes &&
                s.next < first_unconfirmed(&s) + o->window) {
             send_words(&s, frames[s.next].first_word, frames[s.next].end_word);
             s.next++;
             pump(&s, 0);
         }
-        if (s.failed || s.need_resume)
+        if (s.failed || s.gone || s.need_resume)
             continue;
         if (s.next == nframes && !end_sent) {
             send_words(&s, nframes ? frames[nframes - 1].end_word : preamble, n);
@@ -538,6 +597,8 @@ int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames
         }
         if (s.failed)
             break;
+        if (s.gone)
+            continue;
         unsigned i = first_unconfirmed(&s);
         if (queried) {
             problem(&s, "the board stopped answering: no RESULT for frame %u within %u ms after "
@@ -554,6 +615,7 @@ int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames
         for (unsigned i = 0; i < nframes && !s.failed; i++)
             if (frames[i].have && frames[i].board_crc != frames[i].crc)
                 readback(&s, i);
+    r->link = s.t;
     finish(&s, t0);
     if (r->interrupted)
         return -2;

@@ -37,6 +37,14 @@ typedef struct {
     /* set by a signal handler (Ctrl-C): stop at the next packet, report what
      * was confirmed so far; NULL: never */
     const volatile sig_atomic_t *stop;
+    /* After the board disconnects (stream_run only): close `old`, wait for
+     * the board to come back and open it again — NULL with err if it did
+     * not.  The stream then starts over on the new link (a board that went
+     * away has lost its state), frames already confirmed staying confirmed.
+     * NULL: a disconnect ends the stream. */
+    transport_t *(*reattach)(void *ctx, transport_t *old, char *err, size_t errlen);
+    void *reattach_ctx;
+    unsigned reattach_max;          /* disconnects survived (default 3) */
 } stream_opts;
 
 #define STREAM_ERROR_CODES 9        /* PROTO_E_* 1..8; slot 0 counts unknown codes */
@@ -48,6 +56,10 @@ typedef struct {
     uint64_t rx_crc_errors, rx_garbage, rx_gaps, rx_duplicates;   /* the host's decoder */
     size_t max_payload;             /* payload used: the board's INFO, chunk_bytes */
     bool interrupted;               /* o->stop was set: the report is partial */
+    unsigned reattaches;            /* disconnects the stream survived (o->reattach) */
+    transport_t *link;              /* the link at the end: the one given, another
+                                       after a disconnect, NULL if the board did
+                                       not come back (the caller closes it) */
     double seconds;
     char first_problem[600];        /* the first disagreement or failure, readable */
     char first_link_error[300];     /* the first loss on the link, even if recovered:
