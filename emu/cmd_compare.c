@@ -29,6 +29,76 @@ static int compare_opt(void *ctx, const char *name, const char *value)
     return 0;
 }
 
+/* Compare the frames in files a and b (diff: the diff image, or NULL);
+ * prints one line (or JSON object) prefixed with `label`.  0 identical,
+ * 1 different, 2 trouble. */
+static int compare_files(const char *pa, const char *pb, const char *diff, bool json,
+                         const char *label)
+{
+    frame_t f[2];
+    diag_t d;
+    diag_init(&d, NULL);
+    memset(f, 0, sizeof f);
+    const char *path[2] = {pa, pb};
+    for (int i = 0; i < 2; i++)
+        if (exr_read_frame(path[i], &f[i], &d)) {
+            diag_print(&d, stderr);
+            if (i)
+                frame_free(&f[0]);
+            return 2;
+        }
+    int rc = 2;
+    if (f[0].width != f[1].width || f[0].height != f[1].height ||
+        f[0].colour_bits != f[1].colour_bits) {
+        fprintf(stderr, "albatros compare: %s is %ux%u (%u-bit colour), %s is %ux%u (%u-bit)\n",
+                pa, f[0].width, f[0].height, f[0].colour_bits, pb, f[1].width, f[1].height,
+                f[1].colour_bits);
+        goto done;
+    }
+    frame_diff r;
+    frame_compare(&f[0], &f[1], &r);
+    if (diff && preview_write_diff(diff, &f[0], &f[1], NULL, NULL, &d)) {
+        diag_print(&d, stderr);
+        goto done;
+    }
+    if (json)
+        printf("%s{\"pixels\": %zu, \"face_diff\": %zu, \"colour_diff\": %zu, \"coverage_diff\": "
+               "%zu, \"max_error\": %u, \"mean_error\": %.6f, \"psnr\": %.3f}",
+               label, r.pixels, r.face_diff, r.colour_diff, r.coverage_diff, r.max_error,
+               r.mean_error, isinf(r.psnr) ? 999.0 : r.psnr);
+    else
+        printf("%s%zu pixels: %zu with a different face (%.4f%%), %zu with a different colour; "
+               "colour error max %u, mean %.4f, PSNR %.2f dB\n",
+               label, r.pixels, r.face_diff, 100.0 * (double)r.face_diff / (double)r.pixels,
+               r.colour_diff, r.max_error, r.mean_error, r.psnr);
+    rc = (r.face_diff || r.colour_diff || r.coverage_diff) ? 1 : 0;
+done:
+    frame_free(&f[0]);
+    frame_free(&f[1]);
+    return rc;
+}
+
+static bool exists(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (f)
+        fclose(f);
+    return f != NULL;
+}
+
+/* How many numbered frames "f.0000.exr", "f.0001.exr", ... stand for the
+ * name f.exr, which render gives a run of several frames; 0 if none. */
+static unsigned numbered_frames(const char *path)
+{
+    char p[1024];
+    unsigned n = 0;
+    for (;; n++) {
+        cli_frame_path(p, sizeof p, path, n, 2);
+        if (!exists(p))
+            return n;
+    }
+}
+
 int cmd_compare(int argc, char **argv)
 {
     static const char *const spec[] = {"diff=", "json", "help", NULL};
@@ -41,48 +111,55 @@ int cmd_compare(int argc, char **argv)
         printf("usage: albatros compare A.exr B.exr [--diff DIFF.png] [--json]\n\n"
                "Compare two frames: pixels whose face differs, colour error in frame-store\n"
                "units (max, mean, PSNR), and a diff image (red: face differs, yellow: colour\n"
-               "only, grey: equal).  Exit 0 if identical, 1 if they differ, 2 on error.\n");
+               "only, grey: equal).  Exit 0 if identical, 1 if they differ, 2 on error.\n\n"
+               "A name render numbered (f.exr for f.0000.exr, f.0001.exr, ...) compares\n"
+               "every frame of the two runs, one line each (diff images numbered alike).\n");
         return a.help ? 0 : 2;
     }
-    frame_t f[2];
-    diag_t d;
-    diag_init(&d, NULL);
-    memset(f, 0, sizeof f);
-    for (int i = 0; i < 2; i++)
-        if (exr_read_frame(pos[i], &f[i], &d)) {
-            diag_print(&d, stderr);
-            if (i)
-                frame_free(&f[0]);
+    /* two files, or two runs of numbered frames */
+    if (exists(pos[0]) || exists(pos[1])) {
+        int rc = compare_files(pos[0], pos[1], a.diff, a.json, "");
+        if (a.json && rc != 2)
+            putchar('\n');
+        return rc;
+    }
+    unsigned n[2] = {numbered_frames(pos[0]), numbered_frames(pos[1])};
+    if (!n[0] || !n[1]) {
+        const char *missing = n[0] ? pos[1] : pos[0];
+        char first[1024];
+        cli_frame_path(first, sizeof first, missing, 0, 2);
+        fprintf(stderr, "albatros compare: cannot open %s (nor %s, the first of a numbered run)\n",
+                missing, first);
+        return 2;
+    }
+    if (n[0] != n[1]) {
+        fprintf(stderr, "albatros compare: %s has %u numbered frames, %s has %u\n", pos[0], n[0],
+                pos[1], n[1]);
+        return 2;
+    }
+    int rc = 0;
+    if (a.json)
+        printf("{\"frames\": [");
+    for (unsigned k = 0; k < n[0]; k++) {
+        char pa[1024], pb[1024], pd[1024], label[32];
+        cli_frame_path(pa, sizeof pa, pos[0], k, n[0]);
+        cli_frame_path(pb, sizeof pb, pos[1], k, n[0]);
+        if (a.diff)
+            cli_frame_path(pd, sizeof pd, a.diff, k, n[0]);
+        if (a.json)
+            snprintf(label, sizeof label, "%s", k ? ", " : "");
+        else
+            snprintf(label, sizeof label, "frame %u: ", k);
+        int one = compare_files(pa, pb, a.diff ? pd : NULL, a.json, label);
+        if (one == 2) {
+            if (a.json)
+                printf("]}\n");
             return 2;
         }
-    int rc = 2;
-    if (f[0].width != f[1].width || f[0].height != f[1].height ||
-        f[0].colour_bits != f[1].colour_bits) {
-        fprintf(stderr, "albatros compare: %s is %ux%u (%u-bit colour), %s is %ux%u (%u-bit)\n",
-                pos[0], f[0].width, f[0].height, f[0].colour_bits, pos[1], f[1].width,
-                f[1].height, f[1].colour_bits);
-        goto done;
-    }
-    frame_diff r;
-    frame_compare(&f[0], &f[1], &r);
-    if (a.diff && preview_write_diff(a.diff, &f[0], &f[1], NULL, NULL, &d)) {
-        diag_print(&d, stderr);
-        goto done;
+        rc |= one;
     }
     if (a.json)
-        printf("{\"pixels\": %zu, \"face_diff\": %zu, \"colour_diff\": %zu, \"coverage_diff\": "
-               "%zu, \"max_error\": %u, \"mean_error\": %.6f, \"psnr\": %.3f}\n",
-               r.pixels, r.face_diff, r.colour_diff, r.coverage_diff, r.max_error, r.mean_error,
-               isinf(r.psnr) ? 999.0 : r.psnr);
-    else
-        printf("%zu pixels: %zu with a different face (%.4f%%), %zu with a different colour; "
-               "colour error max %u, mean %.4f, PSNR %.2f dB\n",
-               r.pixels, r.face_diff, 100.0 * (double)r.face_diff / (double)r.pixels,
-               r.colour_diff, r.max_error, r.mean_error, r.psnr);
-    rc = (r.face_diff || r.colour_diff || r.coverage_diff) ? 1 : 0;
-done:
-    frame_free(&f[0]);
-    frame_free(&f[1]);
+        printf("]}\n");
     return rc;
 }
 

@@ -83,6 +83,12 @@ expect 0 '0 with a different colour; colour error max 0, mean 0.0000, PSNR inf d
 "$bin" render --profile a256 -q -o "$tmp/bv.exr" && "$bin" reference --profile a256 -q -o "$tmp/br.exr" && ok || bad "builtin render/reference"
 expect 1 'pixels: [0-9]+ with a different face' "$bin" compare "$tmp/bv.0000.exr" "$tmp/br.0000.exr" --diff "$tmp/d.png"
 [[ -s $tmp/d.png ]] && ok || bad "no diff png"
+# the names render gave: every numbered frame of both runs, diff images numbered alike
+expect 1 '^frame 3: [0-9]+ pixels: [0-9]+ with a different face' "$bin" compare "$tmp/bv.exr" "$tmp/br.exr" --diff "$tmp/ds.png"
+[[ -s $tmp/ds.0000.png && -s $tmp/ds.0003.png ]] && ok || bad "numbered diff images"
+expect 0 '"frames": \[\{"pixels": 65536, "face_diff": 0' "$bin" compare "$tmp/bv.exr" "$tmp/bv.exr" --json
+cp "$tmp/bv.0000.exr" "$tmp/one.0000.exr"
+expect 2 'has 4 numbered frames, .* has 1' "$bin" compare "$tmp/bv.exr" "$tmp/one.exr"
 expect 2 'is 256x256 .*is 512x512' "$bin" compare "$tmp/t.exr" "$tmp/b512.exr"
 expect 2 'cannot' "$bin" compare "$tmp/t.exr" "$tmp/none.exr"
 expect 2 "nothing to write" "$bin" render
