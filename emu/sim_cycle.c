@@ -83,6 +83,11 @@ typedef struct {                 /* subdivision engine */
     vp_walk walk;
     vp_step step;
     uint64_t left;               /* cycles left in the step */
+    /* the trace: what the engine did this cycle — 0 idle, 1 worked on a
+     * step, 2 stalled handing one over — and that step's face and cell */
+    uint8_t did;
+    uint32_t did_face;
+    vp_step did_step;
 } engine_unit;
 
 /* A queued cell carries its face's shading set-up: the face's slot is freed
@@ -307,6 +312,7 @@ static bool enqueue(machine *m, uint64_t queue_start)
 static void engine_tick(machine *m, int64_t t, uint64_t queue_start)
 {
     engine_unit *e = &m->engine;
+    e->did = 0;
     if (!e->busy) {
         slot *s = &m->slots[m->faces_started % m->p->face_slots];
         if (m->faces_started == m->faces_loaded || s->loaded_at < 0 || s->loaded_at >= t ||
@@ -318,6 +324,9 @@ static void engine_tick(machine *m, int64_t t, uint64_t queue_start)
         vp_walk_begin(&e->walk, m->vp, &s->face);
         engine_next(m, t);   /* the first step starts this cycle */
     }
+    e->did = e->stalled ? 2 : 1;
+    e->did_step = e->step;
+    e->did_face = m->slots[e->slot].face.fs.id;
     if (e->stalled) {
         bins_add(&m->bins, CNT(engine_stall), t, t + 1);
         if (enqueue(m, queue_start))
@@ -446,14 +455,16 @@ static void trace_parser(const machine *m, vcd_t *v)
 static void trace_engine(const machine *m, vcd_t *v)
 {
     const engine_unit *e = &m->engine;
-    vcd_set(v, SIG_ENGINE_STATE, e->busy ? (e->stalled ? 2 : 1) : 0);
-    if (e->busy) {
-        vcd_set(v, SIG_FACE, m->slots[e->slot].face.fs.id);
-        vcd_set(v, SIG_LEVEL, e->step.cell.level);
-        vcd_set(v, SIG_CELL_X, e->step.cell.c0);
-        vcd_set(v, SIG_CELL_Y, e->step.cell.r0);
-        vcd_set(v, SIG_RESULT, (uint64_t)e->step.kind + 1);
-        vcd_set(v, SIG_ACTIVE, e->step.edges);
+    /* what happened during the cycle, like the strobes: a face of a single
+     * one-cycle step still shows */
+    vcd_set(v, SIG_ENGINE_STATE, e->did);
+    if (e->did) {
+        vcd_set(v, SIG_FACE, e->did_face);
+        vcd_set(v, SIG_LEVEL, e->did_step.cell.level);
+        vcd_set(v, SIG_CELL_X, e->did_step.cell.c0);
+        vcd_set(v, SIG_CELL_Y, e->did_step.cell.r0);
+        vcd_set(v, SIG_RESULT, (uint64_t)e->did_step.kind + 1);
+        vcd_set(v, SIG_ACTIVE, e->did_step.edges);
     } else {
         vcd_set(v, SIG_RESULT, 0);
     }

@@ -726,6 +726,17 @@ TEST(timing_vcd_pixel_writes_match_the_counters)
             if (p.fill_rate == 1)
                 CHECK_MSG(strobe && strobe->high == written, "seed %llu: write strobes",
                           (unsigned long long)seed);
+            /* engine.state shows what the engine did in each cycle: 1 in its
+             * busy cycles, 2 in its stalled ones (single-cycle steps too) */
+            uint64_t busy = 0, stall = 0;
+            for (unsigned i = 0; i < l.n; i++)
+                busy += l.c[i].engine_busy, stall += l.c[i].engine_stall;
+            const vcd_var_decl *eng = vcd_signal(&s, "engine.state");
+            CHECK_MSG(eng && eng->high == busy + stall && eng->sum == busy + 2 * stall,
+                      "seed %llu: engine.state high %llu sum %llu, counters busy %llu stall %llu",
+                      (unsigned long long)seed, (unsigned long long)(eng ? eng->high : 0),
+                      (unsigned long long)(eng ? eng->sum : 0), (unsigned long long)busy,
+                      (unsigned long long)stall);
         }
         log_free(&l);
         ws_buf_free(&b);
