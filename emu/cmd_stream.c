@@ -101,7 +101,7 @@ static transport_t *open_link(const link_args *a, const profile_t *p, sim_board 
                               bool hid_only)
 {
     char err[600];
-    transport_t *t = a->sim ? transport_sim_open(p->name, a->sim_payload, err, sizeof err)
+    transport_t *t = a->sim ? transport_sim_open(p, a->sim_payload, err, sizeof err)
                      : hid_only ? transport_hid_open((uint16_t)a->vid, (uint16_t)a->pid, a->serial,
                                                      a->wait_ms, err, sizeof err)
                                 : transport_usb_open((uint16_t)a->vid, (uint16_t)a->pid, a->serial,

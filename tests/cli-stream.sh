@@ -102,4 +102,8 @@ expect 0 "usage: albatros board .*--wait MS" "$bin" board --help
 # the word-stream summary gives the rate, as frames mode does
 expect 0 "stream: 4 of 4 frames match .* MB in [0-9.]+ s \([0-9.]+ MB/s\)" "$bin" stream --sim --profile t32
 
+# the simulated board runs the emulator's profile with every --set and --size
+expect 0 "4 of 4 frames match" "$bin" stream --sim --profile t32 --set aa=1
+expect 0 "hardware agrees" "$bin" stream --sim --profile t32 --size 64x64 --set depth_bits=16
+
 finish

@@ -27,6 +27,14 @@ typedef struct {
     unsigned k;
 } exp_ctx;
 
+/* The simulated board running profile a256. */
+static transport_t *sim_open(size_t payload, char *err, size_t errlen)
+{
+    profile_t p;
+    profile_lookup("a256", &p);
+    return transport_sim_open(&p, payload, err, errlen);
+}
+
 static int expect(void *ctx, const frame_t *fr, const vp_stats *vs, const sim_counters *sc)
 {
     (void)vs;
@@ -102,7 +110,7 @@ static int run_on(fixture *x, size_t board_payload, size_t chunk, const tr_fault
                   long flip_frame, stream_report *r)
 {
     char err[300];
-    transport_t *t = transport_sim_open("a256", board_payload, err, sizeof err);
+    transport_t *t = sim_open(board_payload, err, sizeof err);
     if (!t)
         return -9;
     if (flip_frame >= 0)
@@ -280,7 +288,7 @@ TEST(bridge_unreadable_info_falls_back_to_the_smallest_payload)
         return;
     }
     char err[300];
-    transport_t *t = transport_sim_open("a256", 0, err, sizeof err);
+    transport_t *t = sim_open(0, err, sizeof err);
     CHECK(t != NULL);
     if (!t) {
         free_fixture(&x);
@@ -315,7 +323,7 @@ TEST(bridge_stop_flag_ends_the_stream)
         return;
     }
     char err[300];
-    transport_t *t = transport_sim_open("a256", 0, err, sizeof err);
+    transport_t *t = sim_open(0, err, sizeof err);
     if (!t) {
         CHECK_MSG(0, "%s", err);
         free_fixture(&x);
@@ -374,7 +382,7 @@ static transport_t *come_back(void *ctx, transport_t *old, char *err, size_t err
         snprintf(err, errlen, "gone for good");
         return NULL;
     }
-    transport_t *t = transport_sim_open("a256", 0, err, errlen);
+    transport_t *t = sim_open(0, err, errlen);
     c->opened++;
     if (t && c->again) {
         transport_t *f = transport_faulty(t, c->again);
@@ -388,7 +396,7 @@ static transport_t *come_back(void *ctx, transport_t *old, char *err, size_t err
 static int run_reattach(fixture *x, comeback *c, stream_report *r)
 {
     char err[300];
-    transport_t *t = transport_sim_open("a256", 0, err, sizeof err);
+    transport_t *t = sim_open(0, err, sizeof err);
     tr_faults gone = {.disconnect_after = 1500};
     transport_t *f = t ? transport_faulty(t, &gone) : NULL;
     if (!f)
@@ -507,7 +515,7 @@ TEST(bridge_frames_mode_displays_the_frames)
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         char err[300];
-        transport_t *t = transport_sim_open("a256", cases[c].payload, err, sizeof err);
+        transport_t *t = sim_open(cases[c].payload, err, sizeof err);
         CHECK(t != NULL);
         if (!t)
             break;
@@ -539,7 +547,7 @@ TEST(bridge_frames_mode_displays_the_frames)
     }
     /* a silent board: the frame is tried again, then a clean failure */
     char err[300];
-    transport_t *t = transport_sim_open("a256", 0, err, sizeof err);
+    transport_t *t = sim_open(0, err, sizeof err);
     tr_faults silent = {.silence_after = 1};
     transport_t *link = t ? transport_faulty(t, &silent) : NULL;
     if (link) {

@@ -5,6 +5,8 @@
 #ifndef ALBATROS_TRANSPORT_H
 #define ALBATROS_TRANSPORT_H
 
+#include "../../common/profile.h"
+
 #include <signal.h>
 #include <stdbool.h>
 #include <stddef.h>
@@ -77,11 +79,12 @@ int transport_usb_list(uint16_t vid, uint16_t pid, tr_usb_device *out, int max, 
                        size_t errlen);
 
 /* The simulated board (firmware/sim/): the firmware core and this project's
- * VP, in process.  profile_name: the VP it runs; max_payload: the largest
+ * VP, in process.  p: the VP it runs (the profile with every --set and
+ * --size the emulator runs with); max_payload: the largest
  * payload it accepts and announces in INFO (0: PROTO_MAX_PAYLOAD; the FX2
  * firmware takes 492, one USB packet less header and CRC). */
 struct sim_board;
-transport_t *transport_sim_open(const char *profile_name, size_t max_payload, char *err,
+transport_t *transport_sim_open(const profile_t *p, size_t max_payload, char *err,
                                 size_t errlen);
 /* The simulated board behind a sim transport, for fault injection. */
 struct sim_board *transport_sim_board(transport_t *t);

@@ -55,14 +55,9 @@ static void sim_close(transport_t *t)
 static const transport_ops sim_ops = {"sim", sim_write, sim_flush, sim_read, sim_hid_get,
                                       sim_hid_set, sim_close};
 
-transport_t *transport_sim_open(const char *profile_name, size_t max_payload, char *err,
+transport_t *transport_sim_open(const profile_t *p, size_t max_payload, char *err,
                                 size_t errlen)
 {
-    profile_t p;
-    if (profile_lookup(profile_name, &p)) {
-        snprintf(err, errlen, "simulated board: unknown profile %s", profile_name);
-        return NULL;
-    }
     if (max_payload > PROTO_MAX_PAYLOAD) {
         snprintf(err, errlen, "simulated board: a payload of %zu bytes is above the protocol's "
                  "%u", max_payload, PROTO_MAX_PAYLOAD);
@@ -74,7 +69,7 @@ transport_t *transport_sim_open(const char *profile_name, size_t max_payload, ch
         return NULL;
     }
     t->ops = &sim_ops;
-    t->impl = sim_board_create(&p, err, errlen);
+    t->impl = sim_board_create(p, err, errlen);
     if (!t->impl) {
         free(t);
         return NULL;
