@@ -57,6 +57,21 @@ typedef int (*sim_sink)(void *ctx, const frame_t *f, const vp_stats *vs, const s
 alb_err sim_run(const profile_t *p, const uint32_t *w, size_t n, const char *name,
                 const sim_options *opt, sim_sink sink, void *ctx, diag_t *d);
 
+/* The timed model fed a word stream as it arrives (the simulated board):
+ * sim_feed_words takes the whole packets of w[0, n) not taken yet — w is the
+ * same stream, grown since the last call — and leaves a packet cut short at
+ * n for the next call; on_frame gets each frame at its FRAME_END, with its
+ * pixels, statistics and cycle count (its other counters may still grow with
+ * later words).  Errors as sim_run's, located in the whole stream. */
+typedef struct sim_feed sim_feed;
+alb_err sim_feed_open(sim_feed **f, const profile_t *p, const char *name, sim_sink on_frame,
+                      void *ctx, diag_t *d);
+alb_err sim_feed_words(sim_feed *f, const uint32_t *w, size_t n, diag_t *d);
+/* The first word of the frame being received, or, between frames, of the
+ * next packet: where a RESUME takes the stream up again. */
+size_t sim_feed_frame_start(const sim_feed *f);
+void sim_feed_close(sim_feed *f);
+
 /* The counters as a JSON object / a readable summary (with fps against
  * the profile's clock and the 50 Hz budget). */
 void sim_counters_json(FILE *f, const sim_counters *c, const profile_t *p);

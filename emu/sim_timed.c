@@ -239,6 +239,41 @@ static void timed_free(timed *t)
     frame_free(&t->frame);
 }
 
+/* One packet of the stream through the model. */
+static alb_err timed_event(timed *t, const ws_event *ev, vp_loaded_face *lf, diag_t *d)
+{
+    const profile_t *p = t->p;
+    int64_t ready = room(t, ev);
+    for (size_t k = 0; k < ev->count; k++)
+        word_times(t, k == 0 ? (int64_t)gp_packet_cycles(p, ev) : -1, ready);
+    alb_err e = ALB_OK;
+    switch (ev->kind) {
+    case WS_EV_CONFIG:
+        if (!(e = vp_config(t->vp, &ev->u.config, d)))
+            t->frame.near = ev->u.config.near;
+        break;
+    case WS_EV_TEXTURE:
+        e = vp_texture(t->vp, &ev->u.texture, d);
+        break;
+    case WS_EV_FRAME:
+        vp_frame_begin(t->vp, &ev->u.frame);
+        t->frame_start = t->prev_retire + 1;
+        t->frame_last = -1;
+        t->first_face_of_frame = true;
+        break;
+    case WS_EV_FACE:
+        if (!(e = vp_load_face(t->vp, &ev->u.face, lf, d)))
+            run_face(t, lf, t->last_pop);
+        break;
+    case WS_EV_FRAME_END:
+        e = frame_end(t, t->last_pop, d);
+        break;
+    case WS_EV_END:
+        break;
+    }
+    return e;
+}
+
 alb_err sim_run_timed(const profile_t *p, const uint32_t *w, size_t n, const char *name,
                       sim_sink sink, void *ctx, diag_t *d)
 {
@@ -254,33 +289,7 @@ alb_err sim_run_timed(const profile_t *p, const uint32_t *w, size_t n, const cha
     while (!e && !r.ended) {
         if ((e = ws_next(&r, ev, d)))
             break;
-        int64_t ready = room(&t, ev);
-        for (size_t k = 0; k < ev->count; k++)
-            word_times(&t, k == 0 ? (int64_t)gp_packet_cycles(p, ev) : -1, ready);
-        switch (ev->kind) {
-        case WS_EV_CONFIG:
-            if (!(e = vp_config(t.vp, &ev->u.config, d)))
-                t.frame.near = ev->u.config.near;
-            break;
-        case WS_EV_TEXTURE:
-            e = vp_texture(t.vp, &ev->u.texture, d);
-            break;
-        case WS_EV_FRAME:
-            vp_frame_begin(t.vp, &ev->u.frame);
-            t.frame_start = t.prev_retire + 1;
-            t.frame_last = -1;
-            t.first_face_of_frame = true;
-            break;
-        case WS_EV_FACE:
-            if (!(e = vp_load_face(t.vp, &ev->u.face, lf, d)))
-                run_face(&t, lf, t.last_pop);
-            break;
-        case WS_EV_FRAME_END:
-            e = frame_end(&t, t.last_pop, d);
-            break;
-        case WS_EV_END:
-            break;
-        }
+        e = timed_event(&t, ev, lf, d);
         if (!e)
             e = flush_frames(&t, r.ended, sink, ctx);
     }
@@ -288,4 +297,91 @@ alb_err sim_run_timed(const profile_t *p, const uint32_t *w, size_t n, const cha
     free(lf);
     timed_free(&t);
     return e;
+}
+
+/* ---- the same model fed a stream as it arrives (the simulated board) ---- */
+
+struct sim_feed {
+    timed t;
+    ws_reader r;              /* after the last whole packet */
+    ws_event *ev;
+    vp_loaded_face *lf;
+    sim_sink on_frame;
+    void *ctx;
+    size_t frame_start;
+    bool ok;                  /* timed_init succeeded */
+};
+
+alb_err sim_feed_open(sim_feed **out, const profile_t *p, const char *name, sim_sink on_frame,
+                      void *ctx, diag_t *d)
+{
+    sim_feed *f = calloc(1, sizeof *f);
+    *out = NULL;
+    if (!f)
+        return diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
+    alb_err e = timed_init(&f->t, p, d);
+    f->ok = true;
+    f->ev = malloc(sizeof *f->ev);
+    f->lf = malloc(sizeof *f->lf);
+    if (!e && (!f->ev || !f->lf))
+        e = diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
+    if (e) {
+        sim_feed_close(f);
+        return e;
+    }
+    ws_reader_init(&f->r, NULL, 0, name);
+    f->r.max_faces = p->frame_faces;
+    f->on_frame = on_frame;
+    f->ctx = ctx;
+    *out = f;
+    return ALB_OK;
+}
+
+alb_err sim_feed_words(sim_feed *f, const uint32_t *w, size_t n, diag_t *d)
+{
+    while (!f->r.ended && f->r.pos < n) {
+        ws_reader r = f->r;
+        r.w = w;
+        r.n = n;
+        diag_t dd;
+        diag_init(&dd, NULL);
+        alb_err e = ws_next(&r, f->ev, &dd);
+        if (e) {
+            if (dd.offset == (long long)n * 4)
+                return ALB_OK;   /* a packet still arriving */
+            *d = dd;
+            return e;
+        }
+        f->r = r;
+        e = timed_event(&f->t, f->ev, f->lf, d);
+        if (e)
+            return e;
+        if (f->ev->kind == WS_EV_FRAME)
+            f->frame_start = f->ev->first;
+        else if (!r.in_frame)
+            f->frame_start = r.pos;
+        if (f->ev->kind == WS_EV_FRAME_END && f->on_frame) {
+            /* its pixels and cycle count are final now; its other counters
+             * may still grow with later words (flush_frames) */
+            const struct pending *pf = &f->t.pending[f->t.npending - 1];
+            if (f->on_frame(f->ctx, &pf->frame, &pf->st, &f->t.bins.bin[pf->bin]))
+                return diag_at(d, ALB_ERR_IO, f->r.name, 0, 0, "the frame's sink failed");
+        }
+        if ((e = flush_frames(&f->t, f->r.ended, NULL, NULL)))
+            return e;
+    }
+    return ALB_OK;
+}
+
+size_t sim_feed_frame_start(const sim_feed *f) { return f->frame_start; }
+
+void sim_feed_close(sim_feed *f)
+{
+    if (!f)
+        return;
+    if (f->ok)
+        timed_free(&f->t);
+    free(f->ev);
+    free(f->lf);
+    free(f);
 }

@@ -1,10 +1,10 @@
 /* board.c — the simulated board: the firmware core receives the host's
  * packets; its HAL feeds the word stream to this project's VP (the timed
- * model, whose pixels and cycles equal the cycle model's), and reports each
- * frame's CRC and cycle count back through the core.  The VP re-runs the
- * stream from its start for every frame, so a frame's cycles are those of
- * the whole stream up to it (docs/microarchitecture.md); that costs time
- * quadratic in the frames, which the simulated board can afford. */
+ * model, whose pixels and cycles equal the cycle model's) as it arrives, and
+ * reports each frame's CRC and cycle count back through the core at its
+ * FRAME_END.  The model keeps its state between packets (sim_feed), so a
+ * frame's cycles are those of the whole stream up to it at the cost of the
+ * frame alone; a RESUME runs the kept part of the stream again. */
 #include "board.h"
 #include "../core.h"
 #include "../../common/words.h"
@@ -28,8 +28,8 @@ struct sim_board {
     /* the word stream the VP has accepted */
     uint32_t *w;
     size_t n, cap;
-    ws_reader rd;             /* state after the last whole packet */
-    size_t frame_start;       /* word of the current frame's FRAME (or of the next packet) */
+    sim_feed *feed;           /* the VP, fed w[0, n) so far; NULL before a RESET */
+    bool replaying;           /* RESUME: the kept stream again, no results */
     bool in_error;
     /* the last frame, for a flipped-bit fault */
     uint32_t flip_frame;
@@ -69,24 +69,6 @@ static void hal_send(void *ctx, const uint8_t *data, uint16_t len)
     b->tx_len += len;
 }
 
-/* RESUME: keep the stream up to its last whole frame (configuration and
- * textures stay loaded); RESET: a new stream from its CONFIG. */
-static void hal_restart(void *ctx, uint8_t full)
-{
-    sim_board *b = ctx;
-    if (full) {
-        b->n = 0;
-        b->frame_start = 0;
-        ws_reader_init(&b->rd, NULL, 0, "board");
-    } else {
-        b->n = b->frame_start;
-        b->rd.pos = b->frame_start;
-        b->rd.in_frame = false;
-        b->rd.faces_in_frame = 0;
-    }
-    b->in_error = false;
-}
-
 static int take_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
 {
     sim_board *b = ctx;
@@ -111,61 +93,52 @@ static int take_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim
     return 0;
 }
 
-/* Run the VP on the stream up to the FRAME_END that ends at word `end`. */
-static void run_frame(sim_board *b, size_t end)
+/* At each FRAME_END: the result to the host, the store kept for READBACK. */
+static int board_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
 {
-    uint32_t *w = malloc((end + 1) * sizeof *w);
-    if (!w)
-        return;
-    memcpy(w, b->w, end * sizeof *w);
-    w[end] = (uint32_t)WS_OP_END << 24;
-    diag_t d;
-    diag_init(&d, NULL);
-    sim_options o = {FIDELITY_TIMED, NULL, 0, 0, 1};
+    sim_board *b = ctx;
+    if (b->replaying)
+        return 0;   /* reported before the RESUME */
     b->result_ok = false;
-    alb_err e = sim_run(&b->prof, w, end + 1, "board", &o, take_frame, b, &d);
-    free(w);
-    if (e || !b->result_ok) {
-        fw_vp_error(&b->core, (uint32_t)end);
-        b->in_error = true;
-        return;
-    }
+    if (take_frame(ctx, f, vs, sc) || !b->result_ok)
+        return -1;
     fw_result r = {b->result_frame, b->result_crc, (uint32_t)b->result_cycles,
                    (uint32_t)(b->result_cycles >> 32), b->result_faces};
     b->next_kept = (b->next_kept + 1) % 4;
     fw_frame_done(&b->core, &r);
+    return 0;
 }
 
-/* Decode whole packets from the words received; incomplete ones wait. */
-static void scan(sim_board *b)
+/* The words received so far through the VP; an error stops it until the
+ * host restarts the stream (ERROR STREAM names the word). */
+static void feed(sim_board *b)
 {
-    ws_event *ev = malloc(sizeof *ev);
-    if (!ev)
+    if (b->in_error)
         return;
-    while (!b->in_error && !b->rd.ended && b->rd.pos < b->n) {
-        ws_reader r = b->rd;
-        r.w = b->w;
-        r.n = b->n;
-        diag_t d;
-        diag_init(&d, NULL);
-        if (ws_next(&r, ev, &d)) {
-            if (d.offset == (long long)b->n * 4)
-                break;   /* a packet still arriving */
-            fw_vp_error(&b->core, (uint32_t)(d.offset / 4));
-            b->in_error = true;
-            break;
-        }
-        b->rd = r;
-        if (ev->kind == WS_EV_FRAME)
-            b->frame_start = ev->first;
-        if (ev->kind == WS_EV_FRAME_END) {
-            run_frame(b, r.pos);
-            b->frame_start = r.pos;
-        }
-        if (!r.in_frame && ev->kind != WS_EV_FRAME_END)
-            b->frame_start = r.pos;
+    diag_t d;
+    diag_init(&d, NULL);
+    if (!b->feed || sim_feed_words(b->feed, b->w, b->n, &d)) {
+        fw_vp_error(&b->core, (uint32_t)(b->feed && d.offset >= 0 ? (size_t)d.offset / 4 : b->n));
+        b->in_error = true;
     }
-    free(ev);
+}
+
+/* RESUME: keep the stream up to its last whole frame (configuration and
+ * textures stay loaded: the kept words run through a new VP again); RESET:
+ * a new stream from its CONFIG. */
+static void hal_restart(void *ctx, uint8_t full)
+{
+    sim_board *b = ctx;
+    b->n = full || !b->feed ? 0 : sim_feed_frame_start(b->feed);
+    sim_feed_close(b->feed);
+    diag_t d;
+    diag_init(&d, NULL);
+    if (sim_feed_open(&b->feed, &b->prof, "board", board_frame, b, &d))
+        b->feed = NULL;
+    b->in_error = false;
+    b->replaying = true;
+    feed(b);
+    b->replaying = false;
 }
 
 static void hal_words(void *ctx, const uint8_t *data, uint16_t len)
@@ -185,7 +158,7 @@ static void hal_words(void *ctx, const uint8_t *data, uint16_t len)
     for (size_t i = 0; i < k; i++)
         b->w[b->n + i] = PROTO_GET32(data + 4 * i);
     b->n += k;
-    scan(b);
+    feed(b);
 }
 
 /* READBACK: the kept frame store in PIXELS packets of up to 2048 pixels. */
@@ -257,7 +230,6 @@ sim_board *sim_board_create(const profile_t *p, char *err, size_t errlen)
     b->core.colour_bits = (uint8_t)p->colour_bits;
     b->core.serial = 1;
     memcpy(b->core.name, "albatros-sim", 13);
-    ws_reader_init(&b->rd, NULL, 0, "board");
     return b;
 }
 
@@ -275,6 +247,7 @@ void sim_board_destroy(sim_board *b)
     free(b->display);
     free(b->tx);
     free(b->w);
+    sim_feed_close(b->feed);
     for (unsigned i = 0; i < 4; i++)
         free(b->kept[i].rgb);
     free(b);
