@@ -788,3 +788,66 @@ TEST(timing_fidelities_agree_on_every_vector)
     closedir(dir);
     CHECK(n >= 12);
 }
+
+/* The timed model fed a stream in pieces of any size (the simulated board's
+ * sim_feed) gives each frame, at its FRAME_END, the pixels, statistics and
+ * cycle count of the whole run. */
+TEST(timing_feed_in_pieces_equals_the_whole_run)
+{
+    static const char *const sets[] = {
+        "",
+        "fifo_depth=3 face_slots=1 fill_queue=1",
+        "aa=1 fill_rate=3 edge_units=3 gp_edge_cycles=40",
+    };
+    scenegen_params gp = scenegen_defaults();
+    uint64_t rnd = 12345;
+    for (uint64_t seed = 1; seed <= 30; seed++) {
+        profile_t p;
+        profile_lookup("t32", &p);
+        profile_set_all(&p, sets[seed % 3]);
+        gp.faces = 3 + (unsigned)(seed % 9);
+        unsigned frames = 1 + (unsigned)(seed % 3);
+        char *text = scenegen_random(seed, &gp), *more = NULL;
+        if (text && (more = realloc(text, strlen(text) + 7 * frames + 1)) != NULL) {
+            text = more;
+            for (unsigned i = 1; i < frames; i++)
+                strcat(text, "\nframe\n");
+        }
+        ws_buf b;
+        if (!more || stream_of(text, &p, &b)) {
+            CHECK_MSG(0, "seed %llu: no stream", (unsigned long long)seed);
+            free(text);
+            return;
+        }
+        run_log whole, pieces;
+        CHECK(run_threads(&p, &b, FIDELITY_TIMED, 1, &whole, NULL) == ALB_OK);
+        memset(&pieces, 0, sizeof pieces);
+        diag_t d;
+        diag_init(&d, NULL);
+        sim_feed *f = NULL;
+        CHECK(sim_feed_open(&f, &p, "pieces", log_frame, &pieces, &d) == ALB_OK);
+        size_t n = 0;
+        while (f && n < b.n) {
+            rnd = rnd * 6364136223846793005ull + 1442695040888963407ull;
+            size_t k = 1 + (size_t)(rnd >> 33) % 50;
+            n = n + k < b.n ? n + k : b.n;
+            if (sim_feed_words(f, b.w, n, &d)) {
+                CHECK_MSG(0, "seed %llu: %s", (unsigned long long)seed, d.msg);
+                break;
+            }
+        }
+        sim_feed_close(f);
+        CHECK_EQ(pieces.n, whole.n);
+        for (unsigned i = 0; i < whole.n && i < pieces.n; i++) {
+            CHECK_MSG(frame_count_differences(&whole.f[i], &pieces.f[i]) == 0 &&
+                      whole.c[i].cycles == pieces.c[i].cycles &&
+                      whole.s[i].faces == pieces.s[i].faces,
+                      "seed %llu frame %u: cycles %llu against %llu", (unsigned long long)seed, i,
+                      (unsigned long long)pieces.c[i].cycles, (unsigned long long)whole.c[i].cycles);
+        }
+        log_free(&whole);
+        log_free(&pieces);
+        ws_buf_free(&b);
+        free(text);
+    }
+}
