@@ -89,34 +89,64 @@ static int parse_size(run_opts *o, const char *value, char *err, size_t len)
     }
     o->cam.width = o->prof.width = (unsigned)w;
     o->cam.height = o->prof.height = (unsigned)h;
-    o->size_given = true;
+    return 1;
+}
+
+/* One --set or --size on the profile as it stands. */
+static int apply_override(run_opts *o, bool is_size, const char *value, char *err, size_t len)
+{
+    if (is_size)
+        return parse_size(o, value, err, len);
+    char msg[300];
+    if (profile_set(&o->prof, value, msg, sizeof msg)) {
+        snprintf(err, len, "--set %s", msg);
+        return -1;
+    }
+    return 1;
+}
+
+/* Apply a --set or --size now and remember it for any later --profile. */
+static int add_override(run_opts *o, bool is_size, const char *value, char *err, size_t len)
+{
+    if (o->noverrides == RUN_OPTS_MAX_OVERRIDES) {
+        snprintf(err, len, "--%s %s: at most %d --set and --size options", is_size ? "size" : "set",
+                 value, RUN_OPTS_MAX_OVERRIDES);
+        return -1;
+    }
+    int rc = apply_override(o, is_size, value, err, len);
+    if (rc > 0) {
+        o->overrides[o->noverrides].is_size = is_size;
+        o->overrides[o->noverrides++].value = value;
+    }
+    return rc;
+}
+
+/* A new profile, then every --set and --size so far in their order: the
+ * options' result does not depend on where --profile stands
+ * (docs/profiles.md). */
+static int apply_profile(run_opts *o, const char *value, char *err, size_t len)
+{
+    profile_t p;
+    if (profile_lookup(value, &p)) {
+        char list[200] = "";
+        for (const char *const *n = profile_names(); *n; n++)
+            snprintf(list + strlen(list), sizeof list - strlen(list), " %s", *n);
+        snprintf(err, len, "--profile %s: unknown profile (known:%s)", value, list);
+        return -1;
+    }
+    o->prof = p;
+    for (unsigned i = 0; i < o->noverrides; i++)
+        if (apply_override(o, o->overrides[i].is_size, o->overrides[i].value, err, len) < 0)
+            return -1;
     return 1;
 }
 
 int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, size_t len)
 {
-    if (strcmp(name, "profile") == 0) {
-        if (profile_lookup(value, &o->prof)) {
-            char list[200] = "";
-            for (const char *const *n = profile_names(); *n; n++)
-                snprintf(list + strlen(list), sizeof list - strlen(list), " %s", *n);
-            snprintf(err, len, "--profile %s: unknown profile (known:%s)", value, list);
-            return -1;
-        }
-        if (o->size_given) {
-            o->prof.width = o->cam.width;
-            o->prof.height = o->cam.height;
-        }
-        return 1;
-    }
-    if (strcmp(name, "set") == 0) {
-        char msg[300];
-        if (profile_set(&o->prof, value, msg, sizeof msg)) {
-            snprintf(err, len, "--set %s", msg);
-            return -1;
-        }
-        return 1;
-    }
+    if (strcmp(name, "profile") == 0)
+        return apply_profile(o, value, err, len);
+    if (strcmp(name, "set") == 0 || strcmp(name, "size") == 0)
+        return add_override(o, strcmp(name, "size") == 0, value, err, len);
     if (strcmp(name, "eye") == 0 || strcmp(name, "at") == 0 || strcmp(name, "up") == 0) {
         vec3 *v = name[0] == 'e' ? &o->cam.eye : name[0] == 'a' ? &o->cam.at : &o->cam.up;
         if (parse_vec(value, v)) {
@@ -137,8 +167,6 @@ int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, 
         o->cam_given = true;
         return 1;
     }
-    if (strcmp(name, "size") == 0)
-        return parse_size(o, value, err, len);
     return 0;
 }
 

@@ -12,17 +12,29 @@
 
 #define ALBATROS_VERSION "0.1.0"
 
+/* --set and --size options a run_opts remembers, so that a later --profile
+ * does not undo them (docs/profiles.md: the order of options does not matter). */
+#define RUN_OPTS_MAX_OVERRIDES 32
+
 /* Options common to every subcommand that runs the GP. */
 typedef struct {
     profile_t prof;
     scene_camera cam;
     bool cam_given;      /* any of --eye/--at/--up/--fov */
-    bool size_given;
+    struct {
+        bool is_size;     /* --size WxH, else --set KEY=VALUE */
+        const char *value;
+    } overrides[RUN_OPTS_MAX_OVERRIDES];
+    unsigned noverrides;
 } run_opts;
 
 void run_opts_init(run_opts *o);
 /* Apply one common option (name without "--"); 1 if it took the value, 0 if
- * the name is not a common option, -1 with a message on a bad value. */
+ * the name is not a common option, -1 with a message on a bad value.  --set
+ * and --size values are remembered (the pointer, so value must outlive o's
+ * options) and applied again, in their order, after every --profile: the
+ * result does not depend on where --profile stands, and a later --set of
+ * the same key wins. */
 int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, size_t len);
 /* Help text for the common options. */
 extern const char run_opts_help[];

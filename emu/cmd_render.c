@@ -442,10 +442,15 @@ int cmd_vp(int argc, char **argv)
 
 static const char reference_help[] =
     "usage: albatros reference [SCENE] [-o FRAME.exr] [--png FRAME.png] [--view NAME:FILE]\n"
-    "                          [options]\n\n"
+    "                          [--json] [-q] [options]\n\n"
     "Render SCENE with the exact double-precision reference (docs/reference.md): the\n"
     "ground truth the VP is measured against (albatros compare).  Same outputs as\n"
-    "render; vp.level is 255 (the reference does not subdivide).\n\n";
+    "render; vp.level is 255 (the reference does not subdivide).\n\n"
+    "  -o, --output FILE   OpenEXR frame, with render's channels\n"
+    "  --png FILE          PNG preview of the colour\n"
+    "  --view NAME:FILE    PNG of one view: colour, depth, face, level, coverage\n"
+    "  --json              the frames rendered, as JSON on stdout\n"
+    "  -q, --quiet         no line per frame\n\n";
 
 int cmd_reference(int argc, char **argv)
 {

@@ -15,6 +15,9 @@ typedef struct {
     unsigned long long seed, faces, per_angle;
     bool help, flat, severity_given;
     double size, severity;
+    /* the first option given that only one generator takes, for the error
+     * when another generator is chosen */
+    const char *random_only, *slivers_only;
 } scene_args;
 
 static int scene_opt(void *ctx, const char *name, const char *value)
@@ -24,8 +27,13 @@ static int scene_opt(void *ctx, const char *name, const char *value)
         a->output = value;
         return 0;
     }
-    if (strcmp(name, "help") == 0 || strcmp(name, "flat") == 0) {
-        *(name[0] == 'h' ? &a->help : &a->flat) = true;
+    if (strcmp(name, "help") == 0) {
+        a->help = true;
+        return 0;
+    }
+    if (strcmp(name, "flat") == 0) {
+        a->flat = true;
+        a->random_only = a->random_only ? a->random_only : "--flat";
         return 0;
     }
     char *end;
@@ -47,6 +55,7 @@ static int scene_opt(void *ctx, const char *name, const char *value)
             return -1;
         }
         a->size = r;
+        a->random_only = a->random_only ? a->random_only : "--size";
         return 0;
     }
     unsigned long long v = strtoull(value, &end, 10);
@@ -54,12 +63,15 @@ static int scene_opt(void *ctx, const char *name, const char *value)
         fprintf(stderr, "albatros scene: --%s %s: expected a number up to 10000000\n", name, value);
         return -1;
     }
-    if (strcmp(name, "seed") == 0)
+    if (strcmp(name, "seed") == 0) {
         a->seed = v;
-    else if (strcmp(name, "faces") == 0)
+    } else if (strcmp(name, "faces") == 0) {
         a->faces = v;
-    else
+        a->random_only = a->random_only ? a->random_only : "--faces";
+    } else {
         a->per_angle = v;
+        a->slivers_only = a->slivers_only ? a->slivers_only : "--per-angle";
+    }
     return 0;
 }
 
@@ -89,11 +101,24 @@ static void scene_usage(void)
     printf("\n");
 }
 
+/* An option of another generator is an error, not silently ignored. */
+static int check_applies(const scene_args *a, const char *kind)
+{
+    const char *stray = strcmp(kind, "random") && a->random_only ? a->random_only
+                        : strcmp(kind, "slivers") && a->slivers_only ? a->slivers_only
+                                                                     : NULL;
+    if (!stray)
+        return 0;
+    fprintf(stderr, "albatros scene: %s: %s is for %s only\n", kind, stray,
+            stray == a->random_only ? "random" : "slivers");
+    return -1;
+}
+
 int cmd_scene(int argc, char **argv)
 {
     static const char *const spec[] = {"output=", "seed=", "faces=", "per-angle=", "flat", "size=",
                                        "severity=", "help", NULL};
-    scene_args a = {NULL, 1, 12, 6, false, false, false, 0, 0};
+    scene_args a = {NULL, 1, 12, 6, false, false, false, 0, 0, NULL, NULL};
     const char *pos[1];
     int npos;
     if (cli_parse("scene", argc, argv, spec, scene_opt, &a, NULL, pos, 1, &npos))
@@ -111,6 +136,8 @@ int cmd_scene(int argc, char **argv)
                 pos[0]);
         return 2;
     }
+    if (check_applies(&a, pos[0]))
+        return 2;
     char *text;
     if (stress) {
         text = stress_scene(pos[0], a.severity, a.seed);

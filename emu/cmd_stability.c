@@ -81,6 +81,12 @@ static int stab_opt(void *ctx, const char *name, const char *value)
         a->seeds = (unsigned)v;
     } else if (!strcmp(name, "profile") || !strcmp(name, "set") || !strcmp(name, "size")) {
         return stab_profile_opt(a, name, value);
+    } else if (!strcmp(name, "eye") || !strcmp(name, "at") || !strcmp(name, "up") ||
+               !strcmp(name, "fov")) {
+        /* common options elsewhere, but nothing here would read them */
+        fprintf(stderr, "albatros stability: --%s: the stress scenes set their own observer "
+                        "(camera options are for OBJ scenes)\n", name);
+        return -1;
     } else if (!strcmp(name, "out")) {
         a->out = value;
     } else if (!strcmp(name, "speed")) {
@@ -130,14 +136,18 @@ static void print_job_head(const stab_args *a)
         fputs(" -q", stdout);
 }
 
+/* The jobs chosen by --family and --speed; every job if neither is given. */
 static void print_jobs(const stab_args *a)
 {
-    for (unsigned i = 0; sweep_family(i); i++) {
+    bool all = !a->nfam && !a->speed;
+    for (unsigned i = 0; all ? sweep_family(i) != NULL : i < a->nfam; i++) {
         print_job_head(a);
         printf(" --seeds %u --out ", a->seeds);
         print_word(a->out);
-        printf(" --family %s\n", sweep_family(i));
+        printf(" --family %s\n", all ? sweep_family(i) : a->families[i]);
     }
+    if (!all && !a->speed)
+        return;
     print_job_head(a);
     fputs(" --out ", stdout);
     print_word(a->out);
@@ -174,7 +184,8 @@ static int run_families(stab_args *a, const sweep_progress *progress)
 int cmd_stability(int argc, char **argv)
 {
     static const char *const spec[] = {"family=", "speed", "report", "jobs", "out=", "seeds=",
-                                       "profile=", "set=", "size=", "quiet", "q", "help", NULL};
+                                       "profile=", "set=", "size=", "quiet", "q", "help",
+                                       "eye=", "at=", "up=", "fov=", NULL};
     run_opts o;
     run_opts_init(&o);
     profile_lookup("a256", &o.prof);
@@ -185,16 +196,18 @@ int cmd_stability(int argc, char **argv)
         return 2;
     if (a.help) {
         printf("usage: albatros stability [--family F]... [--speed] [--report] [--out DIR]\n"
-               "                          [--seeds N] [--jobs] [-q] [--profile P --set K=V]\n\n"
+               "                          [--seeds N] [--jobs] [-q] [--profile P]\n"
+               "                          [--set K=V]... [--size WxH]\n\n"
                "Every classic method and Albatros configuration on the stress families,\n"
                "against the exact reference (docs/stability.md).  Without --family,\n"
                "--speed or --report: every job, then the report.  Jobs write\n"
                "DIR/stability-FAMILY.csv and DIR/speed.csv; --report writes\n"
                "DIR/stability.{csv,md,png}, and DIR/speed.{md,png} if DIR has a speed.csv\n"
                "(gnuplot).  --jobs prints one command per job, with every option that\n"
-               "changes a result, for make -j, GNU parallel or a Slurm array.  Progress goes\n"
-               "to stderr: one line redrawn on a terminal, one line per severity in a log;\n"
-               "-q: none.  Profile a256 unless --profile says otherwise.\n");
+               "changes a result, for make -j, GNU parallel or a Slurm array: every job, or\n"
+               "with --family or --speed only those families' jobs and the speed job.\n"
+               "Progress goes to stderr: one line redrawn on a terminal, one line per\n"
+               "severity in a log; -q: none.  Profile a256 unless --profile says otherwise.\n");
         return 0;
     }
     if (cli_check_profile(&o.prof))

@@ -500,37 +500,50 @@ static vector *list_vectors(const char *dir, size_t *count)
     return v;
 }
 
-int cmd_vectors(int argc, char **argv)
+typedef struct {
+    const char *diff_dir;
+    bool diff_dir_given, help;
+} vectors_args;
+
+static int vectors_opt(void *ctx, const char *name, const char *value)
 {
-    const char *diff_dir = "vector-diffs";
-    if (argc >= 3 && strcmp(argv[1], "--diff-dir") == 0) {
-        diff_dir = argv[2];
-        argv[2] = argv[0];
-        argc -= 2;
-        argv += 2;
+    vectors_args *a = ctx;
+    if (strcmp(name, "diff-dir") == 0) {
+        a->diff_dir = value;
+        a->diff_dir_given = true;
+    } else {
+        a->help = true;
     }
-    if (argc < 2 || (strcmp(argv[0], "check") && strcmp(argv[0], "bless"))) {
-        printf("usage: albatros vectors check|bless [--diff-dir DIR] VECTORS [NAME...]\n\n"
+    return 0;
+}
+
+static void vectors_usage(FILE *f)
+{
+    fprintf(f, "usage: albatros vectors check [--diff-dir DIR] VECTORS [NAME...]\n"
+               "       albatros vectors bless VECTORS [NAME...]\n\n"
                "check: run every golden vector in VECTORS (or the NAMEd ones) and compare its\n"
                "       word stream and frames bit for bit; the first difference is named\n"
                "       (word and field, pixel and channel), a diff image goes to DIR\n"
                "       (default ./vector-diffs); exit 1 on any.\n"
                "bless: regenerate the expected outputs (a deliberate act: say why in the\n"
                "       commit message).\n");
-        return argc >= 1 && strcmp(argv[0], "--help") == 0 ? 0 : 2;
-    }
-    bool bless = strcmp(argv[0], "bless") == 0;
+}
+
+/* Check or bless the vectors of dir named in names[] (all if n == 0). */
+static int vectors_run(bool bless, const char *dir, const char *const *names, int nnames,
+                       const char *diff_dir)
+{
     size_t n;
-    vector *v = list_vectors(argv[1], &n);
+    vector *v = list_vectors(dir, &n);
     if (!v) {
         printf("0 passed, 1 failed\n");
         return 1;
     }
     unsigned passed = 0, failed = 0, known = 0, selected = 0;
     for (size_t i = 0; i < n; i++) {
-        bool want = argc == 2;
-        for (int k = 2; k < argc; k++)
-            want |= strcmp(argv[k], v[i].name) == 0;
+        bool want = nnames == 0;
+        for (int k = 0; k < nnames; k++)
+            want |= strcmp(names[k], v[i].name) == 0;
         if (!want)
             continue;
         selected++;
@@ -542,12 +555,12 @@ int cmd_vectors(int argc, char **argv)
         else
             failed++;
     }
-    for (int k = 2; k < argc; k++) {
+    for (int k = 0; k < nnames; k++) {
         bool found = false;
         for (size_t i = 0; i < n; i++)
-            found |= strcmp(argv[k], v[i].name) == 0;
+            found |= strcmp(names[k], v[i].name) == 0;
         if (!found) {
-            fprintf(stderr, "albatros vectors: no vector named '%s' in %s\n", argv[k], argv[1]);
+            fprintf(stderr, "albatros vectors: no vector named '%s' in %s\n", names[k], dir);
             failed++;
         }
     }
@@ -556,4 +569,39 @@ int cmd_vectors(int argc, char **argv)
         printf("%u known failures\n", known);
     printf("%u passed, %u failed\n", passed, failed);
     return failed || selected == 0 ? 1 : 0;
+}
+
+int cmd_vectors(int argc, char **argv)
+{
+    static const char *const spec[] = {"diff-dir=", "help", NULL};
+    vectors_args a = {"vector-diffs", false, false};
+    const char **pos = malloc(((size_t)argc + 1) * sizeof *pos);
+    int npos, rc = 2;
+    if (!pos) {
+        fprintf(stderr, "albatros vectors: out of memory\n");
+        return 1;
+    }
+    if (cli_parse("vectors", argc, argv, spec, vectors_opt, &a, NULL, pos, argc, &npos))
+        goto done;
+    if (a.help) {
+        vectors_usage(stdout);
+        rc = 0;
+        goto done;
+    }
+    bool bless = npos >= 1 && strcmp(pos[0], "bless") == 0;
+    if (npos < 2 || (!bless && strcmp(pos[0], "check"))) {
+        if (npos >= 1 && !bless && strcmp(pos[0], "check"))
+            fprintf(stderr, "albatros vectors: unknown action '%s'\n\n", pos[0]);
+        vectors_usage(stderr);
+        goto done;
+    }
+    if (bless && a.diff_dir_given) {
+        fprintf(stderr, "albatros vectors: --diff-dir is for check only (bless writes no diff "
+                        "images)\n");
+        goto done;
+    }
+    rc = vectors_run(bless, pos[1], pos + 2, npos - 2, a.diff_dir);
+done:
+    free(pos);
+    return rc;
 }
