@@ -14,8 +14,19 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
-#define EXIT_INTERRUPTED 130   /* 128 + SIGINT, as a shell reports a Ctrl-C */
+/* Exit statuses of `albatros stream` (stream_help; docs/usb-protocol.md,
+ * "Exit status"): as compare and cmp(1), 0 same, 1 different, 2 trouble
+ * before any comparison — here anything that stops the stream before a
+ * packet is sent — plus the link's own failure and Ctrl-C. */
+enum {
+    EXIT_AGREE = 0,            /* every frame matches (frames mode: shown) */
+    EXIT_DIFFER = 1,           /* some frame differs (frames mode: the display) */
+    EXIT_INPUT = 2,            /* usage, scene, stream, profile: nothing sent */
+    EXIT_LINK = 3,             /* no board, or the link failed mid-stream */
+    EXIT_INTERRUPTED = 130     /* 128 + SIGINT, as a shell reports a Ctrl-C */
+};
 
 /* Ctrl-C during a stream: the one global of the command, since a signal
  * handler can reach nothing else. */
@@ -45,6 +56,79 @@ static int parse_num(const char *cmd, const char *name, const char *value, unsig
     return 0;
 }
 
+/* A USB id in hexadecimal, as lsusb prints it and as the default 1209:0001
+ * is shown: "1209" and "0x1209" are the same id. */
+static int parse_usb_id(const char *cmd, const char *name, const char *value, unsigned *out)
+{
+    const char *hex = value[0] == '0' && (value[1] == 'x' || value[1] == 'X') ? value + 2 : value;
+    size_t n = strspn(hex, "0123456789abcdefABCDEF");
+    unsigned long v = n && !hex[n] ? strtoul(hex, NULL, 16) : 0;
+    if (!n || hex[n] || v > 0xFFFF) {
+        fprintf(stderr, "albatros %s: --%s %s: expected a hexadecimal USB id, 0 to ffff (as lsusb "
+                        "shows it; 0x optional)\n", cmd, name, value);
+        return -1;
+    }
+    *out = (unsigned)v;
+    return 0;
+}
+
+/* --fault KIND=N, for demonstrating and testing recovery.  Byte and packet
+ * faults may be repeated (up to TR_FAULTS_EACH of a kind); silence,
+ * disconnect and flip happen once. */
+static int fault_opt(link_args *a, const char *value)
+{
+    enum { CORRUPT, DROP, DUPLICATE, SWAP, CORRUPT_REPLY, TRUNCATE, SILENCE, DISCONNECT, FLIP };
+    static const char *const kinds[] = {"corrupt", "drop", "duplicate", "swap", "corrupt-reply",
+                                        "truncate", "silence", "disconnect", "flip", NULL};
+    const char *eq = strchr(value, '=');
+    int k = -1;
+    for (int i = 0; eq && kinds[i]; i++)
+        if (strlen(kinds[i]) == (size_t)(eq - value) && !strncmp(value, kinds[i], (size_t)(eq - value)))
+            k = i;
+    unsigned long long v;
+    if (k < 0 || parse_num(a->cmd, "fault", eq + 1, k == FLIP ? UINT32_MAX : 1ull << 40, &v)) {
+        fprintf(stderr, "albatros %s: --fault %s: expected corrupt|drop|duplicate|swap|silence|"
+                        "disconnect|corrupt-reply|truncate|flip=N\n", a->cmd, value);
+        return -1;
+    }
+    if (v == 0 && k != FLIP) {   /* flip names a frame, and frames count from 0 */
+        fprintf(stderr, "albatros %s: --fault %s: N counts from 1 (the first byte or packet)\n",
+                a->cmd, value);
+        return -1;
+    }
+    uint64_t *each[] = {a->faults.corrupt_byte, a->faults.drop_packet,
+                        a->faults.duplicate_packet, a->faults.swap_packet,
+                        a->faults.corrupt_reply, a->faults.truncate_packet};
+    if (k < SILENCE) {
+        unsigned i = 0;
+        while (i < TR_FAULTS_EACH && each[k][i])
+            i++;
+        if (i == TR_FAULTS_EACH) {
+            fprintf(stderr, "albatros %s: --fault %s: at most %u faults of one kind\n", a->cmd,
+                    value, TR_FAULTS_EACH);
+            return -1;
+        }
+        each[k][i] = v;
+        a->any_fault = true;
+        return 0;
+    }
+    uint64_t *once = k == SILENCE ? &a->faults.silence_after : &a->faults.disconnect_after;
+    if (k == FLIP ? a->flip_frame >= 0 : *once != 0) {
+        fprintf(stderr, "albatros %s: --fault %s: a second %s fault: %s\n", a->cmd, value, kinds[k],
+                k == SILENCE ? "the board falls silent only once"
+                : k == DISCONNECT ? "the device vanishes only once"
+                                  : "the simulated VP gets one frame wrong");
+        return -1;
+    }
+    if (k == FLIP) {
+        a->flip_frame = (long)v;
+    } else {
+        *once = v;
+        a->any_fault = true;
+    }
+    return 0;
+}
+
 static int link_opt(void *ctx, const char *name, const char *value)
 {
     link_args *a = ctx;
@@ -57,37 +141,14 @@ static int link_opt(void *ctx, const char *name, const char *value)
     else if (!strcmp(name, "frames")) a->frames = true;
     else if (!strcmp(name, "serial")) a->serial = value;
     else if (!strcmp(name, "stream")) a->stream = value;
-    else if (!strcmp(name, "fault")) {
-        /* KIND=N, for demonstrating and testing recovery */
-        static const char *const kinds[] = {"corrupt", "drop", "duplicate", "swap", "silence",
-                                            "disconnect", "corrupt-reply", "truncate", "flip",
-                                            NULL};
-        const char *eq = strchr(value, '=');
-        int k = -1;
-        for (int i = 0; eq && kinds[i]; i++)
-            if (strlen(kinds[i]) == (size_t)(eq - value) && !strncmp(value, kinds[i], (size_t)(eq - value)))
-                k = i;
-        if (k < 0 || parse_num(a->cmd, name, eq + 1, 1ull << 40, &v)) {
-            fprintf(stderr, "albatros %s: --fault %s: expected corrupt|drop|duplicate|swap|silence|"
-                            "disconnect|corrupt-reply|truncate|flip=N\n", a->cmd, value);
-            return -1;
-        }
-        uint64_t *slot[] = {&a->faults.corrupt_byte, &a->faults.drop_packet,
-                            &a->faults.duplicate_packet, &a->faults.swap_packet,
-                            &a->faults.silence_after, &a->faults.disconnect_after,
-                            &a->faults.corrupt_reply, &a->faults.truncate_packet};
-        if (k == 8)
-            a->flip_frame = (long)v;
-        else
-            *slot[k] = v, a->any_fault = true;
-    } else {
-        unsigned long long max = !strcmp(name, "vid") || !strcmp(name, "pid") ? 0xFFFF
-                                 : !strcmp(name, "sim-payload") ? PROTO_MAX_PAYLOAD : 600000;
+    else if (!strcmp(name, "fault")) return fault_opt(a, value);
+    else if (!strcmp(name, "vid")) return parse_usb_id(a->cmd, name, value, &a->vid);
+    else if (!strcmp(name, "pid")) return parse_usb_id(a->cmd, name, value, &a->pid);
+    else {
+        unsigned long long max = !strcmp(name, "sim-payload") ? PROTO_MAX_PAYLOAD : 600000;
         if (parse_num(a->cmd, name, value, max, &v))
             return -1;
         if (!strcmp(name, "sim-payload")) a->sim_payload = (unsigned)v;
-        if (!strcmp(name, "vid")) a->vid = (unsigned)v;
-        else if (!strcmp(name, "pid")) a->pid = (unsigned)v;
         else if (!strcmp(name, "wait")) a->wait_ms = (unsigned)v;
         else if (!strcmp(name, "timeout")) a->timeout_ms = (unsigned)v;
     }
@@ -261,7 +322,8 @@ static void link_json(const stream_report *r)
 
 static const char *result_name(int rc, const char *ok)
 {
-    return rc == 0 ? ok : rc == 1 ? "differs" : rc == EXIT_INTERRUPTED ? "interrupted" : "failed";
+    return rc == EXIT_AGREE ? ok : rc == EXIT_DIFFER ? "differs"
+           : rc == EXIT_INTERRUPTED ? "interrupted" : "failed";
 }
 
 static void report_text(const stream_report *r, const stream_frame *f, unsigned nf, int rc)
@@ -290,7 +352,7 @@ static void report_text(const stream_report *r, const stream_frame *f, unsigned 
     link_text(r);
     if (r->first_problem[0])
         fprintf(stderr, "  first problem: %s\n", r->first_problem);
-    if (rc == 0)
+    if (rc == EXIT_AGREE)
         fprintf(stderr, "  hardware agrees with the emulator\n");
 }
 
@@ -312,7 +374,10 @@ static void report_json(const stream_report *r, const stream_frame *f, unsigned 
 }
 
 /* The exit status of a stream_run / stream_tiles result. */
-static int exit_of(int rc) { return rc == -2 ? EXIT_INTERRUPTED : rc < 0 ? 3 : rc; }
+static int exit_of(int rc)
+{
+    return rc == -2 ? EXIT_INTERRUPTED : rc < 0 ? EXIT_LINK : rc ? EXIT_DIFFER : EXIT_AGREE;
+}
 
 /* Frames mode: the emulator's frames, RGB888, as tiles to a display board;
  * with --sim the board's display is compared with the last frame. */
@@ -322,18 +387,21 @@ static int stream_frames_mode(const link_args *a, const profile_t *p, const stre
     size_t npix = (size_t)p->width * p->height;
     stream_tiles_frame *tf = calloc(nf ? nf : 1, sizeof *tf);
     uint8_t *rgb = malloc(3 * npix * (nf ? nf : 1));
-    int rc = 3;
+    int rc = EXIT_INPUT;   /* until the link is open */
     if (!tf || !rgb) {
         fprintf(stderr, "albatros stream: out of memory\n");
         goto out;
     }
     for (unsigned i = 0; i < nf; i++) {
-        if (!f[i].rgb)
+        if (!f[i].rgb) {   /* expect_frame's copy failed */
+            fprintf(stderr, "albatros stream: out of memory\n");
             goto out;
+        }
         link_rgb888(f[i].rgb, npix, p->colour_bits, rgb + 3 * npix * i);
         tf[i] = (stream_tiles_frame){f[i].number, p->width, p->height, rgb + 3 * npix * i};
     }
     sim_board *board;
+    rc = EXIT_LINK;
     transport_t *t = open_link(a, p, &board, false);
     if (!t)
         goto out;
@@ -357,7 +425,7 @@ static int stream_frames_mode(const link_args *a, const profile_t *p, const stre
         const uint8_t *d = sim_board_display(board, &shown, &tiles);
         bool same = shown == tf[nf - 1].number && !memcmp(d, tf[nf - 1].rgb, 3 * npix);
         display = same ? "identical" : "DIFFERENT";
-        rc = same ? 0 : 1;
+        rc = same ? EXIT_AGREE : EXIT_DIFFER;
     }
     double secs = r.seconds > 0 ? r.seconds : 1e-9;
     t->ops->close(t);   /* cancels what is in flight, before a long report */
@@ -401,7 +469,8 @@ static const char stream_help[] =
     "  --sim              the simulated board in this process (no hardware)\n"
     "  --sim-payload N    the simulated board accepts payloads up to N bytes (default\n"
     "                     16384; the FX2 firmware takes 492)\n"
-    "  --vid, --pid       USB ids (default 1209:0001, the pid.codes test PID)\n"
+    "  --vid, --pid       USB ids in hexadecimal as lsusb shows them, 0x optional\n"
+    "                     (default 1209:0001, the pid.codes test PID)\n"
     "  --serial S         the board with this serial number\n"
     "  --wait MS          wait this long for the board to appear (hot-plug; default\n"
     "                     2000), and again after a disconnect: the stream then\n"
@@ -409,7 +478,8 @@ static const char stream_help[] =
     "  --timeout MS       wait this long for a frame's result (default 2000)\n"
     "  --no-readback      do not fetch a differing frame to name its first wrong pixel\n"
     "  --frames           frames mode: the rendered frames, RGB888 tiles, to a display\n"
-    "  --fault KIND=N     misbehave on purpose (N counts from 1; repeatable):\n"
+    "  --fault KIND=N     misbehave on purpose (N counts from 1); repeatable, up to\n"
+    "                     8 of a kind, but silence, disconnect and flip once only:\n"
     "                       corrupt=N        flip a bit of the N-th byte sent\n"
     "                       corrupt-reply=N  flip a bit of the N-th byte received\n"
     "                       drop=N           lose the N-th packet sent (1 = the first\n"
@@ -420,13 +490,15 @@ static const char stream_help[] =
     "                       swap=N           send packets N and N+1 in reverse order\n"
     "                       silence=N        the board falls silent after N bytes received\n"
     "                       disconnect=N     the device vanishes after N bytes sent\n"
-    "                       flip=FRAME       (sim) a wrong VP bit in frame FRAME\n"
+    "                       flip=FRAME       (sim) a wrong VP bit in frame FRAME (from 0)\n"
     "  --json             the report as JSON on stdout\n\n"
     "Payloads are as long as the board's INFO report allows.  Ctrl-C stops the\n"
     "stream and reports the frames confirmed so far.\n\n"
-    "Exit status: 0 every frame matches (frames mode: every frame shown), 1 some\n"
-    "differ (frames mode, --sim: the display differs), 3 the link failed, 130\n"
-    "interrupted (Ctrl-C, SIGTERM).\n\n";
+    "Exit status: 0 every frame matches (frames mode: every frame shown); 1 some\n"
+    "differ (frames mode, --sim: the display differs); 2 nothing was sent: a usage\n"
+    "error, a scene or stream FILE unreadable or malformed, a stream made for\n"
+    "another profile; 3 the link failed (no board, or it stopped answering or\n"
+    "went away); 130 interrupted (Ctrl-C, SIGTERM).\n\n";
 
 int cmd_stream(int argc, char **argv)
 {
@@ -440,13 +512,13 @@ int cmd_stream(int argc, char **argv)
     const char *pos[1];
     int npos;
     if (cli_parse("stream", argc, argv, spec, link_opt, &a, &o, pos, 1, &npos))
-        return 2;
+        return EXIT_INPUT;
     if (a.help) {
         printf("%s%s", stream_help, run_opts_help);
         return 0;
     }
     if (cli_check_profile(&o.prof))
-        return 2;
+        return EXIT_INPUT;
     /* the word stream */
     ws_buf b;
     ws_buf_init(&b);
@@ -455,12 +527,12 @@ int cmd_stream(int argc, char **argv)
     if (a.stream) {
         if (ws_read_file(a.stream, &b.w, &b.n, &d)) {
             diag_print(&d, stderr);
-            return 1;
+            return EXIT_INPUT;
         }
     } else {
         scene_t scene;
         if (cli_load_scene(npos ? pos[0] : NULL, &o, &scene))
-            return 1;
+            return EXIT_INPUT;
         gp_t *gp = NULL;
         alb_err e = gp_create(&gp, &scene, &o.prof, &d);
         if (!e)
@@ -470,7 +542,7 @@ int cmd_stream(int argc, char **argv)
         if (e) {
             diag_print(&d, stderr);
             ws_buf_free(&b);
-            return 1;
+            return EXIT_INPUT;
         }
     }
     stream_frame *frames = NULL;
@@ -478,15 +550,17 @@ int cmd_stream(int argc, char **argv)
     if (stream_frames(b.w, b.n, &frames, &nf)) {
         fprintf(stderr, "albatros stream: the word stream is malformed (albatros dump says where)\n");
         ws_buf_free(&b);
-        return 1;
+        return EXIT_INPUT;
     }
     /* what the emulator says */
     uint16_t **keep = calloc(nf ? nf : 1, sizeof *keep);
     expect_ctx ec = {frames, nf, 0, keep};
     sim_options so = {FIDELITY_TIMED, NULL, 0, 0, 1};
-    int rc = 3;
+    int rc = EXIT_INPUT;   /* the emulator's run fails on a stream made for another profile */
     transport_t *t = NULL;
     if (!keep || sim_run(&o.prof, b.w, b.n, "stream", &so, expect_frame, &ec, &d)) {
+        if (!keep)
+            fprintf(stderr, "albatros stream: out of memory\n");
         diag_print(&d, stderr);
         goto out;
     }
@@ -494,6 +568,7 @@ int cmd_stream(int argc, char **argv)
         rc = stream_frames_mode(&a, &o.prof, frames, nf);
         goto out;
     }
+    rc = EXIT_LINK;
     if (!(t = open_link(&a, &o.prof, NULL, false)))
         goto out;
     stream_opts sopt;
@@ -567,6 +642,26 @@ static int board_info(transport_t *t, bool json)
 
 #define LIST_MAX 32
 
+/* The boards with a's ids; with --wait, looked for every 100 ms (as
+ * opening one does, transport_usb.c) until one is there or the time is up. */
+static int list_waiting(const link_args *a, tr_usb_device *d, char *err, size_t errlen)
+{
+    struct timespec start, now;
+    clock_gettime(CLOCK_MONOTONIC, &start);
+    for (;;) {
+        int n = transport_usb_list((uint16_t)a->vid, (uint16_t)a->pid, d, LIST_MAX, err, errlen);
+        if (n != 0)
+            return n;
+        clock_gettime(CLOCK_MONOTONIC, &now);
+        long ms = (long)(now.tv_sec - start.tv_sec) * 1000 + (now.tv_nsec - start.tv_nsec) / 1000000;
+        if (ms >= (long)a->wait_ms)
+            return 0;
+        long nap_ms = (long)a->wait_ms - ms < 100 ? (long)a->wait_ms - ms : 100;
+        struct timespec nap = {0, nap_ms * 1000000};
+        nanosleep(&nap, NULL);
+    }
+}
+
 static int board_list(const link_args *a, const profile_t *p)
 {
     if (a->sim) {
@@ -579,7 +674,7 @@ static int board_list(const link_args *a, const profile_t *p)
     }
     tr_usb_device d[LIST_MAX];
     char err[600];
-    int n = transport_usb_list((uint16_t)a->vid, (uint16_t)a->pid, d, LIST_MAX, err, sizeof err);
+    int n = list_waiting(a, d, err, sizeof err);
     if (n < 0) {
         fprintf(stderr, "albatros board list: %s\n", err);
         return 1;
@@ -628,7 +723,10 @@ int cmd_board(int argc, char **argv)
                "  info   the board's INFO report (HID)\n"
                "  reset  reset the board's link, VP and counters (HID)\n\n"
                "  --sim            the simulated board (--sim-payload N: it takes N-byte payloads)\n"
-               "  --wait MS        wait this long for the board to appear (hot-plug; default 0)\n"
+               "  --vid, --pid     USB ids in hexadecimal as lsusb shows them, 0x optional\n"
+               "                   (default 1209:0001)\n"
+               "  --wait MS        wait this long for the board to appear (hot-plug; default 0);\n"
+               "                   list waits until one is on the bus (--sim: at once)\n"
                "  --json           the answer as JSON on stdout\n\n"
                "info and reset use the HID interface only, so they work while a stream runs.\n");
         return a.help ? 0 : 2;

@@ -102,6 +102,61 @@ expect 0 "usage: albatros board .*--wait MS" "$bin" board --help
 # the word-stream summary gives the rate, as frames mode does
 expect 0 "stream: 4 of 4 frames match .* MB in [0-9.]+ s \([0-9.]+ MB/s\)" "$bin" stream --sim --profile t32
 
+# exit status: 0 agree, 1 frames differ, 2 nothing sent (usage, an unreadable
+# or malformed scene or stream, a stream made for another profile), 3 the
+# link failed; 130 (interrupted) above
+"$bin" gp --profile t32 -q -o "$tmp/t32.stream" || bad "gp --profile t32"
+expect 0 "hardware agrees" "$bin" stream --sim --profile t32 --stream "$tmp/t32.stream"
+expect 1 "frame 0: DIFFERS" "$bin" stream --sim --profile t32 --fault flip=0
+expect 1 '"result": "differs"' "$bin" stream --sim --profile t32 --fault flip=0 --json
+expect 2 "the stream's formats .* differ from the profile's" "$bin" stream --sim --stream "$tmp/t32.stream"
+expect 2 "the word stream is malformed" \
+    "$bin" stream --sim --stream "$(dirname "$0")/data/malformed/stream-unknown-packet.stream"
+expect 2 "cannot open" "$bin" stream --sim --stream "$tmp/none.stream"
+expect 2 "cannot open scene" "$bin" stream --sim "$tmp/none.scene"
+expect 2 "unknown option '--bogus'" "$bin" stream --sim --bogus
+expect 3 "the board stopped answering" "$bin" stream --sim --profile t32 --fault silence=1 --timeout 50
+expect 3 '"result": "failed"' "$bin" stream --sim --profile t32 --fault silence=1 --timeout 50 --json
+expect 3 "device disconnected" "$bin" stream --sim --profile t32 --fault disconnect=100 --wait 0
+expect 3 "stopped answering" "$bin" stream --sim --frames --profile t32 --fault silence=1 --timeout 20
+expect 0 "2 nothing was sent: a usage.*error, a scene or stream FILE unreadable or malformed, a stream made for.*another profile; 3 the link failed" \
+    bash -c '"$0" stream --help | tr "\n" " "' "$bin"
+
+# USB ids are hexadecimal, as lsusb and the default 1209:0001 show them, 0x
+# or not (without a board on the bus; 1209 in decimal would be 04b9)
+expect 0 "^no board 1209:0001 on the USB bus$" "$bin" board list --vid 1209
+expect 0 "^no board 1209:0001 on the USB bus$" "$bin" board list --vid 0x1209 --pid 0X0001
+expect 0 "^no board 04b9:00ff on the USB bus$" "$bin" board list --vid 04B9 --pid ff
+expect 3 "opening USB device 1209:0001" "$bin" stream --profile t32 --vid 1209 --pid 1 --wait 0
+expect 2 "--vid 12345: expected a hexadecimal USB id" "$bin" board list --vid 12345
+expect 2 "--pid 0x: expected a hexadecimal USB id" "$bin" stream --sim --pid 0x
+expect 2 "--vid -1: expected a hexadecimal USB id" "$bin" stream --sim --vid -1
+expect 0 "USB ids in hexadecimal as lsusb shows them, 0x optional" "$bin" stream --help
+expect 0 "USB ids in hexadecimal as lsusb shows them, 0x optional" "$bin" board --help
+
+# a fault kind strikes as often as it is given; N counts from 1; silence,
+# disconnect and flip happen once
+expect 0 "board reported 2 errors \(sequence gap 2\)" "$bin" stream --sim --profile a256 --fault drop=3 --fault drop=8
+expect 0 "host saw 2 bad CRCs" "$bin" stream --sim --profile a256 --fault corrupt-reply=30 --fault corrupt-reply=90
+expect 2 "--fault drop=0: N counts from 1" "$bin" stream --sim --fault drop=0
+expect 2 "--fault corrupt=0: N counts from 1" "$bin" stream --sim --fault corrupt=0
+expect 1 "3 of 4 frames match" "$bin" stream --sim --profile t32 --fault flip=0   # a frame number, from 0
+expect 2 "a second flip fault" "$bin" stream --sim --fault flip=1 --fault flip=2
+expect 2 "a second silence fault" "$bin" stream --sim --fault silence=9 --fault silence=20
+expect 2 "at most 8 faults of one kind" "$bin" stream --sim $(for i in 1 2 3 4 5 6 7 8 9; do echo --fault swap=$((4 * i)); done)
+expect 0 "repeatable, up to.* 8 of a kind, but silence, disconnect and flip once only" \
+    bash -c '"$0" stream --help | tr "\n" " "' "$bin"
+
+# board list --wait: polls until a board is on the bus or the time is up;
+# the simulated board is always there (a wait of 10 minutes would hit the
+# timeout: no timing measured, only "did not wait")
+expect 0 "^sim:0  simulated board" timeout 120 "$bin" board list --sim --wait 600000
+ms() { date +%s%3N; }
+t0=$(ms)
+expect 0 "^no board 1209:0001 on the USB bus$" "$bin" board list --wait 700
+(( $(ms) - t0 >= 700 )) && ok || bad "board list --wait 700 returned after $(( $(ms) - t0 )) ms"
+expect 0 "list waits until one is on the bus \(--sim: at once\)" "$bin" board --help
+
 # the simulated board runs the emulator's profile with every --set and --size
 expect 0 "4 of 4 frames match" "$bin" stream --sim --profile t32 --set aa=1
 expect 0 "hardware agrees" "$bin" stream --sim --profile t32 --size 64x64 --set depth_bits=16

@@ -171,6 +171,82 @@ TEST(bridge_faulty_vp_caught_with_frame_and_pixel)
     free_fixture(&x);
 }
 
+/* Several frames differ: each readback names its own frame's first wrong
+ * pixel (its line in the log), and the first problem only the first frame's. */
+TEST(bridge_readback_per_frame)
+{
+    fixture x;
+    if (make_fixture(&x, "a256")) {
+        CHECK_MSG(0, "fixture");
+        return;
+    }
+    /* the board gets frame 1 wrong at (5, 7) G; the emulator's frame 2 is
+     * made to disagree with the board at (9, 3) R */
+    size_t npix = (size_t)x.f[2].width * x.f[2].height;
+    x.rgb[2][3 * (3 * (size_t)x.f[2].width + 9)] ^= 1;
+    x.f[2].crc = link_frame_crc(x.rgb[2], npix);
+    char err[300];
+    transport_t *t = sim_open(0, err, sizeof err);
+    FILE *log = tmpfile();
+    CHECK(t && log);
+    if (!t || !log) {
+        free_fixture(&x);
+        return;
+    }
+    sim_board_flip(transport_sim_board(t), x.f[1].number, 5, 7, 1, 0);
+    stream_opts o;
+    stream_opts_default(&o);
+    o.timeout_ms = 200;
+    o.log = log;
+    reset_results(&x);
+    stream_report r;
+    CHECK_EQ(stream_run(t, x.b.w, x.b.n, x.f, x.nf, &o, &r), 1);
+    t->ops->close(t);
+    CHECK_EQ(r.crc_mismatch, 2);
+    char want[120];
+    snprintf(want, sizeof want, "frame %u: the board's frame CRC ", x.f[1].number);
+    CHECK_STR_CONTAINS(r.first_problem, want);
+    CHECK_STR_CONTAINS(r.first_problem, ": first at pixel (5, 7) channel G");
+    CHECK_MSG(!strstr(r.first_problem, "(9, 3)"), "frame 2's readback in the first problem: %s",
+              r.first_problem);
+    char text[4096] = "";
+    rewind(log);
+    size_t got = fread(text, 1, sizeof text - 1, log);
+    text[got] = 0;
+    fclose(log);
+    snprintf(want, sizeof want, "frame %u: first difference at pixel (5, 7) channel G",
+             x.f[1].number);
+    CHECK_STR_CONTAINS(text, want);
+    snprintf(want, sizeof want, "frame %u: first difference at pixel (9, 3) channel R",
+             x.f[2].number);
+    CHECK_STR_CONTAINS(text, want);
+    free_fixture(&x);
+}
+
+/* A fault kind given several times strikes each time: two packets dropped
+ * are two gaps, each resumed from; overlapping swaps recover too. */
+TEST(bridge_fault_kind_strikes_several_times)
+{
+    fixture x;
+    if (make_fixture(&x, "a256")) {
+        CHECK_MSG(0, "fixture");
+        return;
+    }
+    stream_report r;
+    tr_faults drops = {.drop_packet = {12, 5}};
+    CHECK_EQ(run_with(&x, &drops, -1, &r), 0);
+    CHECK_EQ(r.board_errors[PROTO_E_SEQ_GAP], 2);
+    CHECK_EQ(r.resumes, 2);
+    CHECK_EQ(r.matched, x.nf);
+    tr_faults bytes = {.corrupt_byte = {1000, 700}};   /* any order */
+    CHECK_EQ(run_with(&x, &bytes, -1, &r), 0);
+    CHECK_EQ(r.board_errors[PROTO_E_BAD_CRC], 2);
+    tr_faults swaps = {.swap_packet = {6, 7}};
+    CHECK_EQ(run_with(&x, &swaps, -1, &r), 0);
+    CHECK_EQ(r.matched, x.nf);
+    free_fixture(&x);
+}
+
 /* Each fault: detected (counted or reported), never a hang, and the stream
  * recovers: every frame finally matches. */
 TEST(bridge_link_faults_detected_and_recovered)
@@ -184,13 +260,13 @@ TEST(bridge_link_faults_detected_and_recovered)
         const char *what;
         tr_faults f;
     } cases[] = {
-        {"corrupted byte", {.corrupt_byte = 700}},
-        {"dropped packet", {.drop_packet = 5}},
-        {"duplicated packet", {.duplicate_packet = 4}},
-        {"swapped packets", {.swap_packet = 6}},
-        {"corrupted reply", {.corrupt_reply = 30}},
-        {"truncated packet", {.truncate_packet = 5}},
-        {"last packet dropped", {.drop_packet = 0}},   /* filled in below */
+        {"corrupted byte", {.corrupt_byte = {700}}},
+        {"dropped packet", {.drop_packet = {5}}},
+        {"duplicated packet", {.duplicate_packet = {4}}},
+        {"swapped packets", {.swap_packet = {6}}},
+        {"corrupted reply", {.corrupt_reply = {30}}},
+        {"truncated packet", {.truncate_packet = {5}}},
+        {"last packet dropped", {.drop_packet = {0}}},   /* filled in below */
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         tr_faults f = cases[k].f;
@@ -199,7 +275,7 @@ TEST(bridge_link_faults_detected_and_recovered)
              * count them first */
             stream_report clean;
             run_with(&x, NULL, -1, &clean);
-            f.drop_packet = clean.packets - 1;
+            f.drop_packet[0] = clean.packets - 1;
         }
         stream_report r;
         int rc = run_with(&x, &f, -1, &r);
@@ -213,7 +289,7 @@ TEST(bridge_link_faults_detected_and_recovered)
     /* what was lost is named: the 5th packet sent is sequence number 4, the
      * WORDS of the frame the host then resumes from */
     stream_report r;
-    tr_faults drop = {.drop_packet = 5};
+    tr_faults drop = {.drop_packet = {5}};
     CHECK_EQ(run_with(&x, &drop, -1, &r), 0);
     CHECK_STR_CONTAINS(r.first_link_error, "board: sequence gap: packet 4 (WORDS: words ");
     CHECK_EQ(r.board_errors[PROTO_E_SEQ_GAP], 1);
@@ -226,7 +302,7 @@ TEST(bridge_link_faults_detected_and_recovered)
     }
     CHECK_MSG(lost_in > 0, "the lost packet's frame is not named: %s", r.first_link_error);
     /* a truncated packet: its CRC fails where it lay, its number is missed */
-    tr_faults cut = {.truncate_packet = 5};
+    tr_faults cut = {.truncate_packet = {5}};
     CHECK_EQ(run_with(&x, &cut, -1, &r), 0);
     CHECK_EQ(r.board_errors[PROTO_E_BAD_CRC], 1);
     CHECK_EQ(r.board_errors[PROTO_E_SEQ_GAP], 1);
@@ -505,13 +581,13 @@ TEST(bridge_frames_mode_displays_the_frames)
         bool resend;
         size_t payload;       /* the board's (0: the protocol's largest) */
     } cases[] = {
-        {"clean link", {0}, false, 0},
-        {"dropped tile", {.drop_packet = 4}, true, 0},
-        {"corrupted tile", {.corrupt_byte = 20000}, true, 0},
-        {"dropped PING", {.drop_packet = 15}, true, 0},   /* RESET, 13 tiles, PING */
-        {"truncated tile", {.truncate_packet = 6}, true, 0},
-        {"492-byte payloads", {0}, false, 492},           /* the FX2's: 160-pixel tiles */
-        {"492-byte payloads, truncated tile", {.truncate_packet = 40}, true, 492},
+        {"clean link", {.drop_packet = {0}}, false, 0},
+        {"dropped tile", {.drop_packet = {4}}, true, 0},
+        {"corrupted tile", {.corrupt_byte = {20000}}, true, 0},
+        {"dropped PING", {.drop_packet = {15}}, true, 0},   /* RESET, 13 tiles, PING */
+        {"truncated tile", {.truncate_packet = {6}}, true, 0},
+        {"492-byte payloads", {.drop_packet = {0}}, false, 492},           /* the FX2's: 160-pixel tiles */
+        {"492-byte payloads, truncated tile", {.truncate_packet = {40}}, true, 492},
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         char err[300];

@@ -292,8 +292,8 @@ static void on_result(streamer *s, const link_packet *p)
     if (ok)
         s->r->matched++;
     else if (crc != f->crc)
-        problem(s, "frame %u: the board's frame CRC %08x differs from the emulator's %08x%s", number,
-                crc, f->crc, s->o->readback ? " (see the readback below)" : "");
+        problem(s, "frame %u: the board's frame CRC %08x differs from the emulator's %08x", number,
+                crc, f->crc);   /* readback() adds where, for this frame only */
     else
         problem(s, "frame %u: the board took %llu cycles, the emulator %llu", number,
                 (unsigned long long)cyc, (unsigned long long)f->cycles);
@@ -422,7 +422,12 @@ static void readback(streamer *s, unsigned i)
         note(s, "frame %u: first difference at %s", f->number, s->rb_what);
     else if (s->rb_got < npix)
         note(s, "frame %u: the board did not send its frame store back", f->number);
-    if (s->rb_first_bad != (size_t)-1 && strstr(s->r->first_problem, "readback")) {
+    /* the first problem names this frame's first wrong pixel if it is this
+     * frame's CRC (on_result's text), never another frame's */
+    char mine[64];
+    snprintf(mine, sizeof mine, "frame %u: the board's frame CRC ", f->number);
+    if (s->rb_first_bad != (size_t)-1 && !strncmp(s->r->first_problem, mine, strlen(mine)) &&
+        !strstr(s->r->first_problem, ": first at ")) {
         size_t len = strlen(s->r->first_problem);
         snprintf(s->r->first_problem + len, sizeof s->r->first_problem - len, ": first at %s",
                  s->rb_what);

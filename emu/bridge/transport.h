@@ -90,17 +90,22 @@ transport_t *transport_sim_open(const profile_t *p, size_t max_payload, char *er
 struct sim_board *transport_sim_board(transport_t *t);
 
 /* Faults on the link, for tests: a wrapper around any transport.  Every n
- * counts from 1 (0 = no such fault); "packet" is a whole write call, so the
- * n-th packet sent has sequence number n - 1 (the first is the RESET). */
+ * counts from 1; "packet" is a whole write call, so the n-th packet sent has
+ * sequence number n - 1 (the first is the RESET).  A kind that can strike
+ * more than once takes up to TR_FAULTS_EACH n, in any order, 0 marking an
+ * unused entry; the board falls silent and the device vanishes only once. */
+#define TR_FAULTS_EACH 8
 typedef struct {
-    uint64_t corrupt_byte;    /* flip a bit in the n-th byte sent */
-    uint64_t drop_packet;     /* drop the n-th packet sent */
-    uint64_t truncate_packet; /* send only the first half of the n-th packet */
-    uint64_t duplicate_packet;/* send the n-th packet twice */
-    uint64_t swap_packet;     /* send the n-th and (n+1)-th packets in reverse order */
-    uint64_t silence_after;   /* the board stops answering after n bytes read */
-    uint64_t disconnect_after;/* the device vanishes after n bytes written */
-    uint64_t corrupt_reply;   /* flip a bit in the n-th byte read */
+    uint64_t corrupt_byte[TR_FAULTS_EACH];     /* flip a bit in the n-th byte sent */
+    uint64_t drop_packet[TR_FAULTS_EACH];      /* drop the n-th packet sent */
+    uint64_t truncate_packet[TR_FAULTS_EACH];  /* send only the first half of the n-th packet */
+    uint64_t duplicate_packet[TR_FAULTS_EACH]; /* send the n-th packet twice */
+    uint64_t swap_packet[TR_FAULTS_EACH];      /* send the n-th and (n+1)-th packets in reverse
+                                                  order (not if the n-th is the packet sent
+                                                  after one held back for a swap) */
+    uint64_t corrupt_reply[TR_FAULTS_EACH];    /* flip a bit in the n-th byte read */
+    uint64_t silence_after;   /* the board stops answering after n bytes read (0: never) */
+    uint64_t disconnect_after;/* the device vanishes after n bytes written (0: never) */
 } tr_faults;
 transport_t *transport_faulty(transport_t *inner, const tr_faults *f);
 

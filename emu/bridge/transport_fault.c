@@ -1,7 +1,8 @@
 /* transport_fault.c — a transport that misbehaves on purpose, for the
  * bridge's fault-injection tests: corrupted bytes either way, dropped,
  * truncated, duplicated and swapped packets, a board that falls silent, a device that
- * disconnects.  Each write call is one packet (the streamer writes so). */
+ * disconnects.  Each write call is one packet (the streamer writes so).  A
+ * kind may strike several times: tr_faults holds a few n for each. */
 #include "transport.h"
 
 #include <stdio.h>
@@ -16,6 +17,24 @@ typedef struct {
     size_t held_len;
     bool gone;
 } faulty;
+
+/* n is one of a kind's entries (0: unused, never matches: n counts from 1) */
+static bool listed(const uint64_t *each, uint64_t n)
+{
+    for (unsigned i = 0; i < TR_FAULTS_EACH; i++)
+        if (each[i] && each[i] == n)
+            return true;
+    return false;
+}
+
+/* Flip `mask` in every listed byte that falls in buf, bytes before..before+len. */
+static void corrupt_bytes(const uint64_t *each, uint64_t before, uint8_t *buf, size_t len,
+                          uint8_t mask)
+{
+    for (unsigned i = 0; i < TR_FAULTS_EACH; i++)
+        if (each[i] > before && each[i] <= before + len)
+            buf[each[i] - before - 1] ^= mask;
+}
 
 static tr_status pass(transport_t *t, faulty *z, const uint8_t *data, size_t len)
 {
@@ -37,8 +56,7 @@ static tr_status f_write(transport_t *t, const uint8_t *data, size_t len)
     if (!copy)
         return TR_ERROR;
     memcpy(copy, data, len);
-    if (z->f.corrupt_byte > z->bytes_out && z->f.corrupt_byte <= z->bytes_out + len)
-        copy[z->f.corrupt_byte - z->bytes_out - 1] ^= 0x10;
+    corrupt_bytes(z->f.corrupt_byte, z->bytes_out, copy, len, 0x10);
     z->bytes_out += len;
     tr_status s = TR_OK;
     if (z->f.disconnect_after && z->bytes_out >= z->f.disconnect_after) {
@@ -47,19 +65,21 @@ static tr_status f_write(transport_t *t, const uint8_t *data, size_t len)
         snprintf(t->error, sizeof t->error, "writing to the board: device disconnected");
         return TR_GONE;
     }
-    if (n == z->f.drop_packet) {
+    if (listed(z->f.drop_packet, n)) {
         /* lost on the wire */
-    } else if (n == z->f.truncate_packet) {
+    } else if (listed(z->f.truncate_packet, n)) {
         /* cut short: the receiver waits for the rest, takes the next
          * packet's bytes for it, fails the CRC and resynchronises */
         s = pass(t, z, copy, len / 2);
-    } else if (n == z->f.swap_packet) {
+    } else if (listed(z->f.swap_packet, n) && !z->held) {
+        /* held until the next packet has gone; that one is never held too,
+         * so swap=N with swap=N+1 swaps N and N+1 only */
         z->held = copy;
         z->held_len = len;
         return TR_OK;
     } else {
         s = pass(t, z, copy, len);
-        if (!s && n == z->f.duplicate_packet)
+        if (!s && listed(z->f.duplicate_packet, n))
             s = pass(t, z, copy, len);
         if (!s && z->held) {
             s = pass(t, z, z->held, z->held_len);
@@ -91,8 +111,7 @@ static tr_status f_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got, u
     if (z->f.silence_after && z->bytes_in + room > z->f.silence_after)
         room = (size_t)(z->f.silence_after - z->bytes_in);
     tr_status s = z->inner->ops->read(z->inner, buf, room, got, timeout_ms);
-    if (z->f.corrupt_reply > z->bytes_in && z->f.corrupt_reply <= z->bytes_in + *got)
-        buf[z->f.corrupt_reply - z->bytes_in - 1] ^= 0x04;
+    corrupt_bytes(z->f.corrupt_reply, z->bytes_in, buf, *got, 0x04);
     z->bytes_in += *got;
     return s;
 }
