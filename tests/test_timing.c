@@ -672,6 +672,25 @@ TEST(timing_vcd_pixel_writes_of_the_worked_example)
     ws_buf_free(&b);
 }
 
+
+/* A random scene with `extra` more `frame` lines (each copies the last) and
+ * its stream in *b; the scene's text (to free), or NULL on failure. */
+static char *random_frames_stream(uint64_t seed, const scenegen_params *gp, unsigned extra,
+                                  const profile_t *p, ws_buf *b)
+{
+    char *text = scenegen_random(seed, gp), *more = NULL;
+    if (text && (more = realloc(text, strlen(text) + 7 * extra + 1)) != NULL) {
+        text = more;
+        for (unsigned i = 0; i < extra; i++)
+            strcat(text, "\nframe\n");
+    }
+    if (!more || stream_of(text, p, b)) {
+        free(more ? more : text);
+        return NULL;
+    }
+    return text;
+}
+
 /* Over whole traces of random scenes (several frames, odd fill rates and
  * latencies, stalls): the samples written by the pipeline's last stage sum
  * to the frames' samples_written, and the samples through it to
@@ -692,16 +711,10 @@ TEST(timing_vcd_pixel_writes_match_the_counters)
         gp.faces = 5 + (unsigned)(seed % 11);
         /* 1 to 3 frames of the same faces (each `frame` copies the last) */
         unsigned frames = 1 + (unsigned)(seed % 3);
-        char *text = scenegen_random(seed, &gp), *more = NULL;
-        if (text && (more = realloc(text, strlen(text) + 7 * frames + 1)) != NULL) {
-            text = more;
-            for (unsigned i = 0; i < frames; i++)
-                strcat(text, "\nframe\n");
-        }
         ws_buf b;
-        if (!more || stream_of(text, &p, &b)) {
+        char *text = random_frames_stream(seed, &gp, frames, &p, &b);
+        if (!text) {
             CHECK_MSG(0, "seed %llu: no stream", (unsigned long long)seed);
-            free(text);
             return;
         }
         char path[600];
@@ -807,16 +820,10 @@ TEST(timing_feed_in_pieces_equals_the_whole_run)
         profile_set_all(&p, sets[seed % 3]);
         gp.faces = 3 + (unsigned)(seed % 9);
         unsigned frames = 1 + (unsigned)(seed % 3);
-        char *text = scenegen_random(seed, &gp), *more = NULL;
-        if (text && (more = realloc(text, strlen(text) + 7 * frames + 1)) != NULL) {
-            text = more;
-            for (unsigned i = 1; i < frames; i++)
-                strcat(text, "\nframe\n");
-        }
         ws_buf b;
-        if (!more || stream_of(text, &p, &b)) {
+        char *text = random_frames_stream(seed, &gp, frames - 1, &p, &b);
+        if (!text) {
             CHECK_MSG(0, "seed %llu: no stream", (unsigned long long)seed);
-            free(text);
             return;
         }
         run_log whole, pieces;
