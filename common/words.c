@@ -99,6 +99,26 @@ size_t ws_face_words(const ws_face *f)
     return n + 2u * f->n_edges;
 }
 
+size_t ws_packet_words(uint32_t header)
+{
+    unsigned flags = header >> 8 & 0xFF;
+    switch (header >> 24) {
+    case WS_OP_CONFIG: return 3;
+    case WS_OP_TEXTURE: {
+        unsigned lg = header >> 8 & 0xFF;
+        /* a size the decoder refuses: the header alone, refused there */
+        return lg > WS_TEX_LOG2_MAX ? 1 : 1 + ((size_t)1 << (2 * lg));
+    }
+    case WS_OP_FRAME: return 5;
+    case WS_OP_FACE:
+        return 7 + (flags & WS_FACE_SHADE ? 4 : 0) + (flags & WS_FACE_TEXTURE ? 8 : 0) +
+               2 * (size_t)(header >> 16 & 0xFF);
+    case WS_OP_FRAME_END:
+    case WS_OP_END: return 1;
+    }
+    return 0;
+}
+
 void ws_put_frame_end(ws_buf *b, uint32_t faces) { ws_put(b, op_word(WS_OP_FRAME_END, faces)); }
 void ws_put_end(ws_buf *b) { ws_put(b, op_word(WS_OP_END, 0)); }
 

@@ -91,6 +91,10 @@ void ws_put_frame_end(ws_buf *b, uint32_t faces);
 void ws_put_end(ws_buf *b);
 /* Words a face occupies in the stream. */
 size_t ws_face_words(const ws_face *f);
+/* Words of the packet a header word starts, from the header alone (the
+ * FACE's flags and edge count, the TEXTURE's size); 0 for an unknown opcode.
+ * The decoder still checks the rest. */
+size_t ws_packet_words(uint32_t header);
 
 /* Edge word fields (docs/word-format.md §5). */
 static inline uint32_t ws_edge_word0(const ws_edge *e)

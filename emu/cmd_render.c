@@ -10,6 +10,7 @@
 #include "../tools/ref.h"
 #include "../vp/vp.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,6 +33,9 @@ typedef struct {
     uint64_t vcd_from, vcd_to;
     bool vcd_units_given;     /* --vcd-units given */
     unsigned vcd_units;       /* mask of sim_trace_units_parse */
+    const char *events;       /* --events FILE: the cycle model's event log */
+    bool events_only_given;
+    uint32_t events_only;     /* --events-only KINDS */
     profile_t prof;
     /* run state */
     unsigned nframes, done;
@@ -115,6 +119,21 @@ static int render_opt(void *ctx, const char *name, const char *value)
     } else if (strcmp(name, "vcd-units") == 0) {
         if (parse_vcd_units(a, value))
             return -1;
+    } else if (strcmp(name, "events") == 0) {
+        a->events = value;
+    } else if (strcmp(name, "events-only") == 0) {
+        const char *bad;
+        size_t badlen;
+        if (sim_events_parse(value, &a->events_only, &bad, &badlen)) {
+            fprintf(stderr, "albatros %s: --events-only %s: unknown kind '%.*s'; kinds are all",
+                    a->cmd, value, (int)badlen, bad);
+            for (unsigned i = 0; i < 32; i++)
+                if (sim_event_name(1u << i))
+                    fprintf(stderr, ", %s", sim_event_name(1u << i));
+            fputc('\n', stderr);
+            return -1;
+        }
+        a->events_only_given = true;
     } else if (strcmp(name, "json") == 0)
         a->json = true;
     else if (strcmp(name, "quiet") == 0 || strcmp(name, "q") == 0)
@@ -253,14 +272,28 @@ static unsigned count_frames(const uint32_t *w, size_t n)
     return frames;
 }
 
+/* --events: each batch of the cycle model's events as text lines. */
+static int write_events(void *ctx, const sim_event *ev, size_t n)
+{
+    FILE *f = ctx;
+    char line[160];
+    for (size_t i = 0; i < n; i++) {
+        int len = sim_event_format(&ev[i], line, sizeof line);
+        if (len < 0 || fwrite(line, 1, (size_t)len, f) != (size_t)len)
+            return -1;
+    }
+    return 0;
+}
+
 /* The VP on a whole stream at the chosen fidelity, frames to the sinks. */
 static int run_vp(render_args *a, const profile_t *prof, const uint32_t *w, size_t n,
                   const char *name)
 {
     diag_t d;
     diag_init(&d, stderr);
-    sim_options opt = {a->fid, NULL, a->vcd_from, a->vcd_window ? a->vcd_to : UINT64_MAX,
-                       a->threads ? a->threads : vp_cores()};
+    sim_options opt = {.fid = a->fid, .vcd_from = a->vcd_from,
+                       .vcd_to = a->vcd_window ? a->vcd_to : UINT64_MAX,
+                       .threads = a->threads ? a->threads : vp_cores()};
     a->prof = *prof;
     if (a->vcd) {
         if (a->fid != FIDELITY_CYCLE) {
@@ -282,6 +315,26 @@ static int run_vp(render_args *a, const profile_t *prof, const uint32_t *w, size
                 return 2;
             }
     }
+    FILE *events = NULL;
+    if (a->events) {
+        if (a->fid != FIDELITY_CYCLE) {
+            fprintf(stderr, "albatros %s: --events logs the cycle fidelity: add --fidelity cycle\n",
+                    a->cmd);
+            if (opt.vcd)
+                vcd_close(opt.vcd);
+            return 2;
+        }
+        events = strcmp(a->events, "-") ? fopen(a->events, "w") : stdout;
+        if (!events) {
+            fprintf(stderr, "albatros %s: %s: %s\n", a->cmd, a->events, strerror(errno));
+            if (opt.vcd)
+                vcd_close(opt.vcd);
+            return 1;
+        }
+        opt.events = a->events_only_given ? a->events_only : SIM_EV_ALL;
+        opt.on_events = write_events;
+        opt.events_ctx = events;
+    }
     a->nframes = count_frames(w, n);
     sink_ctx s = {a, profile_levels(prof)};
     if (a->json)
@@ -293,6 +346,12 @@ static int run_vp(render_args *a, const profile_t *prof, const uint32_t *w, size
     if (opt.vcd && vcd_close(opt.vcd)) {
         fprintf(stderr, "albatros %s: %s: write error\n", a->cmd, a->vcd);
         e = e ? e : ALB_ERR_IO;
+    }
+    if (events && (events == stdout ? fflush(events) : fclose(events))) {
+        fprintf(stderr, "albatros %s: %s: write error: %s\n", a->cmd, a->events, strerror(errno));
+        e = e ? e : ALB_ERR_IO;
+    } else if (events && e == ALB_ERR_IO && !d.msg[0]) {
+        fprintf(stderr, "albatros %s: %s: write error\n", a->cmd, a->events);
     }
     if (e && (e != ALB_ERR_IO || d.msg[0]))
         diag_print(&d, stderr);
@@ -325,6 +384,11 @@ static const char render_help[] =
     "  --vcd-units LIST    trace only these units (with --vcd), comma-separated:\n"
     "                      gp, fifo, parser, engine, fill, pipe, or all (default);\n"
     "                      clk and frame_open are always traced\n"
+    "  --events FILE       the cycle model's events, one line each (with --fidelity\n"
+    "                      cycle; - for stdout): pushes, pops, faces, cells, writes,\n"
+    "                      frames with their CRC (docs/cosim.md)\n"
+    "  --events-only KINDS only these kinds (with --events), comma-separated: push,\n"
+    "                      pop, load, start, cell, end, fill, write, frame, or all\n"
     "  --json              per-frame VP statistics (and counters) as JSON on stdout\n"
     "                      (docs/microarchitecture.md, \"JSON output\")\n"
     "  -q, --quiet         no summary\n\n";
@@ -335,7 +399,7 @@ static const char vp_help[] =
     "Run the VP alone on a word stream (as written by albatros gp), as an RTL test\n"
     "bench replays it.  The profile must match the stream's CONFIG formats.\n"
     "Options as for render: -o, --png, --view, --json, --fidelity, --threads, --vcd,\n"
-    "--vcd-window, --vcd-units.\n\n";
+    "--vcd-window, --vcd-units, --events, --events-only.\n\n";
 
 static int check_outputs(render_args *a)
 {
@@ -350,7 +414,12 @@ static int check_outputs(render_args *a)
                         "--fidelity cycle)\n", a->cmd);
         return 2;
     }
-    if (!a->output && !a->png && !a->nviews && !a->json && !a->stream && !a->vcd) {
+    if (a->events_only_given && !a->events) {
+        fprintf(stderr, "albatros %s: --events-only limits the event log: add --events FILE "
+                        "(and --fidelity cycle)\n", a->cmd);
+        return 2;
+    }
+    if (!a->output && !a->png && !a->nviews && !a->json && !a->stream && !a->vcd && !a->events) {
         fprintf(stderr, "albatros %s: nothing to write: give -o FRAME.exr, --png FILE, --view "
                         "NAME:FILE or --json\n", a->cmd);
         return 2;
@@ -362,7 +431,7 @@ int cmd_render(int argc, char **argv)
 {
     static const char *const spec[] = {"output=", "png=", "view=", "stream=", "json", "quiet",
                                        "q", "help", "fidelity=", "threads=", "vcd=", "vcd-window=",
-                                       "vcd-units=", NULL};
+                                       "vcd-units=", "events=", "events-only=", NULL};
     render_args a = {.cmd = "render", .progress = cli_isatty_stderr()};
     run_opts o;
     run_opts_init(&o);
@@ -409,7 +478,7 @@ int cmd_vp(int argc, char **argv)
 {
     static const char *const spec[] = {"output=", "png=", "view=", "json", "quiet", "q", "help",
                                        "fidelity=", "threads=", "vcd=", "vcd-window=",
-                                       "vcd-units=", NULL};
+                                       "vcd-units=", "events=", "events-only=", NULL};
     render_args a = {.cmd = "vp", .progress = cli_isatty_stderr()};
     run_opts o;
     run_opts_init(&o);

@@ -555,7 +555,7 @@ int cmd_stream(int argc, char **argv)
     /* what the emulator says */
     uint16_t **keep = calloc(nf ? nf : 1, sizeof *keep);
     expect_ctx ec = {frames, nf, 0, keep};
-    sim_options so = {FIDELITY_TIMED, NULL, 0, 0, 1};
+    sim_options so = {.fid = FIDELITY_TIMED, .threads = 1};
     int rc = EXIT_INPUT;   /* the emulator's run fails on a stream made for another profile */
     transport_t *t = NULL;
     if (!keep || sim_run(&o.prof, b.w, b.n, "stream", &so, expect_frame, &ec, &d)) {

@@ -341,7 +341,7 @@ static int vector_frames(const vector *v, const profile_t *prof, const ws_buf *s
     }
     diag_t d;
     diag_init(&d, NULL);
-    sim_options opt = {FIDELITY_TIMED, NULL, 0, 0, 1};
+    sim_options opt = {.fid = FIDELITY_TIMED, .threads = 1};
     alb_err e = sim_run(prof, stream->w, stream->n, v->name, &opt, frame_sink, &c, &d);
     free(c.want);
     free(ctext);

@@ -152,11 +152,11 @@ void cycle_map_resolve(cycle_map *m, const vp_t *vp, frame_t *out)
     }
 }
 
-uint64_t gp_packet_cycles(const profile_t *p, const ws_event *ev)
+uint64_t gp_header_cycles(const profile_t *p, uint32_t header)
 {
-    if (ev->kind == WS_EV_FACE)
-        return p->gp_face_cycles + (uint64_t)p->gp_edge_cycles * ev->u.face.n_edges;
-    if (ev->kind == WS_EV_FRAME)
+    if (header >> 24 == WS_OP_FACE)
+        return p->gp_face_cycles + (uint64_t)p->gp_edge_cycles * (header >> 16 & 0xFF);
+    if (header >> 24 == WS_OP_FRAME)
         return p->gp_frame_cycles;
     return 0;
 }

@@ -50,8 +50,8 @@ static inline uint64_t fill_cycles(uint32_t samples, unsigned rate)
 {
     return (samples + rate - 1) / rate;
 }
-/* The GP's compute time before a packet. */
-uint64_t gp_packet_cycles(const profile_t *p, const ws_event *ev);
+/* The GP's compute time before a packet, from its header word. */
+uint64_t gp_header_cycles(const profile_t *p, uint32_t header);
 
 alb_err sim_run_timed(const profile_t *p, const uint32_t *w, size_t n, const char *name,
                       sim_sink sink, void *ctx, diag_t *d);

@@ -80,10 +80,11 @@ static void word_times(timed *t, int64_t compute, int64_t ready)
     /* the parser wants it from the cycle after its previous pop */
     int64_t asked = t->last_pop + 1;
     int64_t pop = max64(max64(asked, push + 1), ready);
-    int64_t blocked_end = ready < pop ? ready : pop;
-    if (blocked_end > asked)
-        bins_add(&t->bins, CNT(parser_blocked), asked, blocked_end);
-    bins_add(&t->bins, CNT(parser_starve), blocked_end > asked ? blocked_end : asked, pop);
+    /* it starves until the word is in the FIFO, then waits for room */
+    int64_t arrived = push + 1 < pop ? push + 1 : pop;
+    if (arrived > asked)
+        bins_add(&t->bins, CNT(parser_starve), asked, arrived);
+    bins_add(&t->bins, CNT(parser_blocked), arrived > asked ? arrived : asked, pop);
     bins_add(&t->bins, CNT(parser_busy), pop, pop + 1);
     /* occupancy: the word is in the FIFO at the start of push+1 .. pop */
     bins_add(&t->bins, CNT(fifo_sum), push + 1, pop + 1);
@@ -237,6 +238,14 @@ static void timed_free(timed *t)
     bins_free(&t->bins);
     cycle_map_free(&t->map);
     frame_free(&t->frame);
+}
+
+/* The GP's compute time before a packet (gp_header_cycles of its header). */
+static uint64_t gp_packet_cycles(const profile_t *p, const ws_event *ev)
+{
+    if (ev->kind == WS_EV_FACE)
+        return p->gp_face_cycles + (uint64_t)p->gp_edge_cycles * ev->u.face.n_edges;
+    return ev->kind == WS_EV_FRAME ? p->gp_frame_cycles : 0;
 }
 
 /* One packet of the stream through the model. */

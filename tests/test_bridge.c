@@ -83,7 +83,7 @@ static int make_fixture(fixture *x, const char *profile)
     if (e || stream_frames(x->b.w, x->b.n, &x->f, &x->nf))
         return -1;
     exp_ctx ec = {x, 0};
-    sim_options o = {FIDELITY_TIMED, NULL, 0, 0, 1};
+    sim_options o = {.fid = FIDELITY_TIMED, .threads = 1};
     return sim_run(&p, x->b.w, x->b.n, "t", &o, expect, &ec, &d) ? -1 : 0;
 }
 

@@ -56,7 +56,7 @@ static alb_err run_threads(const profile_t *p, const ws_buf *b, fidelity fid, un
 {
     diag_t d;
     diag_init(&d, NULL);
-    sim_options o = {fid, v, 0, UINT64_MAX, threads};
+    sim_options o = {.fid = fid, .vcd = v, .vcd_to = UINT64_MAX, .threads = threads};
     memset(l, 0, sizeof *l);
     alb_err e = sim_run(p, b->w, b->n, "test", &o, log_frame, l, &d);
     if (e)

@@ -57,7 +57,7 @@ static double time_run_threads(const profile_t *p, const ws_buf *b, fidelity fid
 {
     diag_t d;
     diag_init(&d, stderr);
-    sim_options o = {fid, NULL, 0, 0, threads};
+    sim_options o = {.fid = fid, .threads = threads};
     double best = 1e9;
     for (int rep = 0; rep < 3; rep++) {
         memset(t, 0, sizeof *t);
@@ -116,7 +116,7 @@ static uint64_t frames_hash(const profile_t *p, const ws_buf *b, unsigned thread
 {
     diag_t d;
     diag_init(&d, stderr);
-    sim_options o = {FIDELITY_FUNCTIONAL, NULL, 0, 0, threads};
+    sim_options o = {.fid = FIDELITY_FUNCTIONAL, .threads = threads};
     totals t = {.hashing = true, .hash = 0xcbf29ce484222325ull};
     if (sim_run(p, b->w, b->n, "bench", &o, count, &t, &d)) {
         diag_print(&d, stderr);

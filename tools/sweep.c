@@ -93,7 +93,7 @@ static int vp_render(const scene_t *s, const profile_t *p, fidelity fid, frame_t
     ws_buf b;
     ws_buf_init(&b);
     memset(out, 0, sizeof *out);
-    sim_options o = {fid, NULL, 0, 0, 1};
+    sim_options o = {.fid = fid, .threads = 1};
     int rc = gp_create(&gp, s, p, &d) || gp_run(gp, &b, NULL, &d) ||
              sim_run(p, b.w, b.n, "sweep", &o, keep_first, out, &d) || !out->face;
     gp_destroy(gp);
