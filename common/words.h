@@ -145,9 +145,12 @@ void ws_describe_at(const uint32_t *w, size_t n, size_t idx, char *buf, size_t l
  * message at the first malformed word. */
 alb_err ws_dump(FILE *out, const uint32_t *w, size_t n, const char *name, diag_t *d);
 
-/* Read / write a binary stream file: little-endian 32-bit words. */
+/* Read a stream file: binary (little-endian 32-bit words) or $readmemh
+ * text (what ws_write_memh writes; docs/word-format.md), told apart by the
+ * first bytes.  Write either; "-" is stdout for memh. */
 alb_err ws_read_file(const char *path, uint32_t **w, size_t *n, diag_t *d);
 alb_err ws_write_file(const char *path, const uint32_t *w, size_t n, diag_t *d);
+alb_err ws_write_memh(const char *path, const uint32_t *w, size_t n, diag_t *d);
 
 /* Value of a form at screen point (x, y), in double: for tools and tests. */
 double ws_form_eval(const ws_form *f, double x, double y);

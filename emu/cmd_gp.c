@@ -33,17 +33,19 @@ void gp_stats_text(FILE *f, const gp_stats *s)
 }
 
 static const char gp_help[] =
-    "usage: albatros gp [SCENE] [-o STREAM] [--hex FILE] [--json] [options]\n\n"
+    "usage: albatros gp [SCENE] [-o STREAM] [--hex FILE] [--memh FILE] [--json] [options]\n\n"
     "Run the geometry processor on SCENE (a .scene text file, or a .obj file with\n"
     "the camera options below; the built-in scene if omitted) and write the VP\n"
     "word stream (docs/word-format.md).\n\n"
     "  -o, --output FILE  binary stream: little-endian 32-bit words\n"
     "  --hex FILE         annotated hex dump, one word per line ('-' = stdout)\n"
+    "  --memh FILE        the words as $readmemh text for an RTL bench, one per line\n"
+    "                     ('-' = stdout); dump and vp read it back\n"
     "  --json             print statistics as JSON on stdout\n"
     "  -q, --quiet        no summary\n\n";
 
 typedef struct {
-    const char *output, *hex;
+    const char *output, *hex, *memh;
     bool json, quiet, help;
 } gp_args;
 
@@ -54,6 +56,8 @@ static int gp_opt(void *ctx, const char *name, const char *value)
         a->output = value;
     else if (strcmp(name, "hex") == 0)
         a->hex = value;
+    else if (strcmp(name, "memh") == 0)
+        a->memh = value;
     else if (strcmp(name, "json") == 0)
         a->json = true;
     else if (strcmp(name, "quiet") == 0 || strcmp(name, "q") == 0)
@@ -89,7 +93,8 @@ static int write_hex(const char *path, const ws_buf *b, const char *name)
 
 int cmd_gp(int argc, char **argv)
 {
-    static const char *const spec[] = {"output=", "hex=", "json", "quiet", "q", "help", NULL};
+    static const char *const spec[] = {"output=", "hex=", "memh=", "json", "quiet", "q", "help",
+                                       NULL};
     gp_args a = {0};
     run_opts o;
     run_opts_init(&o);
@@ -101,8 +106,9 @@ int cmd_gp(int argc, char **argv)
         printf("%s%s", gp_help, run_opts_help);
         return 0;
     }
-    if (!a.output && !a.hex && !a.json) {
-        fprintf(stderr, "albatros gp: nothing to write: give -o STREAM, --hex FILE or --json\n");
+    if (!a.output && !a.hex && !a.memh && !a.json) {
+        fprintf(stderr, "albatros gp: nothing to write: give -o STREAM, --hex FILE, --memh FILE "
+                        "or --json\n");
         return 2;
     }
     if (cli_check_profile(&o.prof))
@@ -134,12 +140,21 @@ int cmd_gp(int argc, char **argv)
         }
         if (!rc && a.hex)
             rc = write_hex(a.hex, &buf, a.output ? a.output : "<gp>");
+        if (!rc && a.memh) {
+            diag_t wd;
+            diag_init(&wd, NULL);
+            if (ws_write_memh(a.memh, buf.w, buf.n, &wd)) {
+                diag_print(&wd, stderr);
+                rc = 1;
+            }
+        }
         if (a.json) {
             printf("{\"scene\": \"%s\", \"profile\": \"%s\", \"frames\": %u, \"totals\": ",
                    npos ? pos[0] : "builtin", o.prof.name, scene.nframes);
             gp_stats_json(stdout, &st);
             printf("}\n");
-        } else if (!a.quiet && !(a.hex && strcmp(a.hex, "-") == 0)) {
+        } else if (!a.quiet && !(a.hex && strcmp(a.hex, "-") == 0) &&
+                   !(a.memh && strcmp(a.memh, "-") == 0)) {
             fprintf(stderr, "gp: %s, profile %s, %u frame%s\n", npos ? pos[0] : "built-in scene",
                     o.prof.name, scene.nframes, scene.nframes == 1 ? "" : "s");
             gp_stats_text(stderr, &st);
