@@ -4,6 +4,11 @@
 .DEFAULT_GOAL := all
 
 CC      ?= cc
+# the library's version: ALB_ABI is the SONAME's, raised on any incompatible
+# change of include/albatros/ (include/albatros/albatros.h has the same numbers)
+ALB_ABI   := 0
+ALB_MINOR := 1
+ALB_PATCH := 0
 BUILD   ?= build
 PKGS    := libpng libusb-1.0 hidapi-hidraw
 # OpenEXR 3.1 has no pkg-config module for its C library alone: the C API
@@ -17,33 +22,48 @@ WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes -Wmissing-proto
 # multiply-adds, no fast-math (docs/number-formats.md).
 FPFLAGS := -ffp-contract=off -fno-fast-math
 CFLAGS  ?= $(OPT) -g
-ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -pthread $(WARN) $(FPFLAGS) $(CFLAGS) $(EXTRA_CFLAGS) \
+ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -pthread -Iinclude $(WARN) $(FPFLAGS) $(CFLAGS) $(EXTRA_CFLAGS) \
              $(shell pkg-config --cflags $(PKGS)) $(EXR_CFLAGS)
 LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm -pthread $(EXTRA_LDLIBS)
 
 COMMON_SRC := common/diag.c common/file.c common/profile.c common/words.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
 VP_SRC     := vp/vp.c vp/fill.c vp/parallel.c vp/shade.c vp/frame.c
+SINK_SRC   := emu/exr.c emu/preview.c emu/sim.c emu/sim_timed.c emu/sim_cycle.c emu/vcd.c \
+              emu/model.c
+BRIDGE_SRC := emu/bridge/link.c emu/bridge/stream.c emu/bridge/transport_fault.c \
+              emu/bridge/transport_usb.c
 TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools/methods.c tools/sweep.c \
               $(wildcard tools/methods/*.c)
-SINK_SRC   := emu/exr.c emu/preview.c emu/sim.c emu/sim_timed.c emu/sim_cycle.c emu/vcd.c
-FW_SRC     := firmware/core.c firmware/crc32.c firmware/sim/board.c
-BRIDGE_SRC := emu/bridge/link.c emu/bridge/stream.c emu/bridge/transport_sim.c \
-              emu/bridge/transport_fault.c emu/bridge/transport_usb.c
+FW_SRC     := firmware/core.c firmware/crc32.c firmware/sim/board.c firmware/sim/transport.c
 EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cmd_render.c emu/cmd_compare.c emu/cmd_scene.c emu/cmd_stream.c emu/cmd_stability.c \
               emu/cli.c
-LIB_SRC    := $(COMMON_SRC) $(TOOLS_SRC) $(SINK_SRC) $(FW_SRC) $(BRIDGE_SRC)
 TEST_SRC   := $(wildcard tests/test_*.c) tests/t.c tests/gp_helpers.c
 
-# gp/ and vp/ are libraries, each with one public header (gp/gp.h, vp/vp.h);
-# everything else links them as archives, after its own objects
-LIBGP    := $(BUILD)/libgp.a
-LIBVP    := $(BUILD)/libvp.a
-GP_OBJ   := $(patsubst %.c,$(BUILD)/%.o,$(GP_SRC)) $(BUILD)/gen/builtin_scene.o
-VP_OBJ   := $(patsubst %.c,$(BUILD)/%.o,$(VP_SRC))
-LIB_OBJ  := $(patsubst %.c,$(BUILD)/%.o,$(LIB_SRC)) $(LIBGP) $(LIBVP)
-EMU_OBJ  := $(patsubst %.c,$(BUILD)/%.o,$(EMU_SRC))
-TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
+# ---- libalbatros (docs/architecture.md): common, GP, VP, the timed and
+# cycle models, the sinks and the bridge host.  Its objects are position
+# independent and hide every symbol the public headers (include/albatros/)
+# do not declare; the shared library exports alb_* alone (lib/albatros.map)
+# and the static one is one relocatable object with everything else made
+# local, so a testbench linking it meets no generic name.  The firmware's
+# CRC-32 is compiled in (the frame CRC a board reports).
+LIBALB_SRC := $(COMMON_SRC) $(GP_SRC) $(VP_SRC) $(SINK_SRC) $(BRIDGE_SRC) firmware/crc32.c
+LIBALB_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(LIBALB_SRC)) $(BUILD)/gen/builtin_scene.o
+LIB_SONAME := libalbatros.so.$(ALB_ABI)
+LIBALB_A   := $(BUILD)/lib/libalbatros.a
+LIBALB_SO  := $(BUILD)/lib/libalbatros.so.$(ALB_ABI).$(ALB_MINOR).$(ALB_PATCH)
+LIB_CFLAGS := -fPIC -fvisibility=hidden
+$(LIBALB_OBJ): EXTRA_CFLAGS += $(LIB_CFLAGS)
+
+# What the albatros command adds to the library: the CLI, the references,
+# classic methods and stress scenes (tools/), and the simulated board with
+# the firmware core (firmware/sim/).  The command links the static library,
+# so it can use the public API only.
+CLIENT_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TOOLS_SRC) $(FW_SRC))
+EMU_OBJ    := $(patsubst %.c,$(BUILD)/%.o,$(EMU_SRC))
+TEST_OBJ   := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
+# tests, fuzz harnesses and benchmarks reach inside the units: every object
+LIB_OBJ    := $(sort $(LIBALB_OBJ) $(CLIENT_OBJ))
 
 ALBATROS := $(BUILD)/albatros
 UNIT     := $(BUILD)/tests/unit
@@ -60,7 +80,7 @@ BENCH    := $(BUILD)/tools/bench
 include fuzz/fuzz.mk
 
 # the replay harnesses too, so a warning in them fails CI's -Werror build
-all: $(ALBATROS) $(UNIT) $(USB_DESC) $(REPLAYS)
+all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(REPLAYS)
 
 help:
 	@echo "make            build $(ALBATROS) and the tests"
@@ -110,15 +130,21 @@ $(BUILD)/gen/builtin_scene.c: gp/builtin.scene $(BUILD)/tools/embed
 	@mkdir -p $(dir $@)
 	$(BUILD)/tools/embed scene_builtin_data $< $@
 
-$(LIBGP): $(GP_OBJ)
-	rm -f $@
-	$(AR) rcsD $@ $^
+$(LIBALB_A): $(LIBALB_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ $(BUILD)/lib/albatros.o
+	$(LD) -r -o $(BUILD)/lib/albatros.o $^
+	objcopy --localize-hidden $(BUILD)/lib/albatros.o
+	$(AR) rcsD $@ $(BUILD)/lib/albatros.o
 
-$(LIBVP): $(VP_OBJ)
-	rm -f $@
-	$(AR) rcsD $@ $^
+$(LIBALB_SO): $(LIBALB_OBJ) lib/albatros.map
+	@mkdir -p $(dir $@)
+	$(CC) -shared -Wl,-soname,$(LIB_SONAME) -Wl,--version-script=lib/albatros.map -Wl,-z,defs \
+	  $(LIBALB_OBJ) $(LDLIBS) -o $@
+	ln -sf $(notdir $@) $(BUILD)/lib/$(LIB_SONAME)
+	ln -sf $(LIB_SONAME) $(BUILD)/lib/libalbatros.so
 
-$(ALBATROS): $(EMU_OBJ) $(LIB_OBJ)
+$(ALBATROS): $(EMU_OBJ) $(CLIENT_OBJ) $(LIBALB_A)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 $(COST): $(BUILD)/tools/cost.o $(LIB_OBJ)

@@ -4,8 +4,8 @@
 #ifndef ALBATROS_CLI_H
 #define ALBATROS_CLI_H
 
-#include "../common/profile.h"
-#include "../gp/gp.h"
+#include "albatros/profile.h"
+#include "albatros/gp.h"
 
 #include <stdbool.h>
 #include <stdio.h>
@@ -18,8 +18,8 @@
 
 /* Options common to every subcommand that runs the GP. */
 typedef struct {
-    profile_t prof;
-    scene_camera cam;
+    alb_profile prof;
+    alb_scene_camera cam;
     bool cam_given;      /* any of --eye/--at/--up/--fov */
     struct {
         bool is_size;     /* --size WxH, else --set KEY=VALUE */
@@ -49,9 +49,9 @@ int cli_parse(const char *cmd, int argc, char **argv, const char *const *spec, o
 
 /* Load the scene named by path (NULL: the built-in scene; *.obj: OBJ with
  * the camera of o).  Prints the error and returns non-zero on failure. */
-int cli_load_scene(const char *path, const run_opts *o, scene_t *s);
+int cli_load_scene(const char *path, const run_opts *o, alb_scene *s);
 /* Validate the profile; prints the error. */
-int cli_check_profile(const profile_t *p);
+int cli_check_profile(const alb_profile *p);
 
 /* Split a text of options ("--profile a256 --set bound=none ...") into argv;
  * returns the count, or -1 if there are more than max. */

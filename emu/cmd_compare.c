@@ -3,8 +3,8 @@
  * image.  Exit status as cmp(1): 0 identical, 1 different, 2 trouble. */
 #include "cli.h"
 #include "commands.h"
-#include "exr.h"
-#include "preview.h"
+#include "albatros/exr.h"
+#include "albatros/preview.h"
 #include "../tools/accuracy.h"
 #include "../tools/scenegen.h"
 
@@ -35,16 +35,16 @@ static int compare_opt(void *ctx, const char *name, const char *value)
 static int compare_files(const char *pa, const char *pb, const char *diff, bool json,
                          const char *label)
 {
-    frame_t f[2];
-    diag_t d;
-    diag_init(&d, NULL);
+    alb_frame f[2];
+    alb_diag d;
+    alb_diag_init(&d, NULL);
     memset(f, 0, sizeof f);
     const char *path[2] = {pa, pb};
     for (int i = 0; i < 2; i++)
-        if (exr_read_frame(path[i], &f[i], &d)) {
-            diag_print(&d, stderr);
+        if (alb_exr_read_frame(path[i], &f[i], &d)) {
+            alb_diag_print(&d, stderr);
             if (i)
-                frame_free(&f[0]);
+                alb_frame_free(&f[0]);
             return 2;
         }
     int rc = 2;
@@ -55,10 +55,10 @@ static int compare_files(const char *pa, const char *pb, const char *diff, bool 
                 f[1].colour_bits);
         goto done;
     }
-    frame_diff r;
-    frame_compare(&f[0], &f[1], &r);
-    if (diff && preview_write_diff(diff, &f[0], &f[1], NULL, NULL, &d)) {
-        diag_print(&d, stderr);
+    alb_frame_diff r;
+    alb_frame_compare(&f[0], &f[1], &r);
+    if (diff && alb_preview_write_diff(diff, &f[0], &f[1], NULL, NULL, &d)) {
+        alb_diag_print(&d, stderr);
         goto done;
     }
     if (json)
@@ -73,8 +73,8 @@ static int compare_files(const char *pa, const char *pb, const char *diff, bool 
                r.colour_diff, r.max_error, r.mean_error, r.psnr);
     rc = (r.face_diff || r.colour_diff || r.coverage_diff) ? 1 : 0;
 done:
-    frame_free(&f[0]);
-    frame_free(&f[1]);
+    alb_frame_free(&f[0]);
+    alb_frame_free(&f[1]);
     return rc;
 }
 
@@ -199,15 +199,15 @@ static int accuracy_opt(void *ctx, const char *name, const char *value)
  * the camera options), screen-space scenes resolved for the profile. */
 static int accuracy_scene_file(const char *path, const run_opts *o, accuracy *acc)
 {
-    scene_t s;
+    alb_scene s;
     if (cli_load_scene(path, o, &s))
         return -1;
-    diag_t d;
-    diag_init(&d, NULL);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
     int rc = accuracy_of_scene(&s, &o->prof, acc, &d);
     if (rc)
-        diag_print(&d, stderr);
-    scene_free(&s);
+        alb_diag_print(&d, stderr);
+    alb_scene_free(&s);
     return rc;
 }
 

@@ -5,11 +5,11 @@
  * outputs on purpose. */
 #include "cli.h"
 #include "commands.h"
-#include "../common/file.h"
-#include "exr.h"
-#include "preview.h"
-#include "sim.h"
-#include "../vp/vp.h"
+#include "albatros/file.h"
+#include "albatros/exr.h"
+#include "albatros/preview.h"
+#include "albatros/sim.h"
+#include "albatros/vp.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -57,7 +57,7 @@ static int no_own_options(void *ctx, const char *name, const char *value)
 
 /* Run the vector's GP; its stream goes to out, its profile to *prof.
  * Non-zero after a message. */
-static int run_vector(const vector *v, ws_buf *out, profile_t *prof)
+static int run_vector(const vector *v, alb_ws_buf *out, alb_profile *prof)
 {
     char path[600], opts[4096] = "";
     run_opts o;
@@ -83,19 +83,19 @@ static int run_vector(const vector *v, ws_buf *out, profile_t *prof)
         fprintf(stderr, "%s: no scene.scene or scene.obj\n", v->dir);
         return -1;
     }
-    scene_t scene;
+    alb_scene scene;
     if (cli_load_scene(path, &o, &scene))
         return -1;
-    diag_t d;
-    diag_init(&d, stderr);
-    gp_t *gp = NULL;
-    alb_err e = gp_create(&gp, &scene, &o.prof, &d);
+    alb_diag d;
+    alb_diag_init(&d, stderr);
+    alb_gp *gp = NULL;
+    alb_err e = alb_gp_create(&gp, &scene, &o.prof, &d);
     if (!e)
-        e = gp_run(gp, out, NULL, &d);
-    gp_destroy(gp);
-    scene_free(&scene);
+        e = alb_gp_run(gp, out, NULL, &d);
+    alb_gp_destroy(gp);
+    alb_scene_free(&scene);
     if (e) {
-        diag_print(&d, stderr);
+        alb_diag_print(&d, stderr);
         return -1;
     }
     return 0;
@@ -113,8 +113,8 @@ static int compare_streams(const char *name, const uint32_t *want, size_t nw, co
     if (i == n && nw == ng)
         return 0;
     char dw[200], dg[200];
-    ws_describe_at(want, nw, i, dw, sizeof dw);
-    ws_describe_at(got, ng, i, dg, sizeof dg);
+    alb_ws_describe_at(want, nw, i, dw, sizeof dw);
+    alb_ws_describe_at(got, ng, i, dg, sizeof dg);
     fprintf(stderr, "FAIL %s: stream differs at word %zu (byte offset %zu)\n", name, i, i * 4);
     if (i < nw)
         fprintf(stderr, "  expected %08x  %s\n", want[i], dw);
@@ -147,12 +147,12 @@ typedef struct {
 } frames_ctx;
 
 /* One line of expected.cycles: the frame's counters as key=value. */
-static void counters_line(char *out, size_t len, unsigned frame, const sim_counters *c)
+static void counters_line(char *out, size_t len, unsigned frame, const alb_sim_counters *c)
 {
     int n = snprintf(out, len, "frame=%u", frame);
 #define KV(field) n += snprintf(out + n, len - (size_t)n, " " #field "=%llu", \
                                 (unsigned long long)c->field);
-    SIM_COUNTER_FIELDS(KV)
+    ALB_SIM_COUNTER_FIELDS(KV)
 #undef KV
 }
 
@@ -178,7 +178,7 @@ static void frame_path(const vector *v, unsigned k, char *out, size_t len)
 }
 
 /* The first pixel and channel where two frames differ; false if none. */
-static bool first_pixel_diff(const frame_t *w, const frame_t *g, size_t *at, char *what,
+static bool first_pixel_diff(const alb_frame *w, const alb_frame *g, size_t *at, char *what,
                              size_t len, size_t *count)
 {
     size_t n = (size_t)w->width * w->height;
@@ -213,13 +213,13 @@ static bool first_pixel_diff(const frame_t *w, const frame_t *g, size_t *at, cha
     return found;
 }
 
-static int check_frame(frames_ctx *c, const frame_t *f, const char *path)
+static int check_frame(frames_ctx *c, const alb_frame *f, const char *path)
 {
-    frame_t want;
-    diag_t d;
-    diag_init(&d, NULL);
-    if (exr_read_frame(path, &want, &d)) {
-        diag_print(&d, stderr);
+    alb_frame want;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    if (alb_exr_read_frame(path, &want, &d)) {
+        alb_diag_print(&d, stderr);
         return 1;
     }
     int rc = 0;
@@ -233,17 +233,17 @@ static int check_frame(frames_ctx *c, const frame_t *f, const char *path)
         char diff[700];
         snprintf(diff, sizeof diff, "%s/%s.%04u.png", c->diff_dir, c->v->name, f->number);
         mkdir(c->diff_dir, 0777);
-        bool wrote = preview_write_diff(diff, &want, f, NULL, NULL, &d) == ALB_OK;
+        bool wrote = alb_preview_write_diff(diff, &want, f, NULL, NULL, &d) == ALB_OK;
         fprintf(stderr, "FAIL %s: frame %u differs at pixel (%zu, %zu): %s\n"
                         "  %zu pixels differ%s%s\n", c->v->name, f->number, at % f->width,
                 at / f->width, what, count, wrote ? "; diff image " : "", wrote ? diff : "");
         rc = 1;
     }
-    frame_free(&want);
+    alb_frame_free(&want);
     return rc;
 }
 
-static void check_counters(frames_ctx *c, const frame_t *f, const char *line)
+static void check_counters(frames_ctx *c, const alb_frame *f, const char *line)
 {
     unsigned k = c->frames - 1;
     if (k >= c->nwant) {
@@ -257,7 +257,7 @@ static void check_counters(frames_ctx *c, const frame_t *f, const char *line)
     }
 }
 
-static int frame_sink(void *ctx, const frame_t *f, const vp_stats *st, const sim_counters *sc)
+static int frame_sink(void *ctx, const alb_frame *f, const alb_vp_stats *st, const alb_sim_counters *sc)
 {
     (void)st;
     frames_ctx *c = ctx;
@@ -278,10 +278,10 @@ static int frame_sink(void *ctx, const frame_t *f, const vp_stats *st, const sim
         check_counters(c, f, line);
     }
     if (c->bless) {
-        diag_t d;
-        diag_init(&d, NULL);
-        if (exr_write_frame(path, f, &d)) {
-            diag_print(&d, stderr);
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        if (alb_exr_write_frame(path, f, &d)) {
+            alb_diag_print(&d, stderr);
             c->failed = 1;
         }
     } else if (!exists(path)) {
@@ -303,7 +303,7 @@ static char **read_lines(const char *path, char **text, unsigned *n)
         return NULL;
     char *buf;
     size_t len;
-    int rc = file_read_all(f, &buf, &len);
+    int rc = alb_file_read_all(f, &buf, &len);
     fclose(f);
     if (rc)
         return NULL;
@@ -326,7 +326,7 @@ static char **read_lines(const char *path, char **text, unsigned *n)
 
 /* Render the stream through the timed model (pixels, vp.cycles and the
  * counters, equal to the cycle model's by test); check or bless them. */
-static int vector_frames(const vector *v, const profile_t *prof, const ws_buf *stream, bool bless,
+static int vector_frames(const vector *v, const alb_profile *prof, const alb_ws_buf *stream, bool bless,
                          const char *diff_dir)
 {
     frames_ctx c = {v, bless, diff_dir, 0, 0, NULL, 0, 0, NULL, 0};
@@ -339,14 +339,14 @@ static int vector_frames(const vector *v, const profile_t *prof, const ws_buf *s
             c.failed = 1;
         }
     }
-    diag_t d;
-    diag_init(&d, NULL);
-    sim_options opt = {.fid = FIDELITY_TIMED, .threads = 1};
-    alb_err e = sim_run(prof, stream->w, stream->n, v->name, &opt, frame_sink, &c, &d);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_sim_options opt = {.fid = ALB_FIDELITY_TIMED, .threads = 1};
+    alb_err e = alb_sim_run(prof, stream->w, stream->n, v->name, &opt, frame_sink, &c, &d);
     free(c.want);
     free(ctext);
     if (e) {
-        diag_print(&d, stderr);
+        alb_diag_print(&d, stderr);
         free(c.counters);
         return 1;
     }
@@ -383,9 +383,9 @@ static int vector_frames(const vector *v, const profile_t *prof, const ws_buf *s
 /* 0 pass, 1 fail, 2 known failure. */
 static int check_vector(const vector *v, const char *diff_dir)
 {
-    ws_buf got;
-    ws_buf_init(&got);
-    profile_t prof;
+    alb_ws_buf got;
+    alb_ws_buf_init(&got);
+    alb_profile prof;
     char path[600], known[512] = "";
     snprintf(path, sizeof path, "%s/KNOWN-FAILURE", v->dir);
     bool is_known = exists(path) && read_text(path, known, sizeof known) == 0;
@@ -393,11 +393,11 @@ static int check_vector(const vector *v, const char *diff_dir)
     if (!rc) {
         uint32_t *want;
         size_t nw;
-        diag_t d;
-        diag_init(&d, NULL);
+        alb_diag d;
+        alb_diag_init(&d, NULL);
         snprintf(path, sizeof path, "%s/expected.stream", v->dir);
-        if (ws_read_file(path, &want, &nw, &d)) {
-            diag_print(&d, stderr);
+        if (alb_ws_read_file(path, &want, &nw, &d)) {
+            alb_diag_print(&d, stderr);
             fprintf(stderr, "  (run 'make bless' to create the expected outputs)\n");
             rc = 1;
         } else {
@@ -411,7 +411,7 @@ static int check_vector(const vector *v, const char *diff_dir)
         fprintf(stderr, "FAIL %s: could not run\n", v->name);
         rc = 1;
     }
-    ws_buf_free(&got);
+    alb_ws_buf_free(&got);
     if (is_known) {
         if (rc) {
             printf("known failure %s: %s", v->name, known);
@@ -427,37 +427,37 @@ static int check_vector(const vector *v, const char *diff_dir)
 
 static int bless_vector(const vector *v)
 {
-    ws_buf got;
-    ws_buf_init(&got);
-    profile_t prof;
+    alb_ws_buf got;
+    alb_ws_buf_init(&got);
+    alb_profile prof;
     if (run_vector(v, &got, &prof) || vector_frames(v, &prof, &got, true, NULL)) {
-        ws_buf_free(&got);
+        alb_ws_buf_free(&got);
         return 1;
     }
     char path[600];
     snprintf(path, sizeof path, "%s/expected.stream", v->dir);
     uint32_t *old = NULL;
     size_t nold = 0;
-    diag_t d;
-    diag_init(&d, NULL);
-    bool had = ws_read_file(path, &old, &nold, &d) == ALB_OK;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    bool had = alb_ws_read_file(path, &old, &nold, &d) == ALB_OK;
     bool same = had && nold == got.n && !memcmp(old, got.w, nold * 4);
     free(old);
     int rc = 0;
-    if (!same && ws_write_file(path, got.w, got.n, &d)) {
-        diag_print(&d, stderr);
+    if (!same && alb_ws_write_file(path, got.w, got.n, &d)) {
+        alb_diag_print(&d, stderr);
         rc = 1;
     }
     /* the readable twin, so reviews of a re-bless show field-level diffs */
     snprintf(path, sizeof path, "%s/expected.hex", v->dir);
     FILE *hex = fopen(path, "w");
-    alb_err he = hex ? ws_dump(hex, got.w, got.n, "expected.stream", &d) : ALB_ERR_IO;
+    alb_err he = hex ? alb_ws_dump(hex, got.w, got.n, "expected.stream", &d) : ALB_ERR_IO;
     if ((hex && fclose(hex)) || he) {
         fprintf(stderr, "%s: cannot write\n", path);
         rc = 1;
     }
     printf("%s %s (%zu words)\n", same ? "unchanged" : had ? "REBLESSED" : "created", v->name, got.n);
-    ws_buf_free(&got);
+    alb_ws_buf_free(&got);
     return rc;
 }
 

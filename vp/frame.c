@@ -1,11 +1,11 @@
 /* frame.c — allocation of frames and the depth-to-distance conversion. */
-#include "frame.h"
+#include "albatros/frame.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-int frame_alloc(frame_t *f, unsigned width, unsigned height, bool with_cycles)
+int alb_frame_alloc(alb_frame *f, unsigned width, unsigned height, bool with_cycles)
 {
     size_t n = (size_t)width * height;
     memset(f, 0, sizeof *f);
@@ -19,13 +19,13 @@ int frame_alloc(frame_t *f, unsigned width, unsigned height, bool with_cycles)
     f->cycles = with_cycles ? calloc(n, sizeof *f->cycles) : NULL;
     if (!f->rgb || !f->depth || !f->face || !f->level || !f->coverage ||
         (with_cycles && !f->cycles)) {
-        frame_free(f);
+        alb_frame_free(f);
         return -1;
     }
     return 0;
 }
 
-void frame_free(frame_t *f)
+void alb_frame_free(alb_frame *f)
 {
     free(f->rgb);
     free(f->depth);
@@ -39,9 +39,9 @@ void frame_free(frame_t *f)
     f->coverage = NULL;
 }
 
-int frame_copy(frame_t *dst, const frame_t *src)
+int alb_frame_copy(alb_frame *dst, const alb_frame *src)
 {
-    if (frame_alloc(dst, src->width, src->height, src->cycles != NULL))
+    if (alb_frame_alloc(dst, src->width, src->height, src->cycles != NULL))
         return -1;
     size_t n = (size_t)src->width * src->height;
     memcpy(dst->rgb, src->rgb, 3 * n * sizeof *dst->rgb);
@@ -59,7 +59,7 @@ int frame_copy(frame_t *dst, const frame_t *src)
     return 0;
 }
 
-float frame_z(const frame_t *f, uint32_t d)
+float alb_frame_z(const alb_frame *f, uint32_t d)
 {
     if (d == 0)
         return INFINITY;
@@ -67,7 +67,7 @@ float frame_z(const frame_t *f, uint32_t d)
     return (float)((double)f->near / ldexp((double)d, -(int)f->depth_bits));
 }
 
-void frame_compare(const frame_t *a, const frame_t *b, frame_diff *r)
+void alb_frame_compare(const alb_frame *a, const alb_frame *b, alb_frame_diff *r)
 {
     memset(r, 0, sizeof *r);
     size_t n = (size_t)a->width * a->height;
@@ -93,7 +93,7 @@ void frame_compare(const frame_t *a, const frame_t *b, frame_diff *r)
     r->psnr = mse > 0 ? 10 * log10(peak * peak / mse) : INFINITY;
 }
 
-size_t frame_count_differences(const frame_t *a, const frame_t *b)
+size_t alb_frame_count_differences(const alb_frame *a, const alb_frame *b)
 {
     if (a->width != b->width || a->height != b->height || a->colour_bits != b->colour_bits ||
         a->depth_bits != b->depth_bits || a->aa_levels != b->aa_levels)

@@ -7,17 +7,20 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-typedef enum {
-    BOUND_NONE = 0,   /* no bounding edges */
-    BOUND_ALBATROS,   /* the paper's rule: sector codes, table, <= 2 per face */
-    BOUND_BOX,        /* bounding box: 4 axis-parallel edges, 90 degrees */
-    BOUND_BISECTOR    /* perpendicular to each vertex bisector, 90 degrees */
-} bound_method;
+/* The library exports what its public headers declare, nothing else. */
+#pragma GCC visibility push(default)
 
-/* The largest screen side (profile_check), and the largest value --set
+typedef enum {
+    ALB_BOUND_NONE = 0,   /* no bounding edges */
+    ALB_BOUND_ALBATROS,   /* the paper's rule: sector codes, table, <= 2 per face */
+    ALB_BOUND_BOX,        /* bounding box: 4 axis-parallel edges, 90 degrees */
+    ALB_BOUND_BISECTOR    /* perpendicular to each vertex bisector, 90 degrees */
+} alb_bound_method;
+
+/* The largest screen side (alb_profile_check), and the largest value --set
  * takes for any numeric field. */
-#define PROFILE_MAX_SIDE 8192
-#define PROFILE_MAX_VALUE 16777215u   /* 2^24 - 1: the largest frame_faces */
+#define ALB_PROFILE_MAX_SIDE 8192
+#define ALB_PROFILE_MAX_VALUE 16777215u   /* 2^24 - 1: the largest frame_faces */
 
 typedef struct {
     char name[32];
@@ -29,7 +32,7 @@ typedef struct {
     unsigned colour_bits;     /* frame store bits per colour channel */
     unsigned recip_bits;      /* mantissa bits of the VP's reciprocal unit */
     unsigned shade_frac_bits; /* fraction bits of intensity after eq. (7) */
-    bound_method bound;
+    alb_bound_method bound;
     bool cull_backfaces;      /* GP drops faces whose back the observer sees */
     /* the clocked micro-architecture (docs/microarchitecture.md) */
     unsigned clock_khz;       /* modelled clock */
@@ -46,25 +49,27 @@ typedef struct {
     unsigned frame_faces;     /* FACE packets a frame may carry (docs/limits.md) */
     /* the emulator, not the hardware */
     unsigned all_units;       /* 1: every shading unit for every sample (same pixels, slower) */
-} profile_t;
+} alb_profile;
 
 /* Fill *p with the named profile; returns 0, or -1 if unknown. */
-int profile_lookup(const char *name, profile_t *p);
+int alb_profile_lookup(const char *name, alb_profile *p);
 /* Names of the built-in profiles, NULL-terminated. */
-const char *const *profile_names(void);
+const char *const *alb_profile_names(void);
 /* Apply "key=value"; on error returns -1 with a message in err. */
-int profile_set(profile_t *p, const char *assignment, char *err, size_t errlen);
+int alb_profile_set(alb_profile *p, const char *assignment, char *err, size_t errlen);
 /* Check the constraints between fields; -1 with a message on failure. */
-int profile_check(const profile_t *p, char *err, size_t errlen);
-/* One line per field, "key=value", as accepted by profile_set. */
-void profile_describe(const profile_t *p, char *buf, size_t len);
+int alb_profile_check(const alb_profile *p, char *err, size_t errlen);
+/* One line per field, "key=value", as accepted by alb_profile_set. */
+void alb_profile_describe(const alb_profile *p, char *buf, size_t len);
 
-const char *bound_method_name(bound_method m);
-int bound_method_parse(const char *s, bound_method *m);
+const char *alb_bound_method_name(alb_bound_method m);
+int alb_bound_method_parse(const char *s, alb_bound_method *m);
 
 /* Screen sample grid (docs/number-formats.md §3): sample coordinates are
  * integers in units of 2^-sample_shift of the screen's [-1,1] range. */
-unsigned profile_levels(const profile_t *p);        /* log2(max(w,h)) + aa */
-unsigned profile_sample_shift(const profile_t *p);  /* == profile_levels */
+unsigned alb_profile_levels(const alb_profile *p);        /* log2(max(w,h)) + aa */
+unsigned alb_profile_sample_shift(const alb_profile *p);  /* == alb_profile_levels */
+
+#pragma GCC visibility pop
 
 #endif

@@ -10,8 +10,11 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define FRAME_NO_FACE  0xFFFFFFFFu  /* face.id where no face covers the pixel */
-#define FRAME_NO_LEVEL 0xFFu        /* vp.level where no face covers the pixel */
+/* The library exports what its public headers declare, nothing else. */
+#pragma GCC visibility push(default)
+
+#define ALB_FRAME_NO_FACE  0xFFFFFFFFu  /* face.id where no face covers the pixel */
+#define ALB_FRAME_NO_LEVEL 0xFFu        /* vp.level where no face covers the pixel */
 
 typedef struct {
     unsigned width, height;     /* pixels */
@@ -22,21 +25,21 @@ typedef struct {
     uint32_t number;            /* frame number from the stream */
     uint16_t *rgb;              /* 3 per pixel: R, G, B frame store values */
     uint32_t *depth;            /* depth store of the pixel's nearest sample; 0 = none */
-    uint32_t *face;             /* face id of that sample, FRAME_NO_FACE if none */
+    uint32_t *face;             /* face id of that sample, ALB_FRAME_NO_FACE if none */
     uint8_t *level;             /* subdivision level that decided that sample */
     uint16_t *coverage;         /* covered samples of 4^aa_levels */
     uint32_t *cycles;           /* VP cycles spent per pixel; NULL when not modelled */
-} frame_t;
+} alb_frame;
 
 /* Allocate a frame's planes (cycles only if with_cycles); -1 if out of memory. */
-int frame_alloc(frame_t *f, unsigned width, unsigned height, bool with_cycles);
-void frame_free(frame_t *f);
+int alb_frame_alloc(alb_frame *f, unsigned width, unsigned height, bool with_cycles);
+void alb_frame_free(alb_frame *f);
 /* Deep copy into dst (allocated here); -1 if out of memory. */
-int frame_copy(frame_t *dst, const frame_t *src);
+int alb_frame_copy(alb_frame *dst, const alb_frame *src);
 
 /* Z in scene units of a depth store value: near / (d / 2^depth_bits);
  * +infinity for d = 0 (no surface). */
-float frame_z(const frame_t *f, uint32_t d);
+float alb_frame_z(const alb_frame *f, uint32_t d);
 
 /* How two frames of one size differ (albatros compare, the tests). */
 typedef struct {
@@ -44,10 +47,12 @@ typedef struct {
     unsigned max_error;         /* largest channel difference, frame-store units */
     double mean_error;          /* mean absolute channel difference */
     double psnr;                /* dB against 2^colour_bits - 1; +inf if equal */
-} frame_diff;
-void frame_compare(const frame_t *a, const frame_t *b, frame_diff *r);
+} alb_frame_diff;
+void alb_frame_compare(const alb_frame *a, const alb_frame *b, alb_frame_diff *r);
 /* Pixels where any plane differs — colour, depth, face, level, coverage, and
  * cycles where both have them; (size_t)-1 if the sizes or formats differ. */
-size_t frame_count_differences(const frame_t *a, const frame_t *b);
+size_t alb_frame_count_differences(const alb_frame *a, const alb_frame *b);
+
+#pragma GCC visibility pop
 
 #endif

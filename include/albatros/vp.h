@@ -4,20 +4,23 @@
 #ifndef ALBATROS_VP_H
 #define ALBATROS_VP_H
 
-#include "../common/diag.h"
-#include "../common/profile.h"
-#include "../common/words.h"
+#include "diag.h"
+#include "profile.h"
+#include "words.h"
 #include "frame.h"
 
 #include <stdint.h>
 
-#define VP_MAX_LEVELS 17   /* 8192 pixels x 8 samples = 2^16: levels 0..16 */
+/* The library exports what its public headers declare, nothing else. */
+#pragma GCC visibility push(default)
 
-typedef struct vp vp_t;
+#define ALB_VP_MAX_LEVELS 17   /* 8192 pixels x 8 samples = 2^16: levels 0..16 */
+
+typedef struct alb_vp alb_vp;
 
 /* What the VP did in one frame. */
 typedef struct {
-    uint64_t cells[VP_MAX_LEVELS];   /* cells visited, per subdivision level */
+    uint64_t cells[ALB_VP_MAX_LEVELS];   /* cells visited, per subdivision level */
     uint64_t cells_inside;           /* cells every active edge had wholly inside */
     uint64_t cells_outside;          /* cells rejected by an edge */
     uint64_t cells_split;            /* cells subdivided */
@@ -31,36 +34,38 @@ typedef struct {
     uint64_t faces_shaded;           /* ... using the intensity unit (eq. 7) */
     uint64_t faces_textured;         /* ... using texture */
     uint64_t faces_fogged;           /* ... fogged (the face's flag, in a fogged frame) */
-} vp_stats;
+} alb_vp_stats;
 
-alb_err vp_create(vp_t **vp, const profile_t *prof, diag_t *d);
-void vp_destroy(vp_t *vp);
+alb_err alb_vp_create(alb_vp **vp, const alb_profile *prof, alb_diag *d);
+void alb_vp_destroy(alb_vp *vp);
 
 /* The packets of the stream, in order (the input parser's job). */
-alb_err vp_config(vp_t *vp, const ws_config *c, diag_t *d);
-alb_err vp_texture(vp_t *vp, const ws_texture *t, diag_t *d);
-void vp_frame_begin(vp_t *vp, const ws_frame *f);
+alb_err alb_vp_config(alb_vp *vp, const alb_ws_config *c, alb_diag *d);
+alb_err alb_vp_texture(alb_vp *vp, const alb_ws_texture *t, alb_diag *d);
+void alb_vp_frame_begin(alb_vp *vp, const alb_ws_frame *f);
 /* Draw one face; ALB_ERR_STREAM if it uses a texture never loaded. */
-alb_err vp_face(vp_t *vp, const ws_face *f, diag_t *d);
+alb_err alb_vp_face(alb_vp *vp, const alb_ws_face *f, alb_diag *d);
 /* Resolve the samples into pixels; out must be allocated at the screen size. */
-void vp_frame_end(vp_t *vp, frame_t *out);
-const vp_stats *vp_stats_get(const vp_t *vp);
+void alb_vp_frame_end(alb_vp *vp, alb_frame *out);
+const alb_vp_stats *alb_vp_stats_get(const alb_vp *vp);
 
-/* Threads of the functional renderer (vp_face, vp_run_stream): 1 draws
+/* Threads of the functional renderer (alb_vp_face, alb_vp_run_stream): 1 draws
  * face by face on the caller's thread; more split the screen into tiles
  * (vp/parallel.c), with bit-identical frames and statistics; 0 means one per
  * core.  -1 if out of memory (the VP stays on one thread). */
-#define VP_MAX_THREADS 64
-int vp_set_threads(vp_t *vp, unsigned n);
-unsigned vp_threads(const vp_t *vp);
-unsigned vp_cores(void);
+#define ALB_VP_MAX_THREADS 64
+int alb_vp_set_threads(alb_vp *vp, unsigned n);
+unsigned alb_vp_threads(const alb_vp *vp);
+unsigned alb_vp_cores(void);
 
 /* Allocate a frame of this VP's screen size. */
-int vp_frame_alloc(const vp_t *vp, frame_t *f, bool with_cycles);
+int alb_vp_frame_alloc(const alb_vp *vp, alb_frame *f, bool with_cycles);
 
 /* Run a whole word stream; sink is called with each finished frame. */
-typedef int (*vp_frame_sink)(void *ctx, const frame_t *f, const vp_stats *st);
-alb_err vp_run_stream(vp_t *vp, const uint32_t *w, size_t n, const char *name,
-                      vp_frame_sink sink, void *ctx, diag_t *d);
+typedef int (*alb_vp_frame_sink)(void *ctx, const alb_frame *f, const alb_vp_stats *st);
+alb_err alb_vp_run_stream(alb_vp *vp, const uint32_t *w, size_t n, const char *name,
+                      alb_vp_frame_sink sink, void *ctx, alb_diag *d);
+
+#pragma GCC visibility pop
 
 #endif

@@ -1,69 +1,68 @@
-/* transport_sim.c — the transport to the simulated board in this process:
+/* transport.c — the transport to the simulated board in this process:
  * bytes written are the board's bulk OUT, its answers are read back as bulk
  * IN.  No USB hardware, no kernel modules: CI exercises the whole path. */
-#include "transport.h"
-#include "../../firmware/proto.h"
-#include "../../firmware/sim/board.h"
+#include "board.h"
+#include "../proto.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-static tr_status sim_write(transport_t *t, const uint8_t *data, size_t len)
+static alb_tr_status sim_write(alb_transport *t, const uint8_t *data, size_t len)
 {
     sim_board_rx(t->impl, data, len);
-    return TR_OK;
+    return ALB_TR_OK;
 }
 
-static tr_status sim_flush(transport_t *t)
+static alb_tr_status sim_flush(alb_transport *t)
 {
     (void)t;
-    return TR_OK;
+    return ALB_TR_OK;
 }
 
-static tr_status sim_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got, unsigned timeout_ms)
+static alb_tr_status sim_read(alb_transport *t, uint8_t *buf, size_t cap, size_t *got, unsigned timeout_ms)
 {
     (void)timeout_ms;   /* the board answers at once or not at all */
     *got = sim_board_tx(t->impl, buf, cap);
-    return *got ? TR_OK : TR_TIMEOUT;
+    return *got ? ALB_TR_OK : ALB_TR_TIMEOUT;
 }
 
-static tr_status sim_hid_get(transport_t *t, uint8_t *buf, size_t len)
+static alb_tr_status sim_hid_get(alb_transport *t, uint8_t *buf, size_t len)
 {
     if (sim_board_hid_get(t->impl, buf, len)) {
         snprintf(t->error, sizeof t->error, "HID report %u: the board does not have it", buf[0]);
-        return TR_ERROR;
+        return ALB_TR_ERROR;
     }
-    return TR_OK;
+    return ALB_TR_OK;
 }
 
-static tr_status sim_hid_set(transport_t *t, const uint8_t *buf, size_t len)
+static alb_tr_status sim_hid_set(alb_transport *t, const uint8_t *buf, size_t len)
 {
     if (sim_board_hid_set(t->impl, buf, len)) {
         snprintf(t->error, sizeof t->error, "HID report %u: the board refused it", buf[0]);
-        return TR_ERROR;
+        return ALB_TR_ERROR;
     }
-    return TR_OK;
+    return ALB_TR_OK;
 }
 
-static void sim_close(transport_t *t)
+static void sim_close(alb_transport *t)
 {
     sim_board_destroy(t->impl);
     free(t);
 }
 
-static const transport_ops sim_ops = {"sim", sim_write, sim_flush, sim_read, sim_hid_get,
+static const alb_transport_ops sim_ops = {"sim", sim_write, sim_flush, sim_read, sim_hid_get,
                                       sim_hid_set, sim_close};
 
-transport_t *transport_sim_open(const profile_t *p, size_t max_payload, char *err,
-                                size_t errlen)
+alb_transport *sim_board_transport(const alb_profile *p, size_t max_payload, char *err,
+                                   size_t errlen)
 {
     if (max_payload > PROTO_MAX_PAYLOAD) {
         snprintf(err, errlen, "simulated board: a payload of %zu bytes is above the protocol's "
                  "%u", max_payload, PROTO_MAX_PAYLOAD);
         return NULL;
     }
-    transport_t *t = calloc(1, sizeof *t);
+    alb_transport *t = calloc(1, sizeof *t);
     if (!t) {
         snprintf(err, errlen, "out of memory");
         return NULL;
@@ -80,7 +79,7 @@ transport_t *transport_sim_open(const profile_t *p, size_t max_payload, char *er
     return t;
 }
 
-struct sim_board *transport_sim_board(transport_t *t)
+sim_board *sim_board_of(alb_transport *t)
 {
     return t->ops == &sim_ops ? t->impl : NULL;
 }

@@ -1,10 +1,13 @@
 /* diag.h — error codes and located diagnostics.  Library code never prints
- * or exits: it returns an alb_err and fills a diag_t saying where (file, line,
+ * or exits: it returns an alb_err and fills a alb_diag saying where (file, line,
  * column, or byte offset) and what was expected.  Only main() prints. */
 #ifndef ALBATROS_DIAG_H
 #define ALBATROS_DIAG_H
 
 #include <stdio.h>
+
+/* The library exports what its public headers declare, nothing else. */
+#pragma GCC visibility push(default)
 
 typedef enum {
     ALB_OK = 0,
@@ -28,20 +31,25 @@ typedef struct {
     char msg[512];
     FILE *warn;            /* where warnings go; NULL = count them only */
     unsigned warnings;
-} diag_t;
+} alb_diag;
 
-void diag_init(diag_t *d, FILE *warn);
+void alb_diag_init(alb_diag *d, FILE *warn);
 /* Record an error located at file:line:col (line/col may be 0). */
-alb_err diag_at(diag_t *d, alb_err e, const char *file, unsigned line,
+alb_err alb_diag_at(alb_diag *d, alb_err e, const char *file, unsigned line,
                 unsigned col, const char *fmt, ...)
     __attribute__((format(printf, 6, 7)));
 /* Record an error located at a byte offset of file. */
-alb_err diag_off(diag_t *d, alb_err e, const char *file, long long offset,
+alb_err alb_diag_off(alb_diag *d, alb_err e, const char *file, long long offset,
                  const char *fmt, ...) __attribute__((format(printf, 5, 6)));
 /* A warning: printed to d->warn with its location, counted. */
-void diag_warn(diag_t *d, const char *file, unsigned line, const char *fmt, ...)
+void alb_diag_warn(alb_diag *d, const char *file, unsigned line, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
+/* The same line as alb_diag_print, without the newline, into buf
+ * (snprintf's return). */
+int alb_diag_format(const alb_diag *d, char *buf, size_t len);
 /* "file:line:col: error: msg" (or "file: offset N: ...") on f. */
-void diag_print(const diag_t *d, FILE *f);
+void alb_diag_print(const alb_diag *d, FILE *f);
+
+#pragma GCC visibility pop
 
 #endif

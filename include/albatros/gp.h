@@ -3,12 +3,15 @@
 #ifndef ALBATROS_GP_H
 #define ALBATROS_GP_H
 
-#include "../common/diag.h"
-#include "../common/profile.h"
-#include "../common/words.h"
+#include "diag.h"
+#include "profile.h"
+#include "words.h"
 #include "scene.h"
 
-typedef struct gp gp_t;
+/* The library exports what its public headers declare, nothing else. */
+#pragma GCC visibility push(default)
+
+typedef struct alb_gp alb_gp;
 
 /* What the GP did with one frame (or, summed, a run). */
 typedef struct {
@@ -26,21 +29,23 @@ typedef struct {
     unsigned bound_culled;      /* bounding edges outside the screen, dropped */
     unsigned coef_saturated;    /* forms whose exponent had to be clamped */
     unsigned long long words;   /* words emitted */
-} gp_stats;
+} alb_gp_stats;
 
 /* Offline database preparation (eqs. 9-11, interpolation matrices, texture
  * coefficients).  The scene must outlive the GP. */
-alb_err gp_create(gp_t **gp, const scene_t *scene, const profile_t *prof, diag_t *d);
-void gp_destroy(gp_t *gp);
-unsigned gp_frame_count(const gp_t *gp);
+alb_err alb_gp_create(alb_gp **gp, const alb_scene *scene, const alb_profile *prof, alb_diag *d);
+void alb_gp_destroy(alb_gp *gp);
+unsigned alb_gp_frame_count(const alb_gp *gp);
 
 /* CONFIG packet and the TEXTURE packets of every scene texture. */
-void gp_stream_header(gp_t *gp, ws_buf *out);
+void alb_gp_stream_header(alb_gp *gp, alb_ws_buf *out);
 /* One frame: FRAME, the FACE packets, FRAME_END. */
-alb_err gp_frame(gp_t *gp, unsigned frame, ws_buf *out, gp_stats *st, diag_t *d);
+alb_err alb_gp_frame(alb_gp *gp, unsigned frame, alb_ws_buf *out, alb_gp_stats *st, alb_diag *d);
 /* The whole stream: header, every frame, END.  st (may be NULL) gets sums. */
-alb_err gp_run(gp_t *gp, ws_buf *out, gp_stats *st, diag_t *d);
+alb_err alb_gp_run(alb_gp *gp, alb_ws_buf *out, alb_gp_stats *st, alb_diag *d);
 
-void gp_stats_add(gp_stats *sum, const gp_stats *s);
+void alb_gp_stats_add(alb_gp_stats *sum, const alb_gp_stats *s);
+
+#pragma GCC visibility pop
 
 #endif

@@ -5,41 +5,44 @@
 #ifndef ALBATROS_TRANSPORT_H
 #define ALBATROS_TRANSPORT_H
 
-#include "../../common/profile.h"
+#include "profile.h"
 
 #include <signal.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
-typedef struct transport transport_t;
+/* The library exports what its public headers declare, nothing else. */
+#pragma GCC visibility push(default)
+
+typedef struct alb_transport alb_transport;
 
 typedef enum {
-    TR_OK = 0,
-    TR_TIMEOUT,      /* nothing within the time given */
-    TR_ERROR,        /* an I/O error; the message says what */
-    TR_GONE          /* the device disconnected */
-} tr_status;
+    ALB_TR_OK = 0,
+    ALB_TR_TIMEOUT,      /* nothing within the time given */
+    ALB_TR_ERROR,        /* an I/O error; the message says what */
+    ALB_TR_GONE          /* the device disconnected */
+} alb_tr_status;
 
 typedef struct {
     const char *name;
     /* Queue bytes toward the board (bulk OUT).  May block while every
      * transfer is in flight (the board is NAKing): that is flow control. */
-    tr_status (*write)(transport_t *t, const uint8_t *data, size_t len);
+    alb_tr_status (*write)(alb_transport *t, const uint8_t *data, size_t len);
     /* Push out a partly filled transfer (with a zero-length packet if its
      * length is a multiple of the endpoint's packet size). */
-    tr_status (*flush)(transport_t *t);
-    /* Bytes from the board (bulk IN) within timeout_ms: TR_OK with *got > 0,
-     * or TR_TIMEOUT with *got == 0. */
-    tr_status (*read)(transport_t *t, uint8_t *buf, size_t cap, size_t *got, unsigned timeout_ms);
+    alb_tr_status (*flush)(alb_transport *t);
+    /* Bytes from the board (bulk IN) within timeout_ms: ALB_TR_OK with *got > 0,
+     * or ALB_TR_TIMEOUT with *got == 0. */
+    alb_tr_status (*read)(alb_transport *t, uint8_t *buf, size_t cap, size_t *got, unsigned timeout_ms);
     /* HID feature reports: buf[0] is the report ID, len includes it. */
-    tr_status (*hid_get)(transport_t *t, uint8_t *buf, size_t len);
-    tr_status (*hid_set)(transport_t *t, const uint8_t *buf, size_t len);
-    void (*close)(transport_t *t);
-} transport_ops;
+    alb_tr_status (*hid_get)(alb_transport *t, uint8_t *buf, size_t len);
+    alb_tr_status (*hid_set)(alb_transport *t, const uint8_t *buf, size_t len);
+    void (*close)(alb_transport *t);
+} alb_transport_ops;
 
-struct transport {
-    const transport_ops *ops;
+struct alb_transport {
+    const alb_transport_ops *ops;
     void *impl;
     char error[512];          /* the last error, with what we were doing */
     size_t max_payload;       /* largest payload the transport carries; the
@@ -49,13 +52,13 @@ struct transport {
 
 /* USB: the first device with vid:pid (or the one with this serial); waits
  * up to wait_ms for it to appear (hot-plug).  NULL with *err on failure. */
-transport_t *transport_usb_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
+alb_transport *alb_transport_usb_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
                                 char *err, size_t errlen);
 /* A flag a signal handler sets (Ctrl-C): once it is nonzero, a USB call
  * that would block (bulk OUT while every transfer is in flight and the board
- * NAKs, a read's wait) returns at once with TR_ERROR.  No effect on other
+ * NAKs, a read's wait) returns at once with ALB_TR_ERROR.  No effect on other
  * transports, which never block for long. */
-void transport_usb_set_stop(transport_t *t, const volatile sig_atomic_t *stop);
+void alb_transport_usb_set_stop(alb_transport *t, const volatile sig_atomic_t *stop);
 
 /* The board's HID interface alone (control: INFO, RESET, MODE, counters),
  * through hidraw, so it works while another process streams on the bulk
@@ -63,7 +66,7 @@ void transport_usb_set_stop(transport_t *t, const volatile sig_atomic_t *stop);
  * driver bound) falls back to HID class requests on endpoint 0 through
  * libusb, which claims the HID interface, never the data interface.
  * write/read fail: there is no bulk link.  NULL with *err on failure. */
-transport_t *transport_hid_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
+alb_transport *alb_transport_hid_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
                                 char *err, size_t errlen);
 
 typedef struct {
@@ -71,42 +74,37 @@ typedef struct {
     uint16_t vid, pid;
     char serial[64];          /* "?" if it could not be read */
     bool no_access;           /* LIBUSB_ERROR_ACCESS opening it: see firmware/udev/ */
-} tr_usb_device;
+} alb_tr_usb_device;
 
 /* Matching USB devices into out[0 .. max); returns how many there are
  * (may exceed max), or -1 with *err. */
-int transport_usb_list(uint16_t vid, uint16_t pid, tr_usb_device *out, int max, char *err,
+int alb_transport_usb_list(uint16_t vid, uint16_t pid, alb_tr_usb_device *out, int max, char *err,
                        size_t errlen);
 
-/* The simulated board (firmware/sim/): the firmware core and this project's
- * VP, in process.  p: the VP it runs (the profile with every --set and
- * --size the emulator runs with); max_payload: the largest
- * payload it accepts and announces in INFO (0: PROTO_MAX_PAYLOAD; the FX2
- * firmware takes 492, one USB packet less header and CRC). */
-struct sim_board;
-transport_t *transport_sim_open(const profile_t *p, size_t max_payload, char *err,
-                                size_t errlen);
-/* The simulated board behind a sim transport, for fault injection. */
-struct sim_board *transport_sim_board(transport_t *t);
+/* A transport of the caller's own (a simulated board, a network link):
+ * allocate an alb_transport, set ops (and impl, max_payload), and hand it to
+ * alb_stream_run; ops->close frees it.  firmware/sim/transport.c is one. */
 
 /* Faults on the link, for tests: a wrapper around any transport.  Every n
  * counts from 1; "packet" is a whole write call, so the n-th packet sent has
  * sequence number n - 1 (the first is the RESET).  A kind that can strike
- * more than once takes up to TR_FAULTS_EACH n, in any order, 0 marking an
+ * more than once takes up to ALB_TR_FAULTS_EACH n, in any order, 0 marking an
  * unused entry; the board falls silent and the device vanishes only once. */
-#define TR_FAULTS_EACH 8
+#define ALB_TR_FAULTS_EACH 8
 typedef struct {
-    uint64_t corrupt_byte[TR_FAULTS_EACH];     /* flip a bit in the n-th byte sent */
-    uint64_t drop_packet[TR_FAULTS_EACH];      /* drop the n-th packet sent */
-    uint64_t truncate_packet[TR_FAULTS_EACH];  /* send only the first half of the n-th packet */
-    uint64_t duplicate_packet[TR_FAULTS_EACH]; /* send the n-th packet twice */
-    uint64_t swap_packet[TR_FAULTS_EACH];      /* send the n-th and (n+1)-th packets in reverse
+    uint64_t corrupt_byte[ALB_TR_FAULTS_EACH];     /* flip a bit in the n-th byte sent */
+    uint64_t drop_packet[ALB_TR_FAULTS_EACH];      /* drop the n-th packet sent */
+    uint64_t truncate_packet[ALB_TR_FAULTS_EACH];  /* send only the first half of the n-th packet */
+    uint64_t duplicate_packet[ALB_TR_FAULTS_EACH]; /* send the n-th packet twice */
+    uint64_t swap_packet[ALB_TR_FAULTS_EACH];      /* send the n-th and (n+1)-th packets in reverse
                                                   order (not if the n-th is the packet sent
                                                   after one held back for a swap) */
-    uint64_t corrupt_reply[TR_FAULTS_EACH];    /* flip a bit in the n-th byte read */
+    uint64_t corrupt_reply[ALB_TR_FAULTS_EACH];    /* flip a bit in the n-th byte read */
     uint64_t silence_after;   /* the board stops answering after n bytes read (0: never) */
     uint64_t disconnect_after;/* the device vanishes after n bytes written (0: never) */
-} tr_faults;
-transport_t *transport_faulty(transport_t *inner, const tr_faults *f);
+} alb_tr_faults;
+alb_transport *alb_transport_faulty(alb_transport *inner, const alb_tr_faults *f);
+
+#pragma GCC visibility pop
 
 #endif
