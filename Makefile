@@ -26,7 +26,7 @@ ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -pthread -Iinclude $(WARN) $(FPF
              $(shell pkg-config --cflags $(PKGS)) $(EXR_CFLAGS)
 LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm -pthread $(EXTRA_LDLIBS)
 
-COMMON_SRC := common/diag.c common/file.c common/profile.c common/words.c
+COMMON_SRC := common/diag.c common/file.c common/profile.c common/words.c common/crmath.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
 VP_SRC     := vp/vp.c vp/fill.c vp/parallel.c vp/shade.c vp/frame.c
 SINK_SRC   := emu/exr.c emu/preview.c emu/sim.c emu/sim_timed.c emu/sim_cycle.c emu/vcd.c \
@@ -60,6 +60,9 @@ $(LIBALB_OBJ): EXTRA_CFLAGS += $(LIB_CFLAGS)
 # the firmware core (firmware/sim/).  The command links the static library,
 # so it can use the public API only.
 CLIENT_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TOOLS_SRC) $(FW_SRC))
+# The tools' generated scenes use the GP's correctly rounded maths
+# (common/crmath.c), which the static library keeps to itself: linked again.
+CLIENT_OBJ += $(BUILD)/common/crmath.o
 EMU_OBJ    := $(patsubst %.c,$(BUILD)/%.o,$(EMU_SRC))
 TEST_OBJ   := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 # tests, fuzz harnesses and benchmarks reach inside the units: every object

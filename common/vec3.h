@@ -4,6 +4,7 @@
 #define ALBATROS_VEC3_H
 
 #include "albatros/vec3.h"
+#include "crmath.h"
 
 #include <math.h>
 
@@ -76,13 +77,16 @@ static inline int m3_inverse_transpose(const mat3 *a, mat3 *r)
 
 /* Orientation from yaw (about y, toward +x), pitch (about x, toward +y) and
  * roll (about z, up toward +x), degrees; maps body axes to parent axes
- * (docs/scene-format.md, "Orientation"). */
+ * (docs/scene-format.md, "Orientation").  Each angle is reduced modulo 360
+ * exactly, then sin and cos are the correctly rounded ones of crmath.h, so
+ * the matrix does not depend on the C library (docs/number-formats.md §0). */
 static inline mat3 m3_orientation(double yaw_deg, double pitch_deg, double roll_deg)
 {
     const double k = VEC3_PI / 180;
-    double cy = cos(yaw_deg * k), sy = sin(yaw_deg * k);
-    double cp = cos(pitch_deg * k), sp = sin(pitch_deg * k);
-    double cr = cos(roll_deg * k), sr = sin(roll_deg * k);
+    double y = cr_deg_reduce(yaw_deg) * k, p = cr_deg_reduce(pitch_deg) * k,
+           r = cr_deg_reduce(roll_deg) * k;
+    double cy = cr_cos(y), sy = cr_sin(y), cp = cr_cos(p), sp = cr_sin(p);
+    double cr = cr_cos(r), sr = cr_sin(r);
     mat3 ry = {{{cy, 0, sy}, {0, 1, 0}, {-sy, 0, cy}}};
     mat3 rx = {{{1, 0, 0}, {0, cp, sp}, {0, -sp, cp}}};
     mat3 rz = {{{cr, sr, 0}, {-sr, cr, 0}, {0, 0, 1}}};
