@@ -310,13 +310,16 @@ static double fx_div_round(const fx *a, uint64_t ea, const fx *b, uint64_t eb)
             q[(unsigned)i / 32] |= 1u << ((unsigned)i % 32);
         }
     }
-    /* relative error of a/b at most ea/a + eb/b (to first order; the
-     * factor 2 covers the second order and the doubles' own rounding) */
-    double ad = big_to_double(a->w, n + 1, 0, false), bd = big_to_double(b->w, n + 1, 0, false);
-    double qd = big_to_double(q, nl, 0, false);
-    double eq = 2 * qd * ((double)ea / ad + (double)eb / bd) + 2;
-    if (!(eq < qd / 4))
+    /* relative error of a/b at most (ea/a + eb/b) ulp (to first order; the
+     * factor 2 covers the second order and the doubles' own rounding),
+     * computed on values scaled to about 1 so that no double overflows */
+    int ulp = -32 * (int)n;
+    double ad = big_to_double(a->w, n + 1, ulp, false), bd = big_to_double(b->w, n + 1, ulp, false);
+    double qd = big_to_double(q, nl, -(int)sh, false);
+    double rel = 2 * ((double)ea / ad + (double)eb / bd);   /* in ulps */
+    if (!(ldexp(rel, ulp) < 0.125))
         return NAN;               /* not even the leading bits are known */
+    double eq = ldexp(qd * rel, (int)sh + ulp) + 2;          /* in units of Q */
     /* E = eq rounded up to an integer of at most 53 significant bits */
     int ee;
     uint64_t em = (uint64_t)ldexp(frexp(eq, &ee), 53) + 1;

@@ -94,4 +94,20 @@ static inline mat3 m3_orientation(double yaw_deg, double pitch_deg, double roll_
     return m3_mul(&t, &rz);
 }
 
+/* The orientation of an eye at `eye` looking toward `at` with `up` up (its
+ * body axes in the parent frame, as m3_orientation's columns): z the unit
+ * view direction, x = up x z normalised (right, in this left-handed frame),
+ * y = z x x.  Square roots only: no angle, no C library function but the
+ * correctly rounded sqrt. */
+static inline mat3 m3_look_at(vec3 eye, vec3 at, vec3 up)
+{
+    vec3 z = v3_sub(at, eye);
+    z = v3_scale(z, 1 / v3_len(z));
+    vec3 x = v3_cross(up, z);
+    x = v3_scale(x, 1 / v3_len(x));
+    vec3 y = v3_cross(z, x);
+    mat3 m = {{{x.x, y.x, z.x}, {x.y, y.y, z.y}, {x.z, y.z, z.z}}};
+    return m;
+}
+
 #endif

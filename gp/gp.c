@@ -238,7 +238,8 @@ static mat3 observer_part(const alb_gp *gp, const alb_scene_observer *ob)
 {
     double aspect = ob->aspect > 0 ? ob->aspect : (double)gp->prof.width / gp->prof.height;
     double sy = 1 / cr_tan(ob->fov_y * VEC3_PI / 360), sx = sy / aspect;
-    mat3 o = m3_orientation(ob->pose.yaw, ob->pose.pitch, ob->pose.roll);
+    mat3 o = ob->look_at ? m3_look_at(ob->pose.pos, ob->at, ob->up)
+                         : m3_orientation(ob->pose.yaw, ob->pose.pitch, ob->pose.roll);
     mat3 v = m3_transpose(&o);
     mat3 s = {{{sx, 0, 0}, {0, sy, 0}, {0, 0, 1}}};
     return m3_mul(&s, &v);

@@ -201,10 +201,15 @@ TEST(obj_camera_orientation)
         return;
     }
     const alb_scene_observer *o = &s.frames[0].obs;
-    mat3 m = m3_orientation(o->pose.yaw, o->pose.pitch, o->pose.roll);
+    CHECK(o->look_at);
+    mat3 m = m3_look_at(o->pose.pos, o->at, o->up);
     vec3 f = m3_apply(&m, v3(0, 0, 1)), up = m3_apply(&m, v3(0, 1, 0));
+    vec3 right = m3_apply(&m, v3(1, 0, 0));
     CHECK_NEAR(f.x, -1, 1e-12);
     CHECK_NEAR(up.y, 1, 1e-12);
+    /* looking along scene -x with y up, the right hand is scene +z: OBJ -z,
+     * as forward x up = (-1,0,0) x (0,1,0) in the OBJ's right-handed frame */
+    CHECK_NEAR(right.z, 1, 1e-12);
     CHECK_NEAR(o->aspect, 2, 0);
     alb_scene_free(&s);
     /* the default OBJ eye (0, 0, 5) is scene (0, 0, -5) looking along +z */
@@ -214,7 +219,10 @@ TEST(obj_camera_orientation)
         return;
     }
     o = &s.frames[0].obs;
-    CHECK(fabs(o->pose.yaw) + fabs(o->pose.pitch) + fabs(o->pose.roll) < 1e-9);
+    m = m3_look_at(o->pose.pos, o->at, o->up);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            CHECK(m.m[i][j] == (i == j));   /* exactly the identity: no angle */
     CHECK_NEAR(o->pose.pos.z, -5, 0);
     alb_scene_free(&s);
     /* bad cameras are errors naming the option */
