@@ -316,9 +316,21 @@ static emit_result add_bound(const alb_gp *gp, alb_ws_face *wf, unsigned u, unsi
     return EMIT_OK;
 }
 
+/* The paper's rule (§7, code 20): at most two per face, because the sector
+ * differences around a convex polygon add up to 8 and each generating vertex
+ * takes 3 or 4.  A face that is not strictly convex on the screen — a vertex
+ * turning back within the scene parser's tolerance, or a straight vertex
+ * whose two edges rounding puts on either side of a sector border — steps
+ * back a sector (a difference of 7) and can then generate at three or more.
+ * The GP keeps the rule as a guarantee: the first two generating vertices in
+ * vertex order get bounding edges, later ones none (bound_excess counts
+ * them).  Bounding edges only bound, so this changes no covered sample. */
+#define BOUND_PER_FACE 2
+
 static emit_result bound_albatros(const alb_gp *gp, alb_ws_face *wf, const vec3 *p,
                                   const gp_line *lines, unsigned n, alb_gp_stats *st)
 {
+    unsigned generated = 0;
     for (unsigned k = 0; k < n; k++) {
         const gp_line *e1 = &lines[(k + n - 1) % n], *e2 = &lines[k];
         /* the vertex between edge k-1 and edge k must have a screen image */
@@ -328,6 +340,11 @@ static emit_result bound_albatros(const alb_gp *gp, alb_ws_face *wf, const vec3 
         unsigned rom = gp_bound_rom[code];
         if (!(rom & BOUND_ROM_GEN))
             continue;
+        if (generated == BOUND_PER_FACE) {
+            st->bound_excess++;
+            continue;
+        }
+        generated++;
         unsigned u = (rom & BOUND_ROM_U) != 0, r = rom & BOUND_ROM_R;
         double v = u ? p[k].x / p[k].z : p[k].y / p[k].z;
         if (add_bound(gp, wf, u, r, v, st) == EMIT_DROP_FACE)
@@ -572,6 +589,7 @@ void alb_gp_stats_add(alb_gp_stats *sum, const alb_gp_stats *s)
     ADD(faces_in); ADD(faces_out); ADD(faces_behind); ADD(faces_backfacing);
     ADD(faces_edge_on); ADD(faces_offscreen); ADD(edges_out); ADD(edges_behind);
     ADD(edges_degenerate); ADD(edges_offscreen); ADD(bound_added); ADD(bound_culled);
+    ADD(bound_excess);
     ADD(coef_saturated); ADD(words);
 #undef ADD
 }

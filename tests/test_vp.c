@@ -164,3 +164,40 @@ TEST(random_scenes_agree_with_reference)
         fprintf(stderr, "# %s: %zu pixels, %zu differ\n", accuracy_class_name(c),
                 total.in_class[c], total.diff_in_class[c]);
 }
+
+/* docs/vp.md §4: a back face crossing Z = 0, sent under backface=0, is not
+ * an empty half-plane system: its edges (two dropped behind the eye) cover
+ * the mirror image of its part behind the observer, where its depth form N
+ * is <= 0, and the depth unit stores nothing there.  The floor of this scene
+ * covers the top of the screen and writes no sample; the wall drawn after it
+ * shows through (test-vectors/backface-crossing-z0 pins the frame). */
+TEST(back_face_across_z0_covers_but_writes_nothing)
+{
+    static const char floor_only[] =
+        "albatros-scene 1\nobserver fov 70\nobject floor\n v -6 -1 -8\n v 6 -1 -8\n v 6 -1 12\n"
+        " v -6 -1 12\n f 4 3 2 1\nend\n";
+    alb_frame fr;
+    alb_vp_stats st;
+    char err[300];
+    if (render_text(floor_only, "a256", "backface=0", &fr, &st, NULL, err, sizeof err)) {
+        CHECK_MSG(0, "%s", err);
+        return;
+    }
+    CHECK_EQ(st.faces, 1);
+    CHECK_MSG(st.samples_covered > 256 * 256 / 4, "%llu samples covered",
+              (unsigned long long)st.samples_covered);
+    CHECK_EQ(st.samples_written, 0);
+    CHECK_EQ(st.depth_underflow, 0);   /* N <= 0 is no surface, not a far one */
+    size_t drawn = 0;
+    for (size_t i = 0; i < (size_t)fr.width * fr.height; i++)
+        drawn += fr.face[i] != ALB_FRAME_NO_FACE;
+    CHECK_EQ(drawn, 0);
+    alb_frame_free(&fr);
+    /* with backface=1 the GP drops it */
+    if (render_text(floor_only, "a256", "backface=1", &fr, &st, NULL, err, sizeof err)) {
+        CHECK_MSG(0, "%s", err);
+        return;
+    }
+    CHECK(st.faces == 0 && st.samples_covered == 0);
+    alb_frame_free(&fr);
+}
