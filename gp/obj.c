@@ -233,6 +233,8 @@ typedef struct {
     unsigned *poly;          /* vertex indices of the face being read */
     unsigned cap_poly;
     unsigned ndegenerate, first_degenerate;
+    unsigned fnum;           /* the 'f' statement being imported, from 0: the id of
+                                every face made of it (docs/vp.md §7) */
     alb_diag chk;              /* why the last alb_scene_check_face failed */
 } importer;
 
@@ -530,8 +532,10 @@ static alb_err face_ref(importer *im, reader *r, const otok *t, unsigned *out)
 
 /* ---- faces: geometry ---- */
 
-/* Append a face and check it; one that fails is taken back out again, so
- * that face ids stay consecutive.  *ok says which. */
+/* Append a face and check it; one that fails is taken back out again.  Its
+ * id is its 'f' statement's number, not its place among the faces made: the
+ * triangles of a split polygon share their polygon's, and a skipped face
+ * moves no later one, so face.id is the OBJ's face order.  *ok says which. */
 static alb_err emit_face(importer *im, const unsigned *vi, unsigned n, bool *ok)
 {
     alb_scene *s = im->s;
@@ -539,6 +543,7 @@ static alb_err emit_face(importer *im, const unsigned *vi, unsigned n, bool *ok)
     alb_scene_face *f = alb_scene_add_face(s, o, vi, n);
     if (!f)
         return ALB_ERR_NOMEM;
+    f->id = im->fnum;
     f->line = im->line;
     f->col = im->col;
     if (im->cur_mat >= 0)
@@ -882,7 +887,9 @@ static alb_err st_f(importer *im, reader *r, unsigned col)
     if (n < 3)
         return rerr(r, r->end_col, "a face needs at least 3 vertices, found %u", n);
     im->col = col;
-    return add_polygon(im, n);
+    e = add_polygon(im, n);
+    im->fnum++;
+    return e;
 }
 
 /* ---- statements ---- */

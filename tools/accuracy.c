@@ -228,7 +228,6 @@ int accuracy_of_scene(const alb_scene *s, const alb_profile *p, accuracy *acc, a
     alb_ws_buf_init(&b);
     accuracy one;
     accuracy_init(&one);
-    one.scenes = 1;
     measure_ctx m = {s, p, &b, &one, 0};
     alb_err e = alb_gp_create(&gp, s, p, d);
     if (!e)
@@ -242,6 +241,7 @@ int accuracy_of_scene(const alb_scene *s, const alb_profile *p, accuracy *acc, a
     alb_vp_destroy(vp);
     alb_gp_destroy(gp);
     alb_ws_buf_free(&b);
+    one.scenes = 1;   /* its frames' first differences are of scene 0 of one */
     if (!e)
         accuracy_add(acc, &one);
     return e ? -1 : 0;
