@@ -103,6 +103,11 @@ static int apply_override(run_opts *o, bool is_size, const char *value, char *er
 {
     if (is_size)
         return parse_size(o, value, err, len);
+    if (!strncmp(value, "near=", 5)) {
+        snprintf(err, len, "--set %s: near is the scene's depth scale, not a profile field: use "
+                 "--near %s", value, value + 5);
+        return -1;
+    }
     char msg[300];
     if (alb_profile_set(&o->prof, value, msg, sizeof msg)) {
         snprintf(err, len, "--set %s", msg);

@@ -80,6 +80,7 @@ out=$("$bin" render "$tmp/near.obj" --profile a256 -o "$tmp/near.exr" --near 0.0
 expect 2 "--near 0: expected a distance in 1\.17549e-38 \.\. 3\.40282e\+38" "$bin" gp "$tmp/near.obj" --near 0
 expect 2 "--near 1e40: expected a distance" "$bin" render "$tmp/near.obj" --near 1e40 -o "$tmp/x.exr"
 expect 2 "--near x: expected a distance" "$bin" accuracy "$tmp/near.obj" --near x
+expect 2 "--set near=0.5: near is the scene's depth scale, not a profile field: use --near 0.5" "$bin" gp "$tmp/near.obj" --set near=0.5
 # --near replaces a scene's near too: the stream's CONFIG word holds it
 "$bin" gp "$tmp/tie.scene" --near 0.25 -o "$tmp/n25.stream" >/dev/null 2>&1
 expect 0 "near=0\.25" "$bin" dump "$tmp/n25.stream"

@@ -67,6 +67,19 @@ expect 1 "frame 0 differs at pixel \([0-9]+, [0-9]+\): vp.R expected 200, got 10
 echo "flipped on purpose" > "$tmp/v/tri/KNOWN-FAILURE"
 expect 0 "known failure tri" "$bin" vectors check "$tmp/v"
 expect 1 "no vector named 'zzz'" "$bin" vectors check "$tmp/v" zzz
+rm "$tmp/v/tri/KNOWN-FAILURE"
+"$bin" vectors bless "$tmp/v" >/dev/null
+# frames by digest (what the musl build of make crosscheck checks with): the
+# digests of the expected EXR files, a frame that differs, a broken file
+"$bin" vectors digest "$tmp/v" > "$tmp/dg" && grep -qE '^tri 0 [0-9a-f]{8}$' "$tmp/dg" && ok || bad "vectors digest: $(cat "$tmp/dg")"
+expect 0 "1 passed, 0 failed" "$bin" vectors check --digests "$tmp/dg" "$tmp/v"
+sed 's/ [0-9a-f]*$/ 0badf00d/' "$tmp/dg" > "$tmp/dg-bad"
+expect 1 "FAIL tri: frame 0 differs: digest [0-9a-f]{8}, expected 0badf00d" "$bin" vectors check --digests "$tmp/dg-bad" "$tmp/v"
+printf 'tri zero\n' > "$tmp/dg-bad"
+expect 2 "dg-bad:1: expected NAME FRAME DIGEST" "$bin" vectors check --digests "$tmp/dg-bad" "$tmp/v"
+: > "$tmp/dg-bad"
+expect 1 "has no digest for frame 0" "$bin" vectors check --digests "$tmp/dg-bad" "$tmp/v"
+expect 2 "--diff-dir and --digests are for check only" "$bin" vectors bless --digests "$tmp/dg" "$tmp/v"
 
 # render, vp replay, reference, compare
 printf 'albatros-scene 1\nobserver fov 90\nobject t\n v -1 -1 5\n v 1 -1 5\n v 0 1 5\n f 1 2 3\nend\n' > "$tmp/t.scene"
