@@ -735,7 +735,8 @@ int cmd_vectors(int argc, char **argv)
         goto done;
     }
     if (act != ACT_CHECK && (a.diff_dir_given || a.digests)) {
-        fprintf(stderr, "albatros vectors: --diff-dir and --digests are for check only\n");
+        fprintf(stderr, "albatros vectors: %s is for check only\n",
+                a.diff_dir_given ? "--diff-dir" : "--digests");
         goto done;
     }
 #ifdef ALB_NO_EXTERNAL

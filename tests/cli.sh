@@ -79,7 +79,7 @@ printf 'tri zero\n' > "$tmp/dg-bad"
 expect 2 "dg-bad:1: expected NAME FRAME DIGEST" "$bin" vectors check --digests "$tmp/dg-bad" "$tmp/v"
 : > "$tmp/dg-bad"
 expect 1 "has no digest for frame 0" "$bin" vectors check --digests "$tmp/dg-bad" "$tmp/v"
-expect 2 "--diff-dir and --digests are for check only" "$bin" vectors bless --digests "$tmp/dg" "$tmp/v"
+expect 2 "--digests is for check only" "$bin" vectors bless --digests "$tmp/dg" "$tmp/v"
 
 # render, vp replay, reference, compare
 printf 'albatros-scene 1\nobserver fov 90\nobject t\n v -1 -1 5\n v 1 -1 5\n v 0 1 5\n f 1 2 3\nend\n' > "$tmp/t.scene"
