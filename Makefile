@@ -68,6 +68,11 @@ LIB_OBJ    := $(sort $(LIBALB_OBJ) $(CLIENT_OBJ))
 ALBATROS := $(BUILD)/albatros
 UNIT     := $(BUILD)/tests/unit
 USB_DESC := $(BUILD)/tests/usb_descriptors
+# the board on an emulated USB bus (umockdev) and its permission shim
+USB_BOARD := $(BUILD)/tests/usb_board
+USB_SHIM  := $(BUILD)/tests/usb_access.so
+UMOCKDEV_CFLAGS = $(shell pkg-config --cflags umockdev-1.0)
+UMOCKDEV_LIBS   = $(shell pkg-config --libs umockdev-1.0)
 
 # the FX2LP firmware (sdcc): make firmware, make firmware-size
 include firmware/fx2/fx2.mk
@@ -80,7 +85,7 @@ BENCH    := $(BUILD)/tools/bench
 include fuzz/fuzz.mk
 
 # the replay harnesses too, so a warning in them fails CI's -Werror build
-all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(REPLAYS)
+all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(USB_BOARD) $(USB_SHIM) $(REPLAYS)
 
 help:
 	@echo "make            build $(ALBATROS) and the tests"
@@ -102,7 +107,7 @@ help:
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev gnuplot-nox sdcc umockdev
+            libhidapi-dev gnuplot-nox sdcc umockdev libumockdev-dev
 setup: deps
 	$(MAKE) all
 deps:
@@ -159,12 +164,22 @@ $(USB_DESC): tests/usb_descriptors.c firmware/fx2/descriptors.c firmware/fx2/usb
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -D__xdata= tests/usb_descriptors.c firmware/fx2/descriptors.c -o $@ $(EXTRA_LDLIBS)
 
+# umockdev's API is GObject: the board links glib, nothing else does
+$(USB_BOARD): tests/usb_board.c firmware/fx2/descriptors.c firmware/fx2/usb.h $(LIB_OBJ)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(UMOCKDEV_CFLAGS) -D__xdata= tests/usb_board.c firmware/fx2/descriptors.c \
+	  $(LIB_OBJ) $(LDLIBS) $(UMOCKDEV_LIBS) -o $@
+
+$(USB_SHIM): tests/usb_access.c
+	@mkdir -p $(dir $@)
+	$(CC) -std=c11 $(WARN) $(CFLAGS) $(EXTRA_CFLAGS) -fPIC -shared $< -o $@ -ldl
+
 $(UNIT): $(TEST_OBJ) $(LIB_OBJ)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 # ---- tests: every runner prints "N passed, N failed"; tests/summary adds them ----
-test: $(ALBATROS) $(UNIT) $(REPLAYS) $(USB_DESC)
+test: $(ALBATROS) $(UNIT) $(REPLAYS) $(USB_DESC) $(USB_BOARD) $(USB_SHIM)
 	@bash tests/run-all.sh $(BUILD)
 
 unit: $(UNIT)
