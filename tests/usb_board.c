@@ -21,6 +21,7 @@
  * gaps are filled (the node's readiness, permissions). */
 #include "../firmware/fx2/usb.h"
 #include "../firmware/sim/board.h"
+#include "albatros/exr.h"
 #include "albatros/link.h"
 #include "albatros/profile.h"
 
@@ -148,9 +149,9 @@ typedef struct {
     alb_profile prof;
     unsigned mps_override, payload, bus_mbps, timeout_s;
     bool full_speed, hidraw, no_zlp, in_zlp, close_race, old_caps;
-    long hid_delay_ms, acl_delay_ms, hid_short, nak_ms, replug_ms, sigint_ms;
+    long hid_delay_ms, acl_delay_ms, hid_short, nak_ms, replug_ms, sigint_ms, flip;
     uint64_t nak_after, stall_out, stall_in, unplug_after;
-    const char *results_path, *shim;
+    const char *results_path, *shim, *golden;
     char **cmd;
     /* the bus */
     UMockdevTestbed *tb;
@@ -181,6 +182,12 @@ typedef struct {
     unsigned violations;
     FILE *results;
     alb_link_rx rx;
+    /* the last RESULT of each frame the board sent (--golden) */
+    struct seen {
+        uint32_t frame, crc;
+        uint64_t cycles;
+    } seen[256];
+    unsigned nseen;
 } mock;
 
 static double now_s(void)
@@ -244,17 +251,27 @@ static void update_ready(mock *m)
 
 static void record_results(mock *m, const uint8_t *data, size_t len)
 {
-    if (!m->results || alb_link_rx_feed(&m->rx, data, len))
+    if ((!m->results && !m->golden) || alb_link_rx_feed(&m->rx, data, len))
         return;
     alb_link_packet p;
-    while (alb_link_rx_next(&m->rx, &p) == 1)
-        if (p.type == PROTO_T_RESULT && p.len >= PROTO_RESULT_BYTES)
-            fprintf(m->results, "frame=%u crc=%08x cycles=%llu\n",
-                    PROTO_GET32(p.payload + PROTO_RESULT_FRAME),
-                    PROTO_GET32(p.payload + PROTO_RESULT_CRC),
-                    (unsigned long long)(PROTO_GET32(p.payload + PROTO_RESULT_CYC_LO) |
-                                         (uint64_t)PROTO_GET32(p.payload + PROTO_RESULT_CYC_HI)
-                                             << 32));
+    while (alb_link_rx_next(&m->rx, &p) == 1) {
+        if (p.type != PROTO_T_RESULT || p.len < PROTO_RESULT_BYTES)
+            continue;
+        struct seen r = {PROTO_GET32(p.payload + PROTO_RESULT_FRAME),
+                         PROTO_GET32(p.payload + PROTO_RESULT_CRC),
+                         PROTO_GET32(p.payload + PROTO_RESULT_CYC_LO) |
+                             (uint64_t)PROTO_GET32(p.payload + PROTO_RESULT_CYC_HI) << 32};
+        if (m->results)
+            fprintf(m->results, "frame=%u crc=%08x cycles=%llu\n", r.frame, r.crc,
+                    (unsigned long long)r.cycles);
+        unsigned i = 0;
+        while (i < m->nseen && m->seen[i].frame != r.frame)
+            i++;
+        if (i < sizeof m->seen / sizeof *m->seen) {
+            m->seen[i] = r;   /* a frame sent again after a replug: its last word */
+            m->nseen += i == m->nseen;
+        }
+    }
 }
 
 static void tx_push(mock *m, const uint8_t *data, unsigned len)
@@ -297,6 +314,8 @@ static void board_commit(mock *m)
             if (plen >= PROTO_HEADER &&
                 PROTO_HEADER + PROTO_GET32(buf + at + PROTO_OFF_LEN) + PROTO_TRAILER <= plen)
                 plen = PROTO_HEADER + PROTO_GET32(buf + at + PROTO_OFF_LEN) + PROTO_TRAILER;
+            if (m->close_race && plen > PROTO_OFF_TYPE && buf[at + PROTO_OFF_TYPE] == PROTO_T_STATUS)
+                m->race_armed = true;   /* the stream's closing PING is answered */
             for (size_t k = 0; k < plen; k += m->mps)
                 tx_push(m, buf + at + k, (unsigned)(plen - k < m->mps ? plen - k : m->mps));
             if (plen % m->mps == 0 && !m->no_zlp)
@@ -691,6 +710,7 @@ static int discard(mock *m, client *c, unsigned long addr)
                     /* --close-race: the board answers into the next IN URB
                      * just as the host starts cancelling them */
                     m->race_done = true;
+                    fprintf(stderr, "usb_board: answering into an IN URB as the host cancels\n");
                     urb *v = u->next;
                     uint8_t p[PROTO_HEADER + PROTO_TRAILER];
                     size_t n = alb_link_encode(p, PROTO_T_STATUS, 0, NULL, 0);
@@ -966,9 +986,11 @@ static void add_hid(mock *m)
              "E: SUBSYSTEM=hid\nE: DRIVER=hid-generic\nE: HID_ID=0003:00001209:00000001\n"
              "E: HID_NAME=%s %s\nE: HID_UNIQ=%s\nH: report_descriptor=%s\n\n"
              "P: /devices/pci0000:00/0000:00:14.0/usb1/1-1/1-1:1.1/0003:1209:0001.0001/hidraw/hidraw0\n"
-             "N: hidraw0\nE: DEVNAME=/dev/hidraw0\nE: SUBSYSTEM=hidraw\nE: MAJOR=241\nE: MINOR=0\n"
+             "N: hidraw0=00\nE: DEVNAME=/dev/hidraw0\nE: SUBSYSTEM=hidraw\nE: MAJOR=241\nE: MINOR=0\n"
              "A: dev=241:0\nL: device=../../../0003:1209:0001.0001\n",
              desc_string_text[0], desc_string_text[1], SERIAL, rd);
+    /* a plain file as the node ("=00"), not umockdev's pty, which could not
+     * be created again after a replug: only ioctls reach it */
     add(m, text);
     if (!m->hid_attached) {
         GError *err = NULL;
@@ -1034,9 +1056,11 @@ static void remove_from_testbed(mock *m)
 {
     const char *paths[] = {SYSFS_HID "/hidraw/hidraw0", SYSFS_HID, SYSFS_USB "/1-1:1.1",
                            SYSFS_USB "/1-1:1.0", SYSFS_USB};
-    for (unsigned i = m->hid_added ? 0 : 2; i < 5; i++)
+    /* children first: remove_device takes each one's bus and class links */
+    for (unsigned i = m->hid_added ? 0 : 2; i < 5; i++) {
         umockdev_testbed_uevent(m->tb, paths[i], "remove");
-    umockdev_testbed_remove_device(m->tb, SYSFS_USB);
+        umockdev_testbed_remove_device(m->tb, paths[i]);
+    }
     m->removed = true;
     m->present = false;
 }
@@ -1052,6 +1076,8 @@ static void new_board(mock *m)
         die("%s", err);
     if (m->payload)
         sim_board_set_max_payload(m->board, (uint16_t)m->payload);
+    if (m->flip >= 0)   /* a faulty VP: the host and --golden must both notice */
+        sim_board_flip(m->board, (uint32_t)m->flip, 5, 7, 1, 0);
 }
 
 /* ---- the main loop: scripted events, the paced bus, the command ---- */
@@ -1142,6 +1168,52 @@ static void summary(mock *m)
             m->violations);
 }
 
+/* --golden DIR: what the board sent over the emulated bus against the
+ * golden vector's own files, not the host's emulator: each frame's cycles
+ * as expected.cycles has them, its CRC that of expected.NNNN.exr's exact
+ * frame store (vp.R, vp.G, vp.B).  Returns the frames that differ or were
+ * never reported. */
+static unsigned golden(const mock *m, const char *dir)
+{
+    char path[1024], line[512];
+    snprintf(path, sizeof path, "%s/expected.cycles", dir);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        die("%s: %s", path, strerror(errno));
+    unsigned frames = 0, bad = 0;
+    while (fgets(line, sizeof line, f)) {
+        unsigned frame;
+        unsigned long long cycles;
+        if (sscanf(line, "frame=%u cycles=%llu", &frame, &cycles) != 2)
+            continue;
+        frames++;
+        snprintf(path, sizeof path, "%s/expected.%04u.exr", dir, frame);
+        alb_frame fr;
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        if (alb_exr_read_frame(path, &fr, &d))
+            die("%s: %s", path, d.msg);
+        uint32_t crc = alb_link_frame_crc(fr.rgb, (size_t)fr.width * fr.height);
+        alb_frame_free(&fr);
+        const struct seen *r = NULL;
+        for (unsigned i = 0; i < m->nseen; i++)
+            if (m->seen[i].frame == frame)
+                r = &m->seen[i];
+        if (!r || r->crc != crc || r->cycles != cycles) {
+            bad++;
+            fprintf(stderr, "usb_board: GOLDEN MISMATCH: frame %u: %s%08x, %llu cycles; %s has "
+                    "%08x, %llu cycles\n", frame, r ? "the board sent CRC " : "never reported; ",
+                    r ? r->crc : 0, r ? (unsigned long long)r->cycles : 0, dir, crc, cycles);
+        }
+    }
+    fclose(f);
+    if (!frames)
+        die("%s/expected.cycles: no frame=N cycles=C lines", dir);
+    fprintf(stderr, "usb_board: golden: %u of %u frames as %s has them (CRC of the frame store, "
+            "cycles)\n", frames - bad, frames, dir);
+    return bad;
+}
+
 static void usage(void)
 {
     fprintf(stderr,
@@ -1162,6 +1234,8 @@ static void usage(void)
             "  --old-caps          usbfs without NO_PACKET_SIZE_LIM (libusb splits transfers)\n"
             "  --bus-mbps N        pace bulk OUT at N MB/s\n"
             "  --results FILE      each RESULT the board sends, a line\n"
+            "  --golden DIR        check the RESULTs against a golden vector's files\n"
+            "  --flip F            the board's VP gets one bit of frame F wrong\n"
             "  --shim SO           LD_PRELOAD'ed in front of umockdev's into the command\n"
             "  --timeout S         kill the command after S seconds (default 60)\n");
     exit(125);
@@ -1189,7 +1263,7 @@ static void parse(mock *m, int argc, char **argv)
 {
     alb_profile_lookup("a256", &m->prof);
     m->hidraw = true;
-    m->hid_short = m->sigint_ms = m->replug_ms = -1;
+    m->hid_short = m->sigint_ms = m->replug_ms = m->flip = -1;
     m->timeout_s = 60;
     int i = 1;
     for (; i < argc && strcmp(argv[i], "--"); i++) {
@@ -1226,6 +1300,8 @@ static void parse(mock *m, int argc, char **argv)
         else if (!strcmp(o, "--unplug-after")) pair(v, &m->unplug_after, &m->replug_ms);
         else if (!strcmp(o, "--bus-mbps")) m->bus_mbps = (unsigned)num(v);
         else if (!strcmp(o, "--results")) m->results_path = v;
+        else if (!strcmp(o, "--golden")) m->golden = v;
+        else if (!strcmp(o, "--flip")) m->flip = num(v);
         else if (!strcmp(o, "--shim")) m->shim = v;
         else if (!strcmp(o, "--timeout")) m->timeout_s = (unsigned)num(v);
         else usage();
@@ -1297,8 +1373,9 @@ int main(int argc, char **argv)
     }
     g_mutex_lock(&m->lock);
     summary(m);
+    unsigned bad = m->golden ? golden(m, m->golden) : 0;
     g_mutex_unlock(&m->lock);
     if (m->results)
         fclose(m->results);
-    return rc;
+    return rc ? rc : bad ? 1 : 0;
 }
