@@ -71,6 +71,7 @@ USB_DESC := $(BUILD)/tests/usb_descriptors
 # the board on an emulated USB bus (umockdev) and its permission shim
 USB_BOARD := $(BUILD)/tests/usb_board
 USB_SHIM  := $(BUILD)/tests/usb_access.so
+USB_ROGUE := $(BUILD)/tests/usb_rogue
 UMOCKDEV_CFLAGS = $(shell pkg-config --cflags umockdev-1.0)
 UMOCKDEV_LIBS   = $(shell pkg-config --libs umockdev-1.0)
 
@@ -85,7 +86,7 @@ BENCH    := $(BUILD)/tools/bench
 include fuzz/fuzz.mk
 
 # the replay harnesses too, so a warning in them fails CI's -Werror build
-all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(USB_BOARD) $(USB_SHIM) $(REPLAYS)
+all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(USB_BOARD) $(USB_SHIM) $(USB_ROGUE) $(REPLAYS)
 
 help:
 	@echo "make            build $(ALBATROS) and the tests"
@@ -170,6 +171,11 @@ $(USB_BOARD): tests/usb_board.c firmware/fx2/descriptors.c firmware/fx2/usb.h $(
 	$(CC) $(ALL_CFLAGS) $(UMOCKDEV_CFLAGS) -D__xdata= tests/usb_board.c firmware/fx2/descriptors.c \
 	  $(LIB_OBJ) $(LDLIBS) $(UMOCKDEV_LIBS) -o $@
 
+# a host that breaks the board's rules on purpose: each check of usb_board fires
+$(USB_ROGUE): tests/usb_rogue.c
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $< -o $@ $(shell pkg-config --libs libusb-1.0) $(EXTRA_LDLIBS)
+
 $(USB_SHIM): tests/usb_access.c
 	@mkdir -p $(dir $@)
 	$(CC) -std=c11 $(WARN) $(CFLAGS) $(EXTRA_CFLAGS) -fPIC -shared $< -o $@ -ldl
@@ -179,7 +185,7 @@ $(UNIT): $(TEST_OBJ) $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 # ---- tests: every runner prints "N passed, N failed"; tests/summary adds them ----
-test: $(ALBATROS) $(UNIT) $(REPLAYS) $(USB_DESC) $(USB_BOARD) $(USB_SHIM)
+test: $(ALBATROS) $(UNIT) $(REPLAYS) $(USB_DESC) $(USB_BOARD) $(USB_SHIM) $(USB_ROGUE)
 	@bash tests/run-all.sh $(BUILD)
 
 unit: $(UNIT)

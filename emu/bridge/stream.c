@@ -532,9 +532,8 @@ static void start(streamer *s, alb_transport *t, const alb_stream_opts *o, alb_s
 static void reattach(streamer *s, size_t preamble)
 {
     s->gone = false;
-    s->r->reattaches++;
     note(s, "the board disconnected: waiting for it to come back (%u of at most %u)",
-         s->r->reattaches, s->o->reattach_max);
+         s->r->reattaches + 1, s->o->reattach_max);
     char err[600] = "";
     s->t = s->o->reattach(s->o->reattach_ctx, s->t, err, sizeof err);
     if (!s->t) {
@@ -542,6 +541,7 @@ static void reattach(streamer *s, size_t preamble)
         s->failed = true;
         return;
     }
+    s->r->reattaches++;   /* counted once it is back: the report says "came back" */
     /* what the old link left half-read is not the new board's */
     s->rx.start = s->rx.len = 0;
     s->rx.have_seq = false;
