@@ -72,6 +72,7 @@ USB_DESC := $(BUILD)/tests/usb_descriptors
 USB_BOARD := $(BUILD)/tests/usb_board
 USB_SHIM  := $(BUILD)/tests/usb_access.so
 USB_ROGUE := $(BUILD)/tests/usb_rogue
+USB_BENCH := $(BUILD)/tests/usb_bench
 UMOCKDEV_CFLAGS = $(shell pkg-config --cflags umockdev-1.0)
 UMOCKDEV_LIBS   = $(shell pkg-config --libs umockdev-1.0)
 
@@ -81,12 +82,13 @@ include firmware/fx2/fx2.mk
 COST     := $(BUILD)/tools/cost
 BENCH    := $(BUILD)/tools/bench
 
-.PHONY: all test unit vectors bless asan memcheck bench demo setup deps clean help crosscheck sweep
+.PHONY: all test unit vectors bless asan memcheck bench demo setup deps clean help crosscheck sweep \
+        usb-bench
 # libFuzzer harnesses and their replay over the seeds and regressions
 include fuzz/fuzz.mk
 
 # the replay harnesses too, so a warning in them fails CI's -Werror build
-all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(USB_BOARD) $(USB_SHIM) $(USB_ROGUE) $(REPLAYS)
+all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(USB_BOARD) $(USB_SHIM) $(USB_ROGUE) $(USB_BENCH) $(REPLAYS)
 
 help:
 	@echo "make            build $(ALBATROS) and the tests"
@@ -98,6 +100,7 @@ help:
 	@echo "make asan       build and test under AddressSanitizer + UBSan"
 	@echo "make memcheck   the tests under valgrind memcheck (slow)"
 	@echo "make bench      print speed and work figures (docs/performance.md)"
+	@echo "make usb-bench  USB bulk throughput through libusb on the emulated bus"
 	@echo "make crosscheck the golden vectors from gcc -O0 and clang -O3 builds"
 	@echo "make -j sweep   the stability and speed sweeps, report in docs/stability/"
 	@echo "make fuzz-TARGET [FUZZ_TIME=600]  fuzz one input path (clang + libFuzzer):"
@@ -176,6 +179,10 @@ $(USB_ROGUE): tests/usb_rogue.c
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $< -o $@ $(shell pkg-config --libs libusb-1.0) $(EXTRA_LDLIBS)
 
+# bulk throughput through libusb, a client of the public API (make usb-bench)
+$(USB_BENCH): $(BUILD)/tests/usb_bench.o $(LIBALB_A)
+	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
+
 $(USB_SHIM): tests/usb_access.c
 	@mkdir -p $(dir $@)
 	$(CC) -std=c11 $(WARN) $(CFLAGS) $(EXTRA_CFLAGS) -fPIC -shared $< -o $@ -ldl
@@ -238,6 +245,11 @@ $(SWEEP_DIR)/speed.csv: $(SWEEP_CSV) $(ALBATROS) sweep-always
 bench: $(COST) $(BENCH)
 	$(BENCH)
 	$(COST)
+
+# MB/s through libusb against transfers in flight and their size, on the
+# emulated bus (docs/usb-protocol.md, "Throughput"); about two minutes
+usb-bench: $(USB_BOARD) $(USB_SHIM) $(USB_BENCH)
+	@bash tests/usb-bench.sh $(BUILD)
 
 demo: $(ALBATROS)
 	@mkdir -p out

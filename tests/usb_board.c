@@ -19,6 +19,7 @@
  * finish in time, 125: this program failed).  docs/usb-protocol.md,
  * "Testing without hardware", says what umockdev can emulate and how the
  * gaps are filled (the node's readiness, permissions). */
+#include "../firmware/core.h"
 #include "../firmware/fx2/usb.h"
 #include "../firmware/sim/board.h"
 #include "albatros/exr.h"
@@ -148,7 +149,7 @@ typedef struct {
     /* options */
     alb_profile prof;
     unsigned mps_override, payload, bus_mbps, timeout_s;
-    bool full_speed, hidraw, no_zlp, in_zlp, close_race, old_caps;
+    bool full_speed, hidraw, no_zlp, in_zlp, close_race, old_caps, sink;
     long hid_delay_ms, acl_delay_ms, hid_short, nak_ms, replug_ms, sigint_ms, flip;
     uint64_t nak_after, stall_out, stall_in, unplug_after;
     const char *results_path, *shim, *golden;
@@ -166,6 +167,13 @@ typedef struct {
     bool ready;
     client *clients;
     sim_board *board;
+    /* --sink: the firmware core alone, its words counted and dropped (no
+     * VP), for throughput: what the bus path costs, not the VP */
+    fw_core core;
+    fw_hal hal;
+    uint8_t *core_buf, *sink_tx;
+    size_t sink_tx_len, sink_tx_cap;
+    uint64_t sink_bytes;
     unsigned mps;
     bool out_halted, in_halted;
     pkt *tx_head, *tx_tail;
@@ -274,6 +282,67 @@ static void record_results(mock *m, const uint8_t *data, size_t len)
     }
 }
 
+static void sink_words(void *ctx, const uint8_t *data, uint16_t len)
+{
+    (void)data;
+    ((mock *)ctx)->sink_bytes += len;
+}
+
+static void sink_restart(void *ctx, uint8_t full) { (void)ctx, (void)full; }
+
+static void sink_send(void *ctx, const uint8_t *data, uint16_t len)
+{
+    mock *m = ctx;
+    if (m->sink_tx_len + len > m->sink_tx_cap) {
+        size_t cap = m->sink_tx_cap ? 2 * m->sink_tx_cap : 4096;
+        while (cap < m->sink_tx_len + len)
+            cap *= 2;
+        if (!(m->sink_tx = realloc(m->sink_tx, cap)))
+            die("out of memory");
+        m->sink_tx_cap = cap;
+    }
+    memcpy(m->sink_tx + m->sink_tx_len, data, len);
+    m->sink_tx_len += len;
+}
+
+/* The board behind the endpoints: the simulated one, or the sink. */
+static void board_rx(mock *m, const uint8_t *data, size_t len)
+{
+    if (!m->sink) {
+        sim_board_rx(m->board, data, len);
+        return;
+    }
+    for (size_t k; len; data += k, len -= k) {
+        k = len > 0x8000 ? 0x8000 : len;
+        fw_rx(&m->core, data, (uint16_t)k);
+    }
+}
+
+static size_t board_tx(mock *m, uint8_t *buf, size_t cap)
+{
+    if (!m->sink)
+        return sim_board_tx(m->board, buf, cap);
+    size_t n = m->sink_tx_len < cap ? m->sink_tx_len : cap;
+    memcpy(buf, m->sink_tx, n);
+    memmove(m->sink_tx, m->sink_tx + n, m->sink_tx_len - n);
+    m->sink_tx_len -= n;
+    return n;
+}
+
+static int board_hid_get(mock *m, uint8_t *rep, size_t len)
+{
+    if (!m->sink)
+        return sim_board_hid_get(m->board, rep, len);
+    return len >= PROTO_HID_REPORT && fw_hid_get(&m->core, rep) ? 0 : -1;
+}
+
+static int board_hid_set(mock *m, const uint8_t *rep, size_t len)
+{
+    if (!m->sink)
+        return sim_board_hid_set(m->board, rep, len);
+    return fw_hid_set(&m->core, rep, (uint8_t)(len > 255 ? 255 : len)) ? -1 : 0;
+}
+
 static void tx_push(mock *m, const uint8_t *data, unsigned len)
 {
     pkt *p = malloc(sizeof *p + (len ? len : 1));
@@ -307,7 +376,7 @@ static void board_commit(mock *m)
 {
     static uint8_t buf[1 << 16];
     size_t n;
-    while ((n = sim_board_tx(m->board, buf, sizeof buf)) > 0) {
+    while ((n = board_tx(m, buf, sizeof buf)) > 0) {
         record_results(m, buf, n);
         for (size_t at = 0; at < n;) {
             size_t plen = n - at;
@@ -441,7 +510,7 @@ static void service_out(mock *m, client *c)
                 start_nak(m, t);
                 break;
             }
-            sim_board_rx(m->board, u->buf->data + u->done, (size_t)k);
+            board_rx(m, u->buf->data + u->done, (size_t)k);
             u->done += k;
             m->bytes_out += (uint64_t)k;
             m->credit -= k;
@@ -565,14 +634,14 @@ static int control(mock *m, client *c, uint8_t *setup, uint8_t *data, int cap)
         uint8_t rep[PROTO_HID_REPORT] = {(uint8_t)(value & 0xFF)};
         m->hid_reports++;
         if (req == 1 && type == 0xA1) {
-            if (sim_board_hid_get(m->board, rep, sizeof rep))
+            if (board_hid_get(m, rep, sizeof rep))
                 return -EPIPE;
             n = (size_t)len < sizeof rep ? (size_t)len : sizeof rep;
             memcpy(data, rep, n);
             return (int)n;
         }
         if (req == 9 && type == 0x21)
-            return sim_board_hid_set(m->board, data, (size_t)len) ? -EPIPE : 0;
+            return board_hid_set(m, data, (size_t)len) ? -EPIPE : 0;
     }
     if (type == 0x00 && req == 9)   /* SET_CONFIGURATION */
         return 0;
@@ -854,7 +923,7 @@ static int hidraw_ioctl(mock *m, client *c, unsigned long req, UMockdevIoctlData
     } else if (nr == _IOC_NR(HIDIOCGFEATURE(0))) {
         uint8_t rep[PROTO_HID_REPORT] = {b[0]};
         m->hid_reports++;
-        if (sim_board_hid_get(m->board, rep, sizeof rep)) {
+        if (board_hid_get(m, rep, sizeof rep)) {
             r = -EPIPE;   /* the board STALLs a report it does not have */
         } else {
             unsigned n = size < sizeof rep ? size : (unsigned)sizeof rep;
@@ -865,7 +934,7 @@ static int hidraw_ioctl(mock *m, client *c, unsigned long req, UMockdevIoctlData
         }
     } else if (nr == _IOC_NR(HIDIOCSFEATURE(0))) {
         m->hid_reports++;
-        r = sim_board_hid_set(m->board, b, size) ? -EPIPE : (int)size;
+        r = board_hid_set(m, b, size) ? -EPIPE : (int)size;
     } else if (nr == _IOC_NR(HIDIOCGRAWNAME(0)) || nr == _IOC_NR(HIDIOCGRAWUNIQ(0)) ||
                nr == _IOC_NR(HIDIOCGRAWPHYS(0))) {
         const char *s = nr == _IOC_NR(HIDIOCGRAWUNIQ(0)) ? SERIAL : desc_string_text[1];
@@ -1069,6 +1138,21 @@ static void remove_from_testbed(mock *m)
  * state (no RESET seen). */
 static void new_board(mock *m)
 {
+    if (m->sink) {
+        free(m->core_buf);
+        if (!(m->core_buf = malloc(PROTO_HEADER + PROTO_MAX_PAYLOAD + PROTO_TRAILER)))
+            die("out of memory");
+        m->hal = (fw_hal){m, sink_words, sink_restart, sink_send, NULL, NULL};
+        fw_init(&m->core, &m->hal, m->core_buf,
+                (uint16_t)(m->payload ? m->payload : PROTO_MAX_PAYLOAD));
+        m->core.width = (uint16_t)m->prof.width;
+        m->core.height = (uint16_t)m->prof.height;
+        m->core.colour_bits = (uint8_t)m->prof.colour_bits;
+        m->core.serial = 1;
+        memcpy(m->core.name, "albatros-sink", 14);
+        m->sink_tx_len = 0;
+        return;
+    }
     char err[200];
     sim_board_destroy(m->board);
     m->board = sim_board_create(&m->prof, err, sizeof err);
@@ -1144,7 +1228,7 @@ static void counters(mock *m, uint32_t *v)
 {
     uint8_t rep[PROTO_HID_REPORT] = {PROTO_HID_COUNTERS};
     memset(v, 0, PROTO_STATUS_BYTES);
-    if (m->board && !sim_board_hid_get(m->board, rep, sizeof rep))
+    if (!board_hid_get(m, rep, sizeof rep))
         for (unsigned i = 0; i < PROTO_STATUS_BYTES / 4; i++)
             v[i] = PROTO_GET32(rep + 1 + 4 * i);
 }
@@ -1232,7 +1316,8 @@ static void usage(void)
             "  --no-zlp, --in-zlp  IN without the ZLP after a whole packet / with spurious ones\n"
             "  --close-race        answer into an IN URB as the host starts cancelling\n"
             "  --old-caps          usbfs without NO_PACKET_SIZE_LIM (libusb splits transfers)\n"
-            "  --bus-mbps N        pace bulk OUT at N MB/s\n"
+            "  --bus-mbps N        pace bulk OUT at N MB/s (in 1 ms steps)\n"
+            "  --sink              the firmware core alone, words dropped (throughput)\n"
             "  --results FILE      each RESULT the board sends, a line\n"
             "  --golden DIR        check the RESULTs against a golden vector's files\n"
             "  --flip F            the board's VP gets one bit of frame F wrong\n"
@@ -1274,6 +1359,7 @@ static void parse(mock *m, int argc, char **argv)
         else if (!strcmp(o, "--in-zlp")) m->in_zlp = true;
         else if (!strcmp(o, "--close-race")) m->close_race = true;
         else if (!strcmp(o, "--old-caps")) m->old_caps = true;
+        else if (!strcmp(o, "--sink")) m->sink = true;
         else flag = false;
         if (flag)
             continue;
