@@ -154,3 +154,48 @@ char *builtin_scene_copy(void)
     }
     return copy;
 }
+
+void profile_set_all(alb_profile *p, const char *sets)
+{
+    char buf[256], err[256];
+    snprintf(buf, sizeof buf, "%s", sets);
+    for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
+        alb_profile_set(p, tok, err, sizeof err);
+}
+
+int stream_of(const char *text, const alb_profile *p, alb_ws_buf *b)
+{
+    alb_scene s;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_ws_buf_init(b);
+    if (alb_scene_parse(text, strlen(text), "t", &s, &d))
+        return -1;
+    alb_gp *gp = NULL;
+    alb_err e = alb_gp_create(&gp, &s, p, &d);
+    if (!e)
+        e = alb_gp_run(gp, b, NULL, &d);
+    alb_gp_destroy(gp);
+    alb_scene_free(&s);
+    return e ? -1 : 0;
+}
+
+void vector_profile(const char *name, alb_profile *p)
+{
+    char path[600], opts[1024] = "";
+    snprintf(path, sizeof path, "test-vectors/%s/options", name);
+    FILE *f = fopen(path, "r");
+    if (f) {
+        size_t k = fread(opts, 1, sizeof opts - 1, f);
+        opts[k] = 0;
+        fclose(f);
+    }
+    alb_profile_lookup("a512", p);
+    char err[256];
+    for (char *tok = strtok(opts, " \n"); tok; tok = strtok(NULL, " \n")) {
+        if (!strcmp(tok, "--profile") && (tok = strtok(NULL, " \n")))
+            alb_profile_lookup(tok, p);
+        else if (!strcmp(tok, "--set") && (tok = strtok(NULL, " \n")))
+            alb_profile_set(p, tok, err, sizeof err);
+    }
+}

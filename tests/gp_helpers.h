@@ -34,4 +34,13 @@ int render_text(const char *text, const char *profile_name, const char *sets, al
  * memory), for tests that edit or render it. */
 char *builtin_scene_copy(void);
 
+/* Apply "key=value key=value ..." to a profile (the test's own, valid). */
+void profile_set_all(alb_profile *p, const char *sets);
+/* The GP's stream of scene text with profile p into *b (initialised here);
+ * 0, or -1 if the scene or the GP failed. */
+int stream_of(const char *text, const alb_profile *p, alb_ws_buf *b);
+/* The profile a golden vector's options file gives (--profile and --set
+ * only; a512 without), from test-vectors/NAME/options. */
+void vector_profile(const char *name, alb_profile *p);
+
 #endif
