@@ -30,7 +30,7 @@ COMMON_SRC := common/diag.c common/file.c common/profile.c common/words.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
 VP_SRC     := vp/vp.c vp/fill.c vp/parallel.c vp/shade.c vp/frame.c
 SINK_SRC   := emu/exr.c emu/preview.c emu/sim.c emu/sim_timed.c emu/sim_cycle.c emu/vcd.c \
-              emu/model.c
+              emu/model.c emu/dpi.c
 BRIDGE_SRC := emu/bridge/link.c emu/bridge/stream.c emu/bridge/transport_fault.c \
               emu/bridge/transport_usb.c
 TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools/methods.c tools/sweep.c \
@@ -144,6 +144,16 @@ $(LIBALB_SO): $(LIBALB_OBJ) lib/albatros.map
 	ln -sf $(notdir $@) $(BUILD)/lib/$(LIB_SONAME)
 	ln -sf $(LIB_SONAME) $(BUILD)/lib/libalbatros.so
 
+# a SystemVerilog bench over DPI-C, built by Verilator against the shared
+# library (tests/dpi.sh)
+DPI_TB := $(BUILD)/dpi/tb_vector
+$(DPI_TB): include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv $(LIBALB_SO)
+	@mkdir -p $(BUILD)/dpi
+	verilator --binary -j 2 -Wall --Mdir $(BUILD)/dpi/obj --top-module tb_vector \
+	  include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv \
+	  -LDFLAGS "-L$(abspath $(BUILD)/lib) -lalbatros -Wl,-rpath,$(abspath $(BUILD)/lib)" -o tb_vector
+	cp $(BUILD)/dpi/obj/tb_vector $@
+
 $(ALBATROS): $(EMU_OBJ) $(CLIENT_OBJ) $(LIBALB_A)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
@@ -164,7 +174,7 @@ $(UNIT): $(TEST_OBJ) $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 # ---- tests: every runner prints "N passed, N failed"; tests/summary adds them ----
-test: $(ALBATROS) $(UNIT) $(REPLAYS) $(USB_DESC)
+test: $(ALBATROS) $(UNIT) $(REPLAYS) $(USB_DESC) $(DPI_TB)
 	@bash tests/run-all.sh $(BUILD)
 
 unit: $(UNIT)

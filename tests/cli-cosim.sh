@@ -97,6 +97,33 @@ else
     bad "iverilog is not installed (apt-get install iverilog)"
 fi
 
+# ---- vectors check --junit: one test case per vector, parsed by a real XML parser ----
+mkdir -p "$tmp/v"
+cp -r test-vectors/shared-edges "$tmp/v/good" && cp -r test-vectors/shared-edges "$tmp/v/bad&<odd>" \
+    && cp -r test-vectors/shared-edges "$tmp/v/known" && ok || bad "copy vectors"
+# a changed word in one stream, a changed counter in a known failure
+printf '\x01' | dd of="$tmp/v/bad&<odd>/expected.stream" bs=1 seek=44 conv=notrunc status=none
+sed -i '1s/engine_busy=/engine_busy=1/' "$tmp/v/known/expected.cycles"
+echo "engine counts under review" > "$tmp/v/known/KNOWN-FAILURE"
+"$bin" vectors check --junit "$tmp/j.xml" --diff-dir "$tmp/diffs" "$tmp/v" > "$tmp/jv.out" 2>&1
+rc=$?
+[[ $rc -eq 1 ]] && ok || bad "vectors check with a failure: exit $rc"
+python3 - "$tmp/j.xml" <<'PY' && ok || bad "JUnit report: $(cat "$tmp/j.xml")"
+import sys, xml.etree.ElementTree as ET
+root = ET.parse(sys.argv[1]).getroot()
+assert root.tag == "testsuites" and root.get("tests") == "3" and root.get("failures") == "1", root.attrib
+cases = {c.get("name"): c for c in root.iter("testcase")}
+assert set(cases) == {"good", "bad&<odd>", "known"}, cases
+assert len(cases["good"]) == 0
+f = cases["bad&<odd>"].find("failure")
+assert f is not None and "stream differs at word 11" in f.get("message"), f.attrib
+assert "expected" in f.text and "got" in f.text, f.text
+k = cases["known"].find("skipped")
+assert k is not None and "engine counts under review" in k.get("message"), k.attrib
+PY
+expect 2 '--junit reports a check' "$bin" vectors bless --junit "$tmp/j3.xml" "$tmp/v"
+expect 1 'junit /nonexistent/j.xml' "$bin" vectors check --junit /nonexistent/j.xml "$tmp/v" good
+
 # ---- the library exports alb_* and nothing else ----
 so=$(ls "$build"/lib/libalbatros.so.*.*.* 2>/dev/null | head -1)
 if [[ -n $so ]]; then

@@ -7,6 +7,7 @@
 #define ALBATROS_H
 
 #include "diag.h"
+#include "dpi.h"
 #include "exr.h"
 #include "file.h"
 #include "frame.h"
