@@ -1123,6 +1123,8 @@ alb_err sim_run_cycle(const alb_profile *p, const uint32_t *w, size_t n, const c
 static const char *const event_names[] = {"push", "pop", "load", "start", "cell",
                                           "end",  "fill", "write", "frame"};
 
+size_t alb_event_size(void) { return sizeof(alb_event); }
+
 const char *alb_sim_event_name(uint32_t kind)
 {
     for (unsigned i = 0; i < sizeof event_names / sizeof *event_names; i++)

@@ -590,3 +590,46 @@ alb_err alb_gp_run(alb_gp *gp, alb_ws_buf *out, alb_gp_stats *total, alb_diag *d
         *total = sum;
     return ALB_OK;
 }
+
+alb_err alb_gp_compile_file(const char *scene, const char *profile, const char *const *sets,
+                            uint32_t **w, size_t *n, alb_diag *d)
+{
+    alb_diag local;
+    if (!d)
+        d = &local;
+    alb_diag_init(d, NULL);
+    *w = NULL;
+    *n = 0;
+    alb_profile p;
+    if (alb_profile_lookup(profile ? profile : "a512", &p))
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "unknown profile '%s'", profile);
+    char msg[256];
+    for (size_t i = 0; sets && sets[i]; i++)
+        if (alb_profile_set(&p, sets[i], msg, sizeof msg))
+            return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "%s", msg);
+    if (alb_profile_check(&p, msg, sizeof msg))
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "profile %s: %s", p.name, msg);
+    alb_scene s;
+    alb_err e = scene ? alb_scene_load(scene, &s, d) : alb_scene_load_builtin(&s, d);
+    if (e)
+        return e;
+    if ((e = alb_scene_resolve_screenspace(&s, p.width, p.height, d))) {
+        alb_scene_free(&s);
+        return e;
+    }
+    alb_gp *gp = NULL;
+    alb_ws_buf b;
+    alb_ws_buf_init(&b);
+    e = alb_gp_create(&gp, &s, &p, d);
+    if (!e)
+        e = alb_gp_run(gp, &b, NULL, d);
+    alb_gp_destroy(gp);
+    alb_scene_free(&s);
+    if (e) {
+        alb_ws_buf_free(&b);
+        return e;
+    }
+    *w = b.w;
+    *n = b.n;
+    return ALB_OK;
+}
