@@ -228,6 +228,58 @@ bench: $(COST) $(BENCH)
 	$(BENCH)
 	$(COST)
 
+# ---- install (docs/architecture.md, "Installed") ----
+PREFIX     ?= /usr/local
+BINDIR     ?= $(PREFIX)/bin
+LIBDIR     ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+DATADIR    ?= $(PREFIX)/share
+MANDIR     ?= $(DATADIR)/man
+DOCDIR     ?= $(DATADIR)/doc/albatros
+COMPDIR    ?= $(DATADIR)/bash-completion/completions
+UDEVDIR    ?= $(PREFIX)/lib/udev/rules.d
+# Debian's python3 reads /usr/lib/python3/dist-packages and, for local
+# installs, /usr/local/lib/python3.X/dist-packages
+PYVER      := $(shell python3 -c 'import sys; print("%d.%d" % sys.version_info[:2])' 2>/dev/null)
+PYTHONDIR  ?= $(if $(filter /usr,$(PREFIX)),$(PREFIX)/lib/python3/dist-packages,$(PREFIX)/lib/python$(PYVER)/dist-packages)
+INSTALL    ?= install
+PUBLIC_H   := $(wildcard include/albatros/*.h) include/albatros/albatros_pkg.sv
+DOCS       := $(wildcard docs/*.md)
+SO_LINKS   := $(LIB_SONAME) libalbatros.so
+
+$(BUILD)/albatros.pc: lib/albatros.pc.in Makefile
+	sed -e 's|@PREFIX@|$(PREFIX)|; s|@LIBDIR@|$(LIBDIR)|; s|@INCLUDEDIR@|$(INCLUDEDIR)|' \
+	    -e 's|@VERSION@|$(ALB_ABI).$(ALB_MINOR).$(ALB_PATCH)|' $< > $@.tmp && mv $@.tmp $@
+
+.PHONY: install uninstall $(BUILD)/albatros.pc
+install: $(ALBATROS) $(LIBALB_SO) $(LIBALB_A) $(BUILD)/albatros.pc
+	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCLUDEDIR)/albatros \
+	    $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(DOCDIR) $(DESTDIR)$(COMPDIR) $(DESTDIR)$(UDEVDIR) \
+	    $(DESTDIR)$(PYTHONDIR)
+	$(INSTALL) -m 755 $(ALBATROS) $(DESTDIR)$(BINDIR)/albatros
+	$(INSTALL) -m 755 $(LIBALB_SO) $(DESTDIR)$(LIBDIR)/
+	$(INSTALL) -m 644 $(LIBALB_A) $(DESTDIR)$(LIBDIR)/
+	ln -sf $(notdir $(LIBALB_SO)) $(DESTDIR)$(LIBDIR)/$(LIB_SONAME)
+	ln -sf $(LIB_SONAME) $(DESTDIR)$(LIBDIR)/libalbatros.so
+	$(INSTALL) -m 644 $(BUILD)/albatros.pc $(DESTDIR)$(LIBDIR)/pkgconfig/albatros.pc
+	$(INSTALL) -m 644 $(PUBLIC_H) $(DESTDIR)$(INCLUDEDIR)/albatros/
+	$(INSTALL) -m 644 docs/albatros.1 $(DESTDIR)$(MANDIR)/man1/albatros.1
+	$(INSTALL) -m 644 $(DOCS) examples/replay.c $(DESTDIR)$(DOCDIR)/
+	$(INSTALL) -m 644 completions/albatros.bash $(DESTDIR)$(COMPDIR)/albatros
+	$(INSTALL) -m 644 firmware/udev/70-albatros.rules $(DESTDIR)$(UDEVDIR)/
+	$(INSTALL) -m 644 python/albatros.py $(DESTDIR)$(PYTHONDIR)/albatros.py
+
+# removes what install put there, nothing else (and the directories only it
+# made: include/albatros, doc/albatros)
+uninstall:
+	rm -f $(DESTDIR)$(BINDIR)/albatros $(DESTDIR)$(LIBDIR)/$(notdir $(LIBALB_SO)) \
+	    $(addprefix $(DESTDIR)$(LIBDIR)/,$(SO_LINKS) libalbatros.a pkgconfig/albatros.pc) \
+	    $(addprefix $(DESTDIR)$(INCLUDEDIR)/albatros/,$(notdir $(PUBLIC_H))) \
+	    $(DESTDIR)$(MANDIR)/man1/albatros.1 $(addprefix $(DESTDIR)$(DOCDIR)/,$(notdir $(DOCS)) replay.c) \
+	    $(DESTDIR)$(COMPDIR)/albatros $(DESTDIR)$(UDEVDIR)/70-albatros.rules \
+	    $(DESTDIR)$(PYTHONDIR)/albatros.py
+	-rmdir $(DESTDIR)$(INCLUDEDIR)/albatros $(DESTDIR)$(DOCDIR) 2>/dev/null
+
 demo: $(ALBATROS)
 	@mkdir -p out
 	$(ALBATROS) render -o out/builtin.exr --png out/builtin.png --stream out/builtin.stream
