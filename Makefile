@@ -10,7 +10,7 @@ ALB_ABI   := 0
 ALB_MINOR := 1
 ALB_PATCH := 0
 BUILD   ?= build
-PKGS    := libpng libusb-1.0 hidapi-hidraw
+PKGS    := libpng libusb-1.0 hidapi-hidraw zlib
 # OpenEXR 3.1 has no pkg-config module for its C library alone: the C API
 # (OpenEXRCore) takes the OpenEXR module's include path and one library.
 EXR_CFLAGS := $(shell pkg-config --cflags OpenEXR)
@@ -45,9 +45,8 @@ TEST_SRC   := $(wildcard tests/test_*.c) tests/t.c tests/gp_helpers.c
 # independent and hide every symbol the public headers (include/albatros/)
 # do not declare; the shared library exports alb_* alone (lib/albatros.map)
 # and the static one is one relocatable object with everything else made
-# local, so a testbench linking it meets no generic name.  The firmware's
-# CRC-32 is compiled in (the frame CRC a board reports).
-LIBALB_SRC := $(COMMON_SRC) $(GP_SRC) $(VP_SRC) $(SINK_SRC) $(BRIDGE_SRC) firmware/crc32.c
+# local, so a testbench linking it meets no generic name.
+LIBALB_SRC := $(COMMON_SRC) $(GP_SRC) $(VP_SRC) $(SINK_SRC) $(BRIDGE_SRC)
 LIBALB_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(LIBALB_SRC)) $(BUILD)/gen/builtin_scene.o
 LIB_SONAME := libalbatros.so.$(ALB_ABI)
 LIBALB_A   := $(BUILD)/lib/libalbatros.a
@@ -74,6 +73,7 @@ include firmware/fx2/fx2.mk
 
 COST     := $(BUILD)/tools/cost
 BENCH    := $(BUILD)/tools/bench
+BENCH_MODEL := $(BUILD)/tools/bench-model
 
 .PHONY: all test unit vectors bless asan memcheck bench demo setup deps clean help crosscheck sweep
 # libFuzzer harnesses and their replay over the seeds and regressions
@@ -101,7 +101,7 @@ help:
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
-DEB_PKGS := build-essential pkg-config libpng-dev libopenexr-dev openexr libusb-1.0-0-dev \
+DEB_PKGS := build-essential pkg-config libpng-dev zlib1g-dev libopenexr-dev openexr libusb-1.0-0-dev \
             libhidapi-dev gnuplot-nox sdcc umockdev verilator iverilog python3 man-db
 setup: deps
 	$(MAKE) all
@@ -161,6 +161,10 @@ $(COST): $(BUILD)/tools/cost.o $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 $(BENCH): $(BUILD)/tools/bench.o $(LIB_OBJ)
+	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
+
+# a client of the public API alone: the static library
+$(BENCH_MODEL): $(BUILD)/tools/bench_model.o $(LIBALB_A)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 
@@ -224,8 +228,9 @@ $(SWEEP_DIR)/speed.csv: $(SWEEP_CSV) $(ALBATROS) sweep-always
 	$(ALBATROS) stability --speed --out $(SWEEP_DIR)
 
 # figures, not tests: docs/performance.md quotes them
-bench: $(COST) $(BENCH)
+bench: $(COST) $(BENCH) $(BENCH_MODEL)
 	$(BENCH)
+	$(BENCH_MODEL)
 	$(COST)
 
 # ---- install (docs/architecture.md, "Installed") ----

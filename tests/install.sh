@@ -31,7 +31,7 @@ LD_LIBRARY_PATH=$root/lib ldd ./replay | grep -q "$root/lib/libalbatros.so.0" \
     && ok || bad "replay is not linked to the installed library: $(LD_LIBRARY_PATH=$root/lib ldd ./replay)"
 # the static library, its own dependencies shared (docs/cosim.md)
 cc -std=c11 -Wall -Wextra -Werror replay.c $(pkg-config --cflags albatros) "$root/lib/libalbatros.a" \
-    $(pkg-config --libs libpng libusb-1.0 hidapi-hidraw) -lOpenEXRCore-3_1 -lm -pthread \
+    $(pkg-config --libs libpng libusb-1.0 hidapi-hidraw zlib) -lOpenEXRCore-3_1 -lm -pthread \
     -o replay-static 2> cc2.log && ok || bad "static link: $(cat cc2.log)"
 ! ldd ./replay-static | grep -q libalbatros && ok || bad "replay-static needs the shared library"
 out=$(./replay-static a512 "$vec/expected.stream" "$vec/expected.frames" 2>&1)
