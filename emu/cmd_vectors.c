@@ -210,42 +210,6 @@ static void frame_path(const vector *v, unsigned k, char *out, size_t len)
     snprintf(out, len, "%s/expected.%04u.exr", v->dir, k);
 }
 
-/* The first pixel and channel where two frames differ; false if none. */
-static bool first_pixel_diff(const alb_frame *w, const alb_frame *g, size_t *at, char *what,
-                             size_t len, size_t *count)
-{
-    size_t n = (size_t)w->width * w->height;
-    bool found = false;
-    *count = 0;
-    for (size_t i = 0; i < n; i++) {
-        const char *ch = NULL;
-        unsigned long long a = 0, b = 0;
-        if (w->face[i] != g->face[i])
-            ch = "face.id", a = w->face[i], b = g->face[i];
-        for (int c = 0; c < 3 && !ch; c++)
-            if (w->rgb[3 * i + c] != g->rgb[3 * i + c])
-                ch = c == 0 ? "vp.R" : c == 1 ? "vp.G" : "vp.B", a = w->rgb[3 * i + c],
-                b = g->rgb[3 * i + c];
-        if (!ch && w->depth[i] != g->depth[i])
-            ch = "vp.depth", a = w->depth[i], b = g->depth[i];
-        if (!ch && w->level[i] != g->level[i])
-            ch = "vp.level", a = w->level[i], b = g->level[i];
-        if (!ch && w->coverage[i] != g->coverage[i])
-            ch = "vp.coverage", a = w->coverage[i], b = g->coverage[i];
-        if (!ch && w->cycles && g->cycles && w->cycles[i] != g->cycles[i])
-            ch = "vp.cycles", a = w->cycles[i], b = g->cycles[i];
-        if (!ch)
-            continue;
-        ++*count;
-        if (!found) {
-            found = true;
-            *at = i;
-            snprintf(what, len, "%s expected %llu, got %llu", ch, a, b);
-        }
-    }
-    return found;
-}
-
 static int check_frame(frames_ctx *c, const alb_frame *f, const char *path)
 {
     alb_frame want;
@@ -257,19 +221,21 @@ static int check_frame(frames_ctx *c, const alb_frame *f, const char *path)
     }
     int rc = 0;
     size_t at = 0, count;
-    char what[160];
+    const char *ch;
+    uint64_t va, vb;
     if (want.width != f->width || want.height != f->height) {
         fprintf(vlog, "FAIL %s: frame %u is %ux%u, expected %ux%u\n", c->v->name, f->number,
                 f->width, f->height, want.width, want.height);
         rc = 1;
-    } else if (first_pixel_diff(&want, f, &at, what, sizeof what, &count)) {
+    } else if (alb_frame_first_diff(&want, f, &at, &ch, &va, &vb, &count)) {
         char diff[700];
         snprintf(diff, sizeof diff, "%s/%s.%04u.png", c->diff_dir, c->v->name, f->number);
         mkdir(c->diff_dir, 0777);
         bool wrote = alb_preview_write_diff(diff, &want, f, NULL, NULL, &d) == ALB_OK;
-        fprintf(vlog, "FAIL %s: frame %u differs at pixel (%zu, %zu): %s\n"
+        fprintf(vlog, "FAIL %s: frame %u differs at pixel (%zu, %zu): %s expected %llu, got %llu\n"
                         "  %zu pixels differ%s%s\n", c->v->name, f->number, at % f->width,
-                at / f->width, what, count, wrote ? "; diff image " : "", wrote ? diff : "");
+                at / f->width, ch, (unsigned long long)va, (unsigned long long)vb, count,
+                wrote ? "; diff image " : "", wrote ? diff : "");
         rc = 1;
     }
     alb_frame_free(&want);

@@ -55,11 +55,11 @@ cmp -s "$tmp/d1.txt" "$tmp/d2.txt" && ok || bad "dump of memh and binary differ"
     && ok || bad "vp on memh"
 # what $readmemh accepts and a stream cannot, named by line and column
 printf 'a5010002\n@7 0000180a\n' > "$tmp/hole.memh"
-expect 1 'hole.memh:2:1: error: address @7: a word stream has no holes' "$bin" dump "$tmp/hole.memh"
+expect 1 'hole.memh:2:1: error: address @7: the file has no holes' "$bin" dump "$tmp/hole.memh"
 printf '// x\na5010002 1xz0\n' > "$tmp/xz.memh"
-expect 1 'xz.memh:2:10: error: expected a hex word .* found .1xz0.' "$bin" dump "$tmp/xz.memh"
+expect 1 'xz.memh:2:10: error: expected a hex value .* found .1xz0.' "$bin" dump "$tmp/xz.memh"
 printf 'a5010002 123456789\n' > "$tmp/wide.memh"
-expect 1 'wide.memh:1:10: error: word wider than 32 bits' "$bin" dump "$tmp/wide.memh"
+expect 1 'wide.memh:1:10: error: value wider than 32 bits' "$bin" dump "$tmp/wide.memh"
 printf '/* open\na5010002\n' > "$tmp/open.memh"
 expect 1 'open.memh:1:1: error: unterminated comment' "$bin" dump "$tmp/open.memh"
 # comments, underscores and the next address are $readmemh's and accepted
@@ -96,6 +96,50 @@ EOF
 else
     bad "iverilog is not installed (apt-get install iverilog)"
 fi
+
+# ---- frame-store dumps: the model's, and one rewritten by an Icarus bench ----
+"$bin" render "$tmp/two.scene" --profile t32 -q -o "$tmp/f.exr" --dump "$tmp/f.memh" && ok || bad "render --dump"
+expect 0 '1024 pixels: 0 with a different face' "$bin" compare "$tmp/f.0001.memh" "$tmp/f.0001.exr"
+expect 0 'frame 1: 1024 pixels: 0 with' "$bin" compare "$tmp/f.memh" "$tmp/f.exr"
+"$bin" render "$tmp/two.scene" --profile t32 -q --dump "$tmp/g.raw" && ok || bad "render --dump raw"
+[[ $(stat -c %s "$tmp/g.0000.raw") -eq $((32 * 32 * 16)) ]] && ok || bad "raw dump size"
+expect 0 '0 with a different face' "$bin" compare "$tmp/g.0000.raw" "$tmp/f.0000.exr"
+expect 0 '0 with a different face' "$bin" compare "$tmp/g.0000.raw" "$tmp/f.0000.memh" --profile t32
+# an SV bench loads the dump with $readmemh, changes pixel (5, 7)'s G by
+# one and pixel (30, 9)'s level, and writes it back with $writememh, as an
+# RTL bench dumps its frame store
+if command -v iverilog >/dev/null; then
+    cat > "$tmp/fb.sv" <<'SV'
+module fb;
+  logic [127:0] mem [0:1023];
+  initial begin
+    $readmemh(`IN, mem);
+    mem[7 * 32 + 5][47:32] = mem[7 * 32 + 5][47:32] + 1;
+    mem[9 * 32 + 30][15:8] = 8'd3;
+    $writememh(`OUT, mem);
+  end
+endmodule
+SV
+    iverilog -g2012 -DIN="\"$tmp/f.0001.memh\"" -DOUT="\"$tmp/rtl.memh\"" -o "$tmp/fb.vvp" "$tmp/fb.sv" \
+        && vvp -n "$tmp/fb.vvp" > /dev/null && ok || bad "Icarus dump bench"
+    expect 1 '2 pixels differ; the first at pixel \(5, 7\): vp.G [0-9]+ in .*rtl.memh' \
+        "$bin" compare "$tmp/rtl.memh" "$tmp/f.0001.exr"
+    "$bin" compare "$tmp/rtl.memh" "$tmp/f.0001.exr" --json > "$tmp/c.json"
+    python3 -c 'import json, sys; j = json.load(open(sys.argv[1])); f = j["first_diff"]
+assert (f["x"], f["y"], f["channel"], f["a"] - f["b"]) == (5, 7, "vp.G", 1), j
+assert j["pixels_diff"] == 2, j' "$tmp/c.json" && ok || bad "compare --json: $(cat "$tmp/c.json")"
+fi
+# EXR against EXR counts what is seen (face, colour, coverage); --exact every plane
+"$bin" reference "$tmp/two.scene" --profile t32 -q -o "$tmp/r.exr" && ok || bad "reference"
+"$bin" compare "$tmp/f.0000.exr" "$tmp/r.0000.exr" > "$tmp/vis.txt"
+"$bin" compare --exact "$tmp/f.0000.exr" "$tmp/r.0000.exr" > "$tmp/ex.txt"; ex=$?
+[[ $ex -eq 1 ]] && grep -q 'vp\.\(level\|depth\)' "$tmp/ex.txt" && ok || bad "--exact: $ex $(cat "$tmp/ex.txt")"
+grep -q 'vp\.\(level\|depth\)' "$tmp/vis.txt" && bad "without --exact levels count: $(cat "$tmp/vis.txt")" || ok
+# a dump is held against the model in every plane
+expect 1 "first at pixel .*: vp\.(level|depth)" "$bin" compare "$tmp/g.0000.raw" "$tmp/r.0000.exr"
+printf '\001\002\003\004' > "$tmp/short.raw"
+expect 2 'short.raw: offset 4: error: a raw dump of 32x32 pixels is 16384 bytes, this one 4' \
+    "$bin" compare "$tmp/short.raw" "$tmp/f.0000.exr"
 
 # ---- vectors check --junit: one test case per vector, parsed by a real XML parser ----
 mkdir -p "$tmp/v"

@@ -8,6 +8,7 @@
 
 #include "diag.h"
 #include "dpi.h"
+#include "dump.h"
 #include "exr.h"
 #include "file.h"
 #include "frame.h"
