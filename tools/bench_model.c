@@ -8,6 +8,7 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 static double now(void)
@@ -98,8 +99,50 @@ static void bench(const char *profile)
     free(w);
 }
 
-int main(void)
+/* One run of one configuration (for callgrind's instruction counts):
+ * bench-model --one PROFILE sim|off|frame|all */
+static int one(const char *profile, const char *mode)
 {
+    alb_profile p;
+    uint32_t *w;
+    size_t n;
+    alb_diag d;
+    if (alb_profile_lookup(profile, &p) || alb_gp_compile_file(NULL, profile, NULL, &w, &n, &d))
+        return 2;
+    uint64_t x = 0;
+    if (!strcmp(mode, "sim")) {
+        alb_sim_options o = {.fid = ALB_FIDELITY_CYCLE, .threads = 1};
+        if (alb_sim_run(&p, w, n, "bench", &o, no_sink, &x, &d))
+            return 1;
+    } else {
+        uint32_t mask = !strcmp(mode, "off") ? 0 : !strcmp(mode, "frame") ? ALB_EV_FRAME : ALB_EV_ALL;
+        alb_model_config c;
+        alb_model_config_default(&c);
+        c.events = mask;
+        alb_model *m;
+        if (alb_model_create(&m, &p, &c, &d))
+            return 1;
+        alb_model_push(m, w, n);
+        while (!alb_model_done(m)) {
+            if (alb_model_step(m, 4096))
+                return 1;
+            const alb_event *ev;
+            size_t k = alb_model_events(m, &ev);
+            for (size_t i = 0; i < k; i++)
+                x += ev[i].cycle ^ ev[i].kind;
+            alb_model_consume(m, k);
+        }
+        alb_model_destroy(m);
+    }
+    free(w);
+    printf("%llu\n", (unsigned long long)x);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc == 4 && !strcmp(argv[1], "--one"))
+        return one(argv[2], argv[3]);
     printf("## The model through the API (built-in scene, cycle fidelity, one core)\n\n"
            "M emulated cycles per second; in brackets, the speed against alb_sim_run "
            "(render --fidelity cycle)\n\n"
