@@ -52,7 +52,8 @@ LIB_SONAME := libalbatros.so.$(ALB_ABI)
 LIBALB_A   := $(BUILD)/lib/libalbatros.a
 LIBALB_SO  := $(BUILD)/lib/libalbatros.so.$(ALB_ABI).$(ALB_MINOR).$(ALB_PATCH)
 LIB_CFLAGS := -fPIC -fvisibility=hidden
-$(LIBALB_OBJ): EXTRA_CFLAGS += $(LIB_CFLAGS)
+# override: a command-line EXTRA_CFLAGS (CI: -Werror) must not drop the library's flags
+$(LIBALB_OBJ): override EXTRA_CFLAGS += $(LIB_CFLAGS)
 
 # What the albatros command adds to the library: the CLI, the references,
 # classic methods and stress scenes (tools/), and the simulated board with
@@ -198,9 +199,10 @@ $(USB_ROGUE): tests/usb_rogue.c
 $(USB_BENCH): $(BUILD)/tests/usb_bench.o $(LIBALB_A)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
+# preloaded into any program, sanitized or not: built without the sanitizers
 $(USB_SHIM): tests/usb_access.c
 	@mkdir -p $(dir $@)
-	$(CC) -std=c11 $(WARN) $(CFLAGS) $(EXTRA_CFLAGS) -fPIC -shared $< -o $@ -ldl
+	$(CC) -std=c11 $(WARN) $(CFLAGS) $(filter-out -fsanitize%,$(EXTRA_CFLAGS)) -fPIC -shared $< -o $@ -ldl
 
 $(UNIT): $(TEST_OBJ) $(LIB_OBJ)
 	@mkdir -p $(dir $@)

@@ -35,6 +35,8 @@ desc=$("$build/tests/usb_descriptors") || { echo "0 passed, 1 failed"; exit 1; }
 # umockdev works by LD_PRELOAD, ahead of the sanitizers' runtime in an ASan
 # build (make asan): tell ASan that this order is intended
 export ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}verify_asan_link_order=0
+# and under make memcheck, what umockdev's preload does is not ours to fix
+export VALGRIND_OPTS="${VALGRIND_OPTS:+$VALGRIND_OPTS }--suppressions=$(realpath "$(dirname "$0")")/usb-umockdev.supp"
 
 # ---- a device in sysfs and /dev only: no transfers behind it ----
 

@@ -482,9 +482,11 @@ static alb_tr_status usb_read(alb_transport *t, uint8_t *buf, size_t cap, size_t
         wait_events(u, left < 50 ? (unsigned)left + 1 : 50);
     }
     size_t n = u->rx_len < cap ? u->rx_len : cap;
-    memcpy(buf, u->rx, n);
-    memmove(u->rx, u->rx + n, u->rx_len - n);
-    u->rx_len -= n;
+    if (n) {   /* u->rx may not exist yet */
+        memcpy(buf, u->rx, n);
+        memmove(u->rx, u->rx + n, u->rx_len - n);
+        u->rx_len -= n;
+    }
     *got = n;
     return n ? ALB_TR_OK : status_of(t, u);
 }
