@@ -192,6 +192,14 @@ has "[1-9][0-9]* discards"
 # the end: nothing is resubmitted, nothing freed in flight
 usb 0 "a reply during the teardown" --close-race -- "$bin" stream --profile a256
 has "answering into an IN URB as the host cancels"
+# cancelled transfers that never come back: after twice --timeout the host
+# leaves them (and the handle) allocated rather than free memory the kernel
+# may still write, and exits normally; the board sees them still in flight
+usb 0 "!cancelled transfers that never come back" --stuck-close -- "$bin" stream --profile a256 --timeout 500
+has "keeping the host's cancelled URBs for good"
+has "hardware agrees"
+has "VIOLATION: the device closed with 4 URBs in flight"
+hasnt "Assertion|Sanitizer|runtime error"
 
 # the device vanishes mid-transfer (ENODEV) and comes back as a new device:
 # the stream starts over and every frame still matches the golden vector

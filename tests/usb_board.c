@@ -149,7 +149,7 @@ typedef struct {
     /* options */
     alb_profile prof;
     unsigned mps_override, payload, bus_mbps, timeout_s;
-    bool full_speed, hidraw, no_zlp, in_zlp, close_race, old_caps, sink;
+    bool full_speed, hidraw, no_zlp, in_zlp, close_race, stuck_close, old_caps, sink;
     long hid_delay_ms, acl_delay_ms, hid_short, nak_ms, replug_ms, sigint_ms, flip;
     uint64_t nak_after, stall_out, stall_in, unplug_after;
     const char *results_path, *shim, *golden;
@@ -383,7 +383,8 @@ static void board_commit(mock *m)
             if (plen >= PROTO_HEADER &&
                 PROTO_HEADER + PROTO_GET32(buf + at + PROTO_OFF_LEN) + PROTO_TRAILER <= plen)
                 plen = PROTO_HEADER + PROTO_GET32(buf + at + PROTO_OFF_LEN) + PROTO_TRAILER;
-            if (m->close_race && plen > PROTO_OFF_TYPE && buf[at + PROTO_OFF_TYPE] == PROTO_T_STATUS)
+            if ((m->close_race || m->stuck_close) && plen > PROTO_OFF_TYPE &&
+                buf[at + PROTO_OFF_TYPE] == PROTO_T_STATUS)
                 m->race_armed = true;   /* the stream's closing PING is answered */
             for (size_t k = 0; k < plen; k += m->mps)
                 tx_push(m, buf + at + k, (unsigned)(plen - k < m->mps ? plen - k : m->mps));
@@ -774,7 +775,14 @@ static int discard(mock *m, client *c, unsigned long addr)
     queue *qs[] = {&c->out, &c->in};
     for (int i = 0; i < 2; i++)
         for (urb *u = qs[i]->head; u; u = u->next)
-            if (u->addr == addr) {
+            if (u->addr == addr && m->stuck_close && m->race_armed) {
+                /* --stuck-close: a discard that never completes (the
+                 * transfer's callback never comes) */
+                if (!m->race_done)
+                    fprintf(stderr, "usb_board: keeping the host's cancelled URBs for good\n");
+                m->race_done = true;
+                return 0;
+            } else if (u->addr == addr) {
                 if (u == c->in.head && m->race_armed && !m->race_done && u->next) {
                     /* --close-race: the board answers into the next IN URB
                      * just as the host starts cancelling them */
@@ -1315,6 +1323,7 @@ static void usage(void)
             "  --unplug-after B:MS unplug after B bytes OUT, back after MS (-1: never)\n"
             "  --no-zlp, --in-zlp  IN without the ZLP after a whole packet / with spurious ones\n"
             "  --close-race        answer into an IN URB as the host starts cancelling\n"
+            "  --stuck-close       at the end, cancelled URBs never come back\n"
             "  --old-caps          usbfs without NO_PACKET_SIZE_LIM (libusb splits transfers)\n"
             "  --bus-mbps N        pace bulk OUT at N MB/s (in 1 ms steps)\n"
             "  --sink              the firmware core alone, words dropped (throughput)\n"
@@ -1358,6 +1367,7 @@ static void parse(mock *m, int argc, char **argv)
         if (!strcmp(o, "--no-zlp")) m->no_zlp = true;
         else if (!strcmp(o, "--in-zlp")) m->in_zlp = true;
         else if (!strcmp(o, "--close-race")) m->close_race = true;
+        else if (!strcmp(o, "--stuck-close")) m->stuck_close = true;
         else if (!strcmp(o, "--old-caps")) m->old_caps = true;
         else if (!strcmp(o, "--sink")) m->sink = true;
         else flag = false;

@@ -39,7 +39,10 @@
 #define IO_TIMEOUT_MS      5000
 #define OUT_IDLE_ROUNDS    3           /* watchdog rounds without progress: the link failed */
 #define HID_GRACE_MS       2000        /* a hidraw node follows its USB device */
-#define CLOSE_DEADLINE_MS  10000
+/* cancelled transfers come back within milliseconds; one that has not after
+ * twice the I/O timeout (1 to 10 s) never will */
+#define CLOSE_DEADLINE_MIN_MS 1000
+#define CLOSE_DEADLINE_MAX_MS 10000
 #define OPEN_POLL_MS       100
 
 typedef struct usb_link usb_link;
@@ -569,7 +572,7 @@ static alb_tr_status usb_hid_set(alb_transport *t, const uint8_t *buf, size_t le
 
 /* Tear down in order: no callback submits anything from here on; cancel
  * every transfer; handle events until all their callbacks have run; release
- * the interfaces; close.  A transfer whose callback never comes (the
+ * the interfaces; close.  A transfer whose callback never comes (by the
  * deadline) may still be written by the kernel: its memory, and the handle
  * and context it belongs to, are left allocated rather than freed under it. */
 static void usb_close(alb_transport *t)
@@ -579,7 +582,10 @@ static void usb_close(alb_transport *t)
     if (u->out)
         cancel_out(u);
     cancel_in(u);
-    double deadline = now() + CLOSE_DEADLINE_MS / 1000.0;
+    unsigned wait_ms = 2 * (u->io_timeout_ms ? u->io_timeout_ms : IO_TIMEOUT_MS);
+    wait_ms = wait_ms < CLOSE_DEADLINE_MIN_MS ? CLOSE_DEADLINE_MIN_MS
+            : wait_ms > CLOSE_DEADLINE_MAX_MS ? CLOSE_DEADLINE_MAX_MS : wait_ms;
+    double deadline = now() + wait_ms / 1000.0;
     while (u->ctx && (u->busy_out || u->busy_in) && now() < deadline) {
         struct timeval tv = {0, 100000};
         if (libusb_handle_events_timeout_completed(u->ctx, &tv, NULL) &&
