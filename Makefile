@@ -82,7 +82,7 @@ help:
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev gnuplot-nox sdcc umockdev
+            libhidapi-dev gnuplot-nox sdcc sdcc-ucsim umockdev
 setup: deps
 	$(MAKE) all
 deps:

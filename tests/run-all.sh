@@ -44,6 +44,7 @@ run vectors "$bin" vectors check test-vectors
 run malformed bash tests/malformed.sh "$bin"
 run fuzz-replay bash tests/fuzz-replay.sh "$build" "${unit[@]}"
 run firmware bash tests/firmware.sh "$build"
+run firmware-s51 bash tests/firmware-s51.sh "$build" "${unit[@]}"
 run usb-umockdev bash tests/usb-umockdev.sh "$build" "$bin"
 echo "$total_pass passed, $total_fail failed"
 [[ $status -eq 0 && $total_fail -eq 0 ]]
