@@ -228,7 +228,7 @@ static int record_bridge(const uint32_t *w, size_t n, stream_frame *frames, unsi
 enum { T_FULL, T_SHORT, T_ZLP, T_RESULT, T_FRAME, T_KINDS };
 static const char *const turn_name[T_KINDS] = {
     "a full USB packet (512 bytes: one 492-byte WORDS packet)",
-    "a short USB packet (a frame's last WORDS, RESET, QUERY)",
+    "a short USB packet (a frame's last WORDS, the RESET)",
     "a zero-length packet (after each full one)",
     "a RESULT record from the FPGA",
     "a new USB frame count (HID COUNTERS report when due)",
@@ -241,7 +241,7 @@ typedef struct {
     size_t fpga_bytes;
     /* by part of the stream: [0] the preamble (RESET, the words before the
      * first FRAME), [k + 1] frame k with its RESULT */
-    uint64_t *part_bytes, *part_clocks;
+    uint64_t *part_bytes, *part_clocks, *part_words;
     unsigned parts;
 } tally;
 
@@ -323,6 +323,7 @@ static int replay(fx2_t *f, const capture *c, const stream_frame *fr, unsigned n
             uint32_t len = get32(ev->data + PROTO_OFF_LEN);
             words += len / 4;
             t->words_bytes += len;
+            t->part_words[part] += len;
         }
         while (next < nf && words >= fr[next].end_word) {
             uint8_t rec[PROTO_RESULT_BYTES] = {0};
@@ -406,12 +407,14 @@ static int measure(const char *ihx, const listing_t *l, const char *cpu, const c
 {
     static fx2_t f;
     int rc = -1;
-    uint64_t *pb = t->part_bytes, *pc = t->part_clocks;
+    uint64_t *pb = t->part_bytes, *pc = t->part_clocks, *pw = t->part_words;
     memset(t, 0, sizeof *t);
     memset(pb, 0, (nf + 1) * sizeof *pb);
     memset(pc, 0, (nf + 1) * sizeof *pc);
+    memset(pw, 0, (nf + 1) * sizeof *pw);
     t->part_bytes = pb;
     t->part_clocks = pc;
+    t->part_words = pw;
     t->parts = nf + 1;
     if (fx2_open(&f, cpu, ihx, l, preload) || control(&f, 0x00, 0x09, 1, 0, NULL, 0))
         goto out;
@@ -462,14 +465,16 @@ static void report(const tally *t, const tally *td, const counts *k, uint64_t cl
            (double)t->words_bytes / sec);
     /* frames after the preamble: the steady stream */
     uint64_t fbytes = 0, fclocks = 0, worst = 0;
-    printf("\n  part of the stream   bytes    FX2 ms (-t DS320)\n");
+    printf("\n  part of the stream  words bytes  bridge bytes  FX2 ms (-t DS320)\n");
     for (unsigned i = 0; i < t->parts; i++) {
+        char name[32];
         if (i == 0)
-            printf("  preamble         %8llu  %8.2f\n", (unsigned long long)t->part_bytes[0],
-                   (double)td->part_clocks[0] / (FX2_MHZ * 1e6) * 1000.0);
+            snprintf(name, sizeof name, "preamble");
         else
-            printf("  frame %-10u %8llu  %8.2f\n", i - 1, (unsigned long long)t->part_bytes[i],
-                   (double)td->part_clocks[i] / (FX2_MHZ * 1e6) * 1000.0);
+            snprintf(name, sizeof name, "frame %u", i - 1);
+        printf("  %-18s %11llu %13llu %10.2f\n", name, (unsigned long long)t->part_words[i],
+               (unsigned long long)t->part_bytes[i],
+               (double)td->part_clocks[i] / (FX2_MHZ * 1e6) * 1000.0);
         if (i) {
             fbytes += t->part_bytes[i];
             fclocks += td->part_clocks[i];
@@ -525,10 +530,12 @@ int speed_run(const char *ihx, const listing_t *l, const char *stream_path, cons
     uint64_t clocks = 0, dallas = 0;
     t.part_bytes = calloc(nf + 1, sizeof(uint64_t));
     t.part_clocks = calloc(nf + 1, sizeof(uint64_t));
+    t.part_words = calloc(nf + 1, sizeof(uint64_t));
     td.part_bytes = calloc(nf + 1, sizeof(uint64_t));
     td.part_clocks = calloc(nf + 1, sizeof(uint64_t));
-    if (!before || !after || !t.part_bytes || !t.part_clocks || !td.part_bytes ||
-        !td.part_clocks) {
+    td.part_words = calloc(nf + 1, sizeof(uint64_t));
+    if (!before || !after || !t.part_bytes || !t.part_clocks || !t.part_words || !td.part_bytes ||
+        !td.part_clocks || !td.part_words) {
         fprintf(stderr, "fx2_s51: out of memory\n");
         goto out;
     }
@@ -550,8 +557,10 @@ int speed_run(const char *ihx, const listing_t *l, const char *stream_path, cons
 out:
     free(t.part_bytes);
     free(t.part_clocks);
+    free(t.part_words);
     free(td.part_bytes);
     free(td.part_clocks);
+    free(td.part_words);
     cap_free(&c);
     free(before);
     free(after);
