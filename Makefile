@@ -78,6 +78,8 @@ help:
 	@echo "                TARGET = $(FUZZ_TARGETS) (fuzz/README.md)"
 	@echo "make fuzz-replay  the fuzz harnesses over their seeds and regressions (in make test)"
 	@echo "make firmware   the FX2LP board firmware (sdcc); make firmware-size checks it fits"
+	@echo "make firmware-check  that image on the s51 simulator against the host core (in make test)"
+	@echo "make firmware-speed  its parsing speed on the bridge's stream, from s51's cycle counts"
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
