@@ -1,10 +1,10 @@
 /* file.c — whole-file reads (file.h). */
-#include "file.h"
+#include "albatros/file.h"
 
 #include <stdint.h>
 #include <stdlib.h>
 
-int file_read_all(FILE *f, char **buf, size_t *len)
+int alb_file_read_all(FILE *f, char **buf, size_t *len)
 {
     size_t cap = (size_t)1 << 16, n = 0;
     char *b = malloc(cap);

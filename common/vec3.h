@@ -3,13 +3,15 @@
 #ifndef ALBATROS_VEC3_H
 #define ALBATROS_VEC3_H
 
+#include "albatros/vec3.h"
+
 #include <math.h>
 
 #define VEC3_PI 3.14159265358979323846
 
-typedef struct {
-    double x, y, z;
-} vec3;
+/* The scene database's vector (public, albatros/vec3.h), by its short name
+ * inside the project. */
+typedef alb_vec3 vec3;
 
 typedef struct {
     double m[3][3];   /* row-major: (M v)_i = sum_j m[i][j] v_j */

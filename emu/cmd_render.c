@@ -3,13 +3,15 @@
  * as an RTL test bench replays it.  Both share the frame sinks below. */
 #include "cli.h"
 #include "commands.h"
-#include "exr.h"
-#include "preview.h"
-#include "sim.h"
-#include "vcd.h"
+#include "albatros/dump.h"
+#include "albatros/exr.h"
+#include "albatros/preview.h"
+#include "albatros/sim.h"
+#include "albatros/vcd.h"
 #include "../tools/ref.h"
-#include "../vp/vp.h"
+#include "albatros/vp.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,21 +20,24 @@
 #define MAX_VIEWS 8
 
 typedef struct {
-    const char *output, *png, *stream;
+    const char *output, *png, *stream, *dump;
     struct {
-        preview_view view;
+        alb_preview_view view;
         const char *path;
     } views[MAX_VIEWS];
     unsigned nviews;
     bool json, quiet, help;
-    fidelity fid;
+    alb_fidelity fid;
     unsigned threads;         /* 0: one per core */
     const char *vcd;
     bool vcd_window;          /* --vcd-window given */
     uint64_t vcd_from, vcd_to;
     bool vcd_units_given;     /* --vcd-units given */
-    unsigned vcd_units;       /* mask of sim_trace_units_parse */
-    profile_t prof;
+    unsigned vcd_units;       /* mask of alb_sim_trace_units_parse */
+    const char *events;       /* --events FILE: the cycle model's event log */
+    bool events_only_given;
+    uint32_t events_only;     /* --events-only KINDS */
+    alb_profile prof;
     /* run state */
     unsigned nframes, done;
     const char *cmd;
@@ -44,7 +49,7 @@ static int parse_vcd_units(render_args *a, const char *value)
 {
     const char *bad;
     size_t badlen;
-    if (!sim_trace_units_parse(value, &a->vcd_units, &bad, &badlen)) {
+    if (!alb_sim_trace_units_parse(value, &a->vcd_units, &bad, &badlen)) {
         a->vcd_units_given = true;
         return 0;
     }
@@ -54,8 +59,8 @@ static int parse_vcd_units(render_args *a, const char *value)
     else
         fprintf(stderr, "albatros %s: --vcd-units %s: empty unit name; units are all", a->cmd,
                 value);
-    for (unsigned i = 0; sim_trace_unit_name(i); i++)
-        fprintf(stderr, ", %s", sim_trace_unit_name(i));
+    for (unsigned i = 0; alb_sim_trace_unit_name(i); i++)
+        fprintf(stderr, ", %s", alb_sim_trace_unit_name(i));
     fputc('\n', stderr);
     return -1;
 }
@@ -69,6 +74,8 @@ static int render_opt(void *ctx, const char *name, const char *value)
         a->png = value;
     else if (strcmp(name, "stream") == 0)
         a->stream = value;
+    else if (strcmp(name, "dump") == 0)
+        a->dump = value;
     else if (strcmp(name, "view") == 0) {
         const char *colon = strchr(value, ':');
         char vname[32];
@@ -78,14 +85,14 @@ static int render_opt(void *ctx, const char *name, const char *value)
             return -1;
         }
         snprintf(vname, sizeof vname, "%.*s", (int)(colon - value), value);
-        if (a->nviews == MAX_VIEWS || preview_view_parse(vname, &a->views[a->nviews].view)) {
+        if (a->nviews == MAX_VIEWS || alb_preview_view_parse(vname, &a->views[a->nviews].view)) {
             fprintf(stderr, "albatros %s: --view %s: views are colour, depth, face, level, "
                             "cycles, coverage (at most %d)\n", a->cmd, value, MAX_VIEWS);
             return -1;
         }
         a->views[a->nviews++].path = colon + 1;
     } else if (strcmp(name, "fidelity") == 0) {
-        if (fidelity_parse(value, &a->fid)) {
+        if (alb_fidelity_parse(value, &a->fid)) {
             fprintf(stderr, "albatros %s: --fidelity %s: expected functional, timed or cycle\n",
                     a->cmd, value);
             return -1;
@@ -93,9 +100,9 @@ static int render_opt(void *ctx, const char *name, const char *value)
     } else if (strcmp(name, "threads") == 0) {
         char *end;
         unsigned long v = strtoul(value, &end, 10);
-        if (end == value || *end || value[0] == '-' || v > VP_MAX_THREADS) {
+        if (end == value || *end || value[0] == '-' || v > ALB_VP_MAX_THREADS) {
             fprintf(stderr, "albatros %s: --threads %s: expected 0 (one per core) to %d\n",
-                    a->cmd, value, VP_MAX_THREADS);
+                    a->cmd, value, ALB_VP_MAX_THREADS);
             return -1;
         }
         a->threads = (unsigned)v;
@@ -115,6 +122,21 @@ static int render_opt(void *ctx, const char *name, const char *value)
     } else if (strcmp(name, "vcd-units") == 0) {
         if (parse_vcd_units(a, value))
             return -1;
+    } else if (strcmp(name, "events") == 0) {
+        a->events = value;
+    } else if (strcmp(name, "events-only") == 0) {
+        const char *bad;
+        size_t badlen;
+        if (alb_sim_events_parse(value, &a->events_only, &bad, &badlen)) {
+            fprintf(stderr, "albatros %s: --events-only %s: unknown kind '%.*s'; kinds are all",
+                    a->cmd, value, (int)badlen, bad);
+            for (unsigned i = 0; i < 32; i++)
+                if (alb_sim_event_name(1u << i))
+                    fprintf(stderr, ", %s", alb_sim_event_name(1u << i));
+            fputc('\n', stderr);
+            return -1;
+        }
+        a->events_only_given = true;
     } else if (strcmp(name, "json") == 0)
         a->json = true;
     else if (strcmp(name, "quiet") == 0 || strcmp(name, "q") == 0)
@@ -124,8 +146,8 @@ static int render_opt(void *ctx, const char *name, const char *value)
     return 0;
 }
 
-static void stats_json(FILE *f, const frame_t *fr, const vp_stats *st, unsigned levels,
-                       const sim_counters *sc, const profile_t *p)
+static void stats_json(FILE *f, const alb_frame *fr, const alb_vp_stats *st, unsigned levels,
+                       const alb_sim_counters *sc, const alb_profile *p)
 {
     fprintf(f, "{\"frame\": %u, \"faces\": %llu, \"edges\": %llu, \"cells_per_level\": [",
             fr->number, (unsigned long long)st->faces, (unsigned long long)st->edges);
@@ -143,23 +165,23 @@ static void stats_json(FILE *f, const frame_t *fr, const vp_stats *st, unsigned 
             (unsigned long long)st->faces_fogged);
     if (sc) {
         fprintf(f, ", \"timing\": ");
-        sim_counters_json(f, sc, p);
+        alb_sim_counters_json(f, sc, p);
     }
     fputc('}', f);
 }
 
-static uint64_t total_cells(const vp_stats *st)
+static uint64_t total_cells(const alb_vp_stats *st)
 {
     uint64_t n = 0;
-    for (unsigned l = 0; l < VP_MAX_LEVELS; l++)
+    for (unsigned l = 0; l < ALB_VP_MAX_LEVELS; l++)
         n += st->cells[l];
     return n;
 }
 
 /* "1 4 16 52": cells visited at levels 0 .. levels (as cells_per_level). */
-static void cells_per_level_text(FILE *f, const vp_stats *st, unsigned levels)
+static void cells_per_level_text(FILE *f, const alb_vp_stats *st, unsigned levels)
 {
-    for (unsigned l = 0; l <= levels && l < VP_MAX_LEVELS; l++)
+    for (unsigned l = 0; l <= levels && l < ALB_VP_MAX_LEVELS; l++)
         fprintf(f, "%s%llu", l ? " " : "", (unsigned long long)st->cells[l]);
 }
 
@@ -169,7 +191,7 @@ typedef struct {
 } sink_ctx;
 
 /* Bit widths a frame needed beyond the profile's (docs/vp.md §4). */
-static void width_warnings(const frame_t *f, const vp_stats *st)
+static void width_warnings(const alb_frame *f, const alb_vp_stats *st)
 {
     if (st->depth_saturated)
         fprintf(stderr, "albatros: warning: frame %u: %llu samples are nearer than near=%g: the "
@@ -183,33 +205,44 @@ static void width_warnings(const frame_t *f, const vp_stats *st)
                 (double)f->near * ldexp(1, (int)f->depth_bits));
 }
 
-static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st, const sim_counters *sc)
+static int write_outputs(void *ctx, const alb_frame *f, const alb_vp_stats *st, const alb_sim_counters *sc)
 {
     sink_ctx *s = ctx;
     render_args *a = s->a;
     char path[1024];
-    diag_t d;
-    diag_init(&d, NULL);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
     if (st)
         width_warnings(f, st);
     if (a->output) {
         cli_frame_path(path, sizeof path, a->output, f->number, a->nframes);
-        if (exr_write_frame_threads(path, f, a->threads ? a->threads : vp_cores(), &d)) {
-            diag_print(&d, stderr);
+        if (alb_exr_write_frame_threads(path, f, a->threads ? a->threads : alb_vp_cores(), &d)) {
+            alb_diag_print(&d, stderr);
+            return -1;
+        }
+    }
+    if (a->dump) {
+        /* raw by its name, else $writememh text (docs/cosim.md) */
+        size_t n = strlen(a->dump);
+        bool raw = (n > 4 && !strcmp(a->dump + n - 4, ".raw")) ||
+                   (n > 4 && !strcmp(a->dump + n - 4, ".bin"));
+        cli_frame_path(path, sizeof path, a->dump, f->number, a->nframes);
+        if (alb_dump_write(path, f, raw ? ALB_DUMP_RAW : ALB_DUMP_MEMH, &d)) {
+            alb_diag_print(&d, stderr);
             return -1;
         }
     }
     if (a->png) {
         cli_frame_path(path, sizeof path, a->png, f->number, a->nframes);
-        if (preview_write(path, f, PREVIEW_COLOUR, &d)) {
-            diag_print(&d, stderr);
+        if (alb_preview_write(path, f, ALB_PREVIEW_COLOUR, &d)) {
+            alb_diag_print(&d, stderr);
             return -1;
         }
     }
     for (unsigned i = 0; i < a->nviews; i++) {
         cli_frame_path(path, sizeof path, a->views[i].path, f->number, a->nframes);
-        if (preview_write(path, f, a->views[i].view, &d)) {
-            diag_print(&d, stderr);
+        if (alb_preview_write(path, f, a->views[i].view, &d)) {
+            alb_diag_print(&d, stderr);
             return -1;
         }
     }
@@ -231,7 +264,7 @@ static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st, const 
         cells_per_level_text(stderr, st, s->levels);
         fprintf(stderr, "), %llu samples written\n", (unsigned long long)st->samples_written);
         if (sc)
-            sim_counters_text(stderr, sc, &a->prof);
+            alb_sim_counters_text(stderr, sc, &a->prof);
     }
     a->done++;
     return 0;
@@ -241,61 +274,101 @@ static int write_outputs(void *ctx, const frame_t *f, const vp_stats *st, const 
  * real pass will report it). */
 static unsigned count_frames(const uint32_t *w, size_t n)
 {
-    ws_reader r;
-    ws_event *ev = malloc(sizeof *ev);
-    diag_t d;
-    diag_init(&d, NULL);
+    alb_ws_reader r;
+    alb_ws_event *ev = malloc(sizeof *ev);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
     unsigned frames = 0;
-    ws_reader_init(&r, w, n, "");
-    while (ev && !r.ended && ws_next(&r, ev, &d) == ALB_OK)
-        frames += ev->kind == WS_EV_FRAME;
+    alb_ws_reader_init(&r, w, n, "");
+    while (ev && !r.ended && alb_ws_next(&r, ev, &d) == ALB_OK)
+        frames += ev->kind == ALB_WS_EV_FRAME;
     free(ev);
     return frames;
 }
 
+/* --events: each batch of the cycle model's events as text lines. */
+static int write_events(void *ctx, const alb_event *ev, size_t n)
+{
+    FILE *f = ctx;
+    char line[160];
+    for (size_t i = 0; i < n; i++) {
+        int len = alb_sim_event_format(&ev[i], line, sizeof line);
+        if (len < 0 || fwrite(line, 1, (size_t)len, f) != (size_t)len)
+            return -1;
+    }
+    return 0;
+}
+
 /* The VP on a whole stream at the chosen fidelity, frames to the sinks. */
-static int run_vp(render_args *a, const profile_t *prof, const uint32_t *w, size_t n,
+static int run_vp(render_args *a, const alb_profile *prof, const uint32_t *w, size_t n,
                   const char *name)
 {
-    diag_t d;
-    diag_init(&d, stderr);
-    sim_options opt = {a->fid, NULL, a->vcd_from, a->vcd_window ? a->vcd_to : UINT64_MAX,
-                       a->threads ? a->threads : vp_cores()};
+    alb_diag d;
+    alb_diag_init(&d, stderr);
+    alb_sim_options opt = {.fid = a->fid, .vcd_from = a->vcd_from,
+                       .vcd_to = a->vcd_window ? a->vcd_to : UINT64_MAX,
+                       .threads = a->threads ? a->threads : alb_vp_cores()};
     a->prof = *prof;
     if (a->vcd) {
-        if (a->fid != FIDELITY_CYCLE) {
+        if (a->fid != ALB_FIDELITY_CYCLE) {
             fprintf(stderr, "albatros %s: --vcd traces the cycle fidelity: add --fidelity cycle\n",
                     a->cmd);
             return 2;
         }
-        if (!(opt.vcd = vcd_open(a->vcd, &d))) {
-            diag_print(&d, stderr);
+        if (!(opt.vcd = alb_vcd_open(a->vcd, &d))) {
+            alb_diag_print(&d, stderr);
             return 1;
         }
         /* --vcd-units: the writer keeps those units' scopes, the model
          * records only what the writer keeps */
-        for (unsigned i = 0; a->vcd_units_given && a->vcd_units != SIM_TRACE_ALL &&
-                             sim_trace_unit_name(i); i++)
-            if (a->vcd_units >> i & 1 && vcd_keep_scope(opt.vcd, sim_trace_unit_name(i))) {
+        for (unsigned i = 0; a->vcd_units_given && a->vcd_units != ALB_SIM_TRACE_ALL &&
+                             alb_sim_trace_unit_name(i); i++)
+            if (a->vcd_units >> i & 1 && alb_vcd_keep_scope(opt.vcd, alb_sim_trace_unit_name(i))) {
                 fprintf(stderr, "albatros %s: --vcd-units: too many units\n", a->cmd);
-                vcd_close(opt.vcd);
+                alb_vcd_close(opt.vcd);
                 return 2;
             }
     }
+    FILE *events = NULL;
+    if (a->events) {
+        if (a->fid != ALB_FIDELITY_CYCLE) {
+            fprintf(stderr, "albatros %s: --events logs the cycle fidelity: add --fidelity cycle\n",
+                    a->cmd);
+            if (opt.vcd)
+                alb_vcd_close(opt.vcd);
+            return 2;
+        }
+        events = strcmp(a->events, "-") ? fopen(a->events, "w") : stdout;
+        if (!events) {
+            fprintf(stderr, "albatros %s: %s: %s\n", a->cmd, a->events, strerror(errno));
+            if (opt.vcd)
+                alb_vcd_close(opt.vcd);
+            return 1;
+        }
+        opt.events = a->events_only_given ? a->events_only : ALB_EV_ALL;
+        opt.on_events = write_events;
+        opt.events_ctx = events;
+    }
     a->nframes = count_frames(w, n);
-    sink_ctx s = {a, profile_levels(prof)};
+    sink_ctx s = {a, alb_profile_levels(prof)};
     if (a->json)
         printf("{\"profile\": \"%s\", \"fidelity\": \"%s\", \"frames\": [\n", prof->name,
-               fidelity_name(a->fid));
-    alb_err e = sim_run(prof, w, n, name, &opt, write_outputs, &s, &d);
+               alb_fidelity_name(a->fid));
+    alb_err e = alb_sim_run(prof, w, n, name, &opt, write_outputs, &s, &d);
     if (a->json)
         printf("\n]}\n");
-    if (opt.vcd && vcd_close(opt.vcd)) {
+    if (opt.vcd && alb_vcd_close(opt.vcd)) {
         fprintf(stderr, "albatros %s: %s: write error\n", a->cmd, a->vcd);
         e = e ? e : ALB_ERR_IO;
     }
+    if (events && (events == stdout ? fflush(events) : fclose(events))) {
+        fprintf(stderr, "albatros %s: %s: write error: %s\n", a->cmd, a->events, strerror(errno));
+        e = e ? e : ALB_ERR_IO;
+    } else if (events && e == ALB_ERR_IO && !d.msg[0]) {
+        fprintf(stderr, "albatros %s: %s: write error\n", a->cmd, a->events);
+    }
     if (e && (e != ALB_ERR_IO || d.msg[0]))
-        diag_print(&d, stderr);
+        alb_diag_print(&d, stderr);
     struct rusage ru;
     if (!e && !a->quiet && !getrusage(RUSAGE_SELF, &ru))
         /* not in --json: it differs between runs, the JSON must not */
@@ -315,6 +388,10 @@ static const char render_help[] =
     "  --view NAME:FILE    PNG of one view: colour, depth, face, level, coverage,\n"
     "                      cycles (timed or cycle fidelity)\n"
     "  --stream FILE       also write the GP's word stream\n"
+    "  --dump FILE         each frame as a frame-store dump, 128 bits a pixel, the\n"
+    "                      form an RTL bench writes ($writememh text; raw if FILE\n"
+    "                      ends in .raw or .bin; docs/cosim.md): albatros compare\n"
+    "                      reads it\n"
     "  --fidelity F        functional (default: pixels only), timed or cycle (cycle\n"
     "                      counts, unit counters, vp.cycles; docs/microarchitecture.md)\n"
     "  --threads N         threads of the functional renderer and of the EXR\n"
@@ -325,6 +402,11 @@ static const char render_help[] =
     "  --vcd-units LIST    trace only these units (with --vcd), comma-separated:\n"
     "                      gp, fifo, parser, engine, fill, pipe, or all (default);\n"
     "                      clk and frame_open are always traced\n"
+    "  --events FILE       the cycle model's events, one line each (with --fidelity\n"
+    "                      cycle; - for stdout): pushes, pops, faces, cells, writes,\n"
+    "                      frames with their CRC (docs/cosim.md)\n"
+    "  --events-only KINDS only these kinds (with --events), comma-separated: push,\n"
+    "                      pop, load, start, cell, end, fill, write, frame, or all\n"
     "  --json              per-frame VP statistics (and counters) as JSON on stdout\n"
     "                      (docs/microarchitecture.md, \"JSON output\")\n"
     "  -q, --quiet         no summary\n\n";
@@ -334,8 +416,8 @@ static const char vp_help[] =
     "                   [--json] [--profile NAME] [--set KEY=VALUE]\n\n"
     "Run the VP alone on a word stream (as written by albatros gp), as an RTL test\n"
     "bench replays it.  The profile must match the stream's CONFIG formats.\n"
-    "Options as for render: -o, --png, --view, --json, --fidelity, --threads, --vcd,\n"
-    "--vcd-window, --vcd-units.\n\n";
+    "Options as for render: -o, --png, --view, --dump, --json, --fidelity, --threads, --vcd,\n"
+    "--vcd-window, --vcd-units, --events, --events-only.\n\n";
 
 static int check_outputs(render_args *a)
 {
@@ -350,7 +432,13 @@ static int check_outputs(render_args *a)
                         "--fidelity cycle)\n", a->cmd);
         return 2;
     }
-    if (!a->output && !a->png && !a->nviews && !a->json && !a->stream && !a->vcd) {
+    if (a->events_only_given && !a->events) {
+        fprintf(stderr, "albatros %s: --events-only limits the event log: add --events FILE "
+                        "(and --fidelity cycle)\n", a->cmd);
+        return 2;
+    }
+    if (!a->output && !a->png && !a->nviews && !a->json && !a->stream && !a->vcd && !a->events &&
+        !a->dump) {
         fprintf(stderr, "albatros %s: nothing to write: give -o FRAME.exr, --png FILE, --view "
                         "NAME:FILE or --json\n", a->cmd);
         return 2;
@@ -360,9 +448,9 @@ static int check_outputs(render_args *a)
 
 int cmd_render(int argc, char **argv)
 {
-    static const char *const spec[] = {"output=", "png=", "view=", "stream=", "json", "quiet",
+    static const char *const spec[] = {"output=", "png=", "view=", "stream=", "dump=", "json", "quiet",
                                        "q", "help", "fidelity=", "threads=", "vcd=", "vcd-window=",
-                                       "vcd-units=", NULL};
+                                       "vcd-units=", "events=", "events-only=", NULL};
     render_args a = {.cmd = "render", .progress = cli_isatty_stderr()};
     run_opts o;
     run_opts_init(&o);
@@ -376,40 +464,40 @@ int cmd_render(int argc, char **argv)
     }
     if (check_outputs(&a) || cli_check_profile(&o.prof))
         return 2;
-    scene_t scene;
+    alb_scene scene;
     if (cli_load_scene(npos ? pos[0] : NULL, &o, &scene))
         return 1;
-    diag_t d;
-    diag_init(&d, stderr);
-    gp_t *gp = NULL;
-    ws_buf buf;
-    ws_buf_init(&buf);
+    alb_diag d;
+    alb_diag_init(&d, stderr);
+    alb_gp *gp = NULL;
+    alb_ws_buf buf;
+    alb_ws_buf_init(&buf);
     int rc = 0;
-    gp_stats gst;
-    if (gp_create(&gp, &scene, &o.prof, &d) || gp_run(gp, &buf, &gst, &d)) {
-        diag_print(&d, stderr);
+    alb_gp_stats gst;
+    if (alb_gp_create(&gp, &scene, &o.prof, &d) || alb_gp_run(gp, &buf, &gst, &d)) {
+        alb_diag_print(&d, stderr);
         rc = 1;
     } else if (gst.coef_saturated) {
         fprintf(stderr, "albatros: warning: %u linear forms exceeded the exponent range "
                         "(a face nearly edge-on to the observer?)\n", gst.coef_saturated);
     }
-    if (!rc && a.stream && ws_write_file(a.stream, buf.w, buf.n, &d)) {
-        diag_print(&d, stderr);
+    if (!rc && a.stream && alb_ws_write_file(a.stream, buf.w, buf.n, &d)) {
+        alb_diag_print(&d, stderr);
         rc = 1;
     }
     if (!rc)
         rc = run_vp(&a, &o.prof, buf.w, buf.n, npos ? pos[0] : "<builtin>");
-    ws_buf_free(&buf);
-    gp_destroy(gp);
-    scene_free(&scene);
+    alb_ws_buf_free(&buf);
+    alb_gp_destroy(gp);
+    alb_scene_free(&scene);
     return rc;
 }
 
 int cmd_vp(int argc, char **argv)
 {
-    static const char *const spec[] = {"output=", "png=", "view=", "json", "quiet", "q", "help",
+    static const char *const spec[] = {"output=", "png=", "view=", "dump=", "json", "quiet", "q", "help",
                                        "fidelity=", "threads=", "vcd=", "vcd-window=",
-                                       "vcd-units=", NULL};
+                                       "vcd-units=", "events=", "events-only=", NULL};
     render_args a = {.cmd = "vp", .progress = cli_isatty_stderr()};
     run_opts o;
     run_opts_init(&o);
@@ -429,10 +517,10 @@ int cmd_vp(int argc, char **argv)
         return 2;
     uint32_t *w;
     size_t n;
-    diag_t d;
-    diag_init(&d, NULL);
-    if (ws_read_file(pos[0], &w, &n, &d)) {
-        diag_print(&d, stderr);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    if (alb_ws_read_file(pos[0], &w, &n, &d)) {
+        alb_diag_print(&d, stderr);
         return 1;
     }
     int rc = run_vp(&a, &o.prof, w, n, pos[0]);
@@ -454,7 +542,7 @@ static const char reference_help[] =
 
 int cmd_reference(int argc, char **argv)
 {
-    static const char *const spec[] = {"output=", "png=", "view=", "json", "quiet", "q", "help",
+    static const char *const spec[] = {"output=", "png=", "view=", "dump=", "json", "quiet", "q", "help",
                                        NULL};
     render_args a = {.cmd = "reference", .progress = cli_isatty_stderr()};
     run_opts o;
@@ -469,26 +557,26 @@ int cmd_reference(int argc, char **argv)
     }
     if (check_outputs(&a) || cli_check_profile(&o.prof))
         return 2;
-    scene_t scene;
+    alb_scene scene;
     if (cli_load_scene(npos ? pos[0] : NULL, &o, &scene))
         return 1;
-    sink_ctx s = {&a, profile_levels(&o.prof)};
+    sink_ctx s = {&a, alb_profile_levels(&o.prof)};
     a.nframes = scene.nframes;
     int rc = 0;
     if (a.json)
         printf("{\"profile\": \"%s\", \"frames\": [\n", o.prof.name);
     for (unsigned f = 0; f < scene.nframes && !rc; f++) {
-        frame_t fr;
+        alb_frame fr;
         if (ref_render(&scene, &o.prof, f, &fr)) {
             fprintf(stderr, "albatros reference: out of memory\n");
             rc = 1;
             break;
         }
         rc = write_outputs(&s, &fr, NULL, NULL) ? 1 : 0;
-        frame_free(&fr);
+        alb_frame_free(&fr);
     }
     if (a.json)
         printf("\n]}\n");
-    scene_free(&scene);
+    alb_scene_free(&scene);
     return rc;
 }

@@ -2,7 +2,8 @@
 #ifndef ALBATROS_GP_INTERNAL_H
 #define ALBATROS_GP_INTERNAL_H
 
-#include "gp.h"
+#include "albatros/gp.h"
+#include "../common/vec3.h"
 
 #include <math.h>
 
@@ -46,13 +47,13 @@ gp_line_class gp_classify_line(gp_line l);
  * saturate to [0, 2^(3+F) - 1] (docs/number-formats.md §1). */
 uint32_t gp_quantise_intercept(double x, unsigned frac_bits);
 /* U | R | X1 | X2 of a line that crosses the screen (§6). */
-ws_edge gp_edge_format(gp_line l, unsigned frac_bits);
+alb_ws_edge gp_edge_format(gp_line l, unsigned frac_bits);
 /* An axis-parallel bounding edge through screen coordinate v (§7). */
-ws_edge gp_bound_format(unsigned u, unsigned r, double v, unsigned frac_bits);
+alb_ws_edge gp_bound_format(unsigned u, unsigned r, double v, unsigned frac_bits);
 
 /* Block floating-point form of (a, b, c) with coef_bits signed mantissas
  * (docs/number-formats.md §2).  *saturated set if the exponent clamped. */
-ws_form gp_quantise_form(double a, double b, double c, unsigned coef_bits, int *saturated);
+alb_ws_form gp_quantise_form(double a, double b, double c, unsigned coef_bits, int *saturated);
 
 /* Solve system (11): X_k A + Y_k B + Z_k C + D = val_k (k = 1..3) and
  * N.(A, B, C) = 0.  Returns 0, or -1 if the determinant k.N vanishes. */

@@ -63,13 +63,13 @@ TEST(ratio_matches_division)
 static int owners_of(const char *object, unsigned *owners, unsigned add, char *err, size_t len)
 {
     char text[512];
-    frame_t fr;
+    alb_frame fr;
     snprintf(text, sizeof text, "albatros-scene 1\nscreenspace\n%s", object);
     if (render_text(text, "t32", "bound=none", &fr, NULL, NULL, err, len))
         return -1;
     for (unsigned i = 0; i < 32 * 32; i++)
-        owners[i] += add * (fr.face[i] != FRAME_NO_FACE);
-    frame_free(&fr);
+        owners[i] += add * (fr.face[i] != ALB_FRAME_NO_FACE);
+    alb_frame_free(&fr);
     return 0;
 }
 
@@ -120,12 +120,12 @@ TEST(tie_rule_shared_edge_exactly_one_face)
  * frame matches the reference where no quantisation bound is near. */
 TEST(random_scenes_agree_with_reference)
 {
-    profile_t p;
-    profile_lookup("a256", &p);
+    alb_profile p;
+    alb_profile_lookup("a256", &p);
     char err[300];
-    profile_set(&p, "width=64", err, sizeof err);
-    profile_set(&p, "height=64", err, sizeof err);
-    profile_set(&p, "edge_frac_bits=11", err, sizeof err);
+    alb_profile_set(&p, "width=64", err, sizeof err);
+    alb_profile_set(&p, "height=64", err, sizeof err);
+    alb_profile_set(&p, "edge_frac_bits=11", err, sizeof err);
     accuracy total;
     memset(&total, 0, sizeof total);
     scenegen_params gp = scenegen_defaults();

@@ -4,17 +4,18 @@
  * every emitted (quantised) edge, and the depths of the two nearest faces
  * there differ by more than their forms' rounding. */
 #include "accuracy.h"
+#include "../common/vec3.h"
 #include "ref.h"
-#include "../common/words.h"
-#include "../gp/gp.h"
-#include "../vp/vp.h"
+#include "albatros/words.h"
+#include "albatros/gp.h"
+#include "albatros/vp.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 typedef struct {
-    ws_face *f;
+    alb_ws_face *f;
     unsigned n;
     unsigned frac;
 } emitted;
@@ -22,19 +23,19 @@ typedef struct {
 /* The FACE packets of frame `frame` of the stream. */
 static int decode_frame(const uint32_t *w, size_t n, unsigned frame, emitted *em)
 {
-    ws_reader r;
-    ws_event *ev = malloc(sizeof *ev);
-    diag_t d;
-    diag_init(&d, NULL);
+    alb_ws_reader r;
+    alb_ws_event *ev = malloc(sizeof *ev);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
     memset(em, 0, sizeof *em);
     int frames = -1, rc = ev ? 0 : -1;
-    ws_reader_init(&r, w, n, "");
-    while (!rc && !r.ended && ws_next(&r, ev, &d) == ALB_OK) {
-        if (ev->kind == WS_EV_CONFIG)
+    alb_ws_reader_init(&r, w, n, "");
+    while (!rc && !r.ended && alb_ws_next(&r, ev, &d) == ALB_OK) {
+        if (ev->kind == ALB_WS_EV_CONFIG)
             em->frac = ev->u.config.edge_frac_bits;
-        frames += ev->kind == WS_EV_FRAME;
-        if (ev->kind == WS_EV_FACE && frames == (int)frame) {
-            ws_face *nf = realloc(em->f, (em->n + 1) * sizeof *nf);
+        frames += ev->kind == ALB_WS_EV_FRAME;
+        if (ev->kind == ALB_WS_EV_FACE && frames == (int)frame) {
+            alb_ws_face *nf = realloc(em->f, (em->n + 1) * sizeof *nf);
             if (!nf)
                 rc = -1;
             else
@@ -48,7 +49,7 @@ static int decode_frame(const uint32_t *w, size_t n, unsigned frame, emitted *em
 static double intercept(uint32_t q, unsigned frac) { return ldexp(q, -(int)frac) - 3; }
 
 /* Distance along the U axis from (x, y) to an emitted edge's line. */
-static double emitted_distance(const ws_edge *e, unsigned frac, double x, double y)
+static double emitted_distance(const alb_ws_edge *e, unsigned frac, double x, double y)
 {
     double a = intercept(e->x1, frac), b = intercept(e->x2, frac);
     if (e->u)
@@ -63,7 +64,7 @@ static double exact_distance(vec3 n, double x, double y)
     return fabs(n.x) > fabs(n.y) ? f / fabs(n.x) : f / fabs(n.y);
 }
 
-static const ws_face *find_emitted(const emitted *em, uint32_t id)
+static const alb_ws_face *find_emitted(const emitted *em, uint32_t id)
 {
     for (unsigned i = 0; i < em->n; i++)
         if (em->f[i].id == id)
@@ -73,15 +74,15 @@ static const ws_face *find_emitted(const emitted *em, uint32_t id)
 
 /* Rounding bound of a face's near/Z: half a mantissa unit on each of the
  * three terms, |x|, |y| <= 1. */
-static double depth_bound(const ws_face *f) { return f ? 1.5 * ldexp(1, f->depth.exp) : 0; }
+static double depth_bound(const alb_ws_face *f) { return f ? 1.5 * ldexp(1, f->depth.exp) : 0; }
 
-static bool pixel_clear(const ref_frame *rf, const emitted *em, const profile_t *p, double near,
+static bool pixel_clear(const ref_frame *rf, const emitted *em, const alb_profile *p, double near,
                         double x, double y)
 {
     double delta = ldexp(1, -(int)(em->frac + 1)) * (1 + 1e-9) + 1e-12;
     vec3 dir = {x, y, 1};
     double q[2] = {0, 0};
-    const ws_face *fq[2] = {NULL, NULL};
+    const alb_ws_face *fq[2] = {NULL, NULL};
     for (unsigned i = 0; i < rf->n; i++) {
         const ref_face *f = &rf->faces[i];
         bool in = true;
@@ -115,8 +116,8 @@ static bool pixel_clear(const ref_frame *rf, const emitted *em, const profile_t 
     return true;
 }
 
-int accuracy_measure(const scene_t *s, const profile_t *p, unsigned frame, const uint32_t *stream,
-                     size_t nwords, const frame_t *vp, const frame_t *ref, accuracy *out)
+int accuracy_measure(const alb_scene *s, const alb_profile *p, unsigned frame, const uint32_t *stream,
+                     size_t nwords, const alb_frame *vp, const alb_frame *ref, accuracy *out)
 {
     ref_frame rf;
     emitted em;
@@ -147,23 +148,23 @@ int accuracy_measure(const scene_t *s, const profile_t *p, unsigned frame, const
 }
 
 typedef struct {
-    const scene_t *s;
-    const profile_t *p;
-    const ws_buf *b;
+    const alb_scene *s;
+    const alb_profile *p;
+    const alb_ws_buf *b;
     accuracy *acc;
     int rc;
 } measure_ctx;
 
-static int measure_frame(void *ctx, const frame_t *f, const vp_stats *st)
+static int measure_frame(void *ctx, const alb_frame *f, const alb_vp_stats *st)
 {
     (void)st;
     measure_ctx *m = ctx;
-    frame_t ref;
+    alb_frame ref;
     accuracy a;
     if (ref_render(m->s, m->p, f->number, &ref))
         return m->rc = -1;
     int rc = accuracy_measure(m->s, m->p, f->number, m->b->w, m->b->n, f, &ref, &a);
-    frame_free(&ref);
+    alb_frame_free(&ref);
     if (rc)
         return m->rc = -1;
     if (a.clear_diff && m->acc->clear_diff == 0)
@@ -175,40 +176,40 @@ static int measure_frame(void *ctx, const frame_t *f, const vp_stats *st)
     return 0;
 }
 
-int accuracy_of_scene(const scene_t *s, const profile_t *p, accuracy *acc, diag_t *d)
+int accuracy_of_scene(const alb_scene *s, const alb_profile *p, accuracy *acc, alb_diag *d)
 {
-    gp_t *gp = NULL;
-    vp_t *vp = NULL;
-    ws_buf b;
-    ws_buf_init(&b);
+    alb_gp *gp = NULL;
+    alb_vp *vp = NULL;
+    alb_ws_buf b;
+    alb_ws_buf_init(&b);
     measure_ctx m = {s, p, &b, acc, 0};
-    alb_err e = gp_create(&gp, s, p, d);
+    alb_err e = alb_gp_create(&gp, s, p, d);
     if (!e)
-        e = gp_run(gp, &b, NULL, d);
+        e = alb_gp_run(gp, &b, NULL, d);
     if (!e)
-        e = vp_create(&vp, p, d);
+        e = alb_vp_create(&vp, p, d);
     if (!e)
-        e = vp_run_stream(vp, b.w, b.n, "generated", measure_frame, &m, d);
+        e = alb_vp_run_stream(vp, b.w, b.n, "generated", measure_frame, &m, d);
     if (e && m.rc)
-        diag_at(d, ALB_ERR_NOMEM, s->file, 0, 0, "out of memory");
-    vp_destroy(vp);
-    gp_destroy(gp);
-    ws_buf_free(&b);
+        alb_diag_at(d, ALB_ERR_NOMEM, s->file, 0, 0, "out of memory");
+    alb_vp_destroy(vp);
+    alb_gp_destroy(gp);
+    alb_ws_buf_free(&b);
     return e ? -1 : 0;
 }
 
-int accuracy_of_text(const char *text, const profile_t *p, accuracy *acc, char *err, size_t len)
+int accuracy_of_text(const char *text, const alb_profile *p, accuracy *acc, char *err, size_t len)
 {
-    scene_t s;
-    diag_t d;
-    diag_init(&d, NULL);
-    if (scene_parse(text, strlen(text), "generated", &s, &d)) {
+    alb_scene s;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    if (alb_scene_parse(text, strlen(text), "generated", &s, &d)) {
         snprintf(err, len, "%u:%u: %s", d.line, d.col, d.msg);
         return -1;
     }
     int rc = accuracy_of_scene(&s, p, acc, &d);
     if (rc)
         snprintf(err, len, "%s", d.msg);
-    scene_free(&s);
+    alb_scene_free(&s);
     return rc;
 }

@@ -5,9 +5,9 @@
 #ifndef ALBATROS_ACCURACY_H
 #define ALBATROS_ACCURACY_H
 
-#include "../common/profile.h"
-#include "../gp/gp.h"
-#include "../vp/vp.h"
+#include "albatros/profile.h"
+#include "albatros/gp.h"
+#include "albatros/vp.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -22,13 +22,13 @@ typedef struct {
 
 /* Compare vp (frame `frame` rendered from `stream`) with the reference of the
  * scene.  aa_levels must be 0.  Returns -1 if out of memory. */
-int accuracy_measure(const scene_t *s, const profile_t *p, unsigned frame, const uint32_t *stream,
-                     size_t nwords, const frame_t *vp, const frame_t *ref, accuracy *out);
+int accuracy_measure(const alb_scene *s, const alb_profile *p, unsigned frame, const uint32_t *stream,
+                     size_t nwords, const alb_frame *vp, const alb_frame *ref, accuracy *out);
 
 /* Run GP, VP and reference on a scene (ready for the GP: screen-space
  * scenes resolved); sums into *acc.  -1 with d saying why on failure. */
-int accuracy_of_scene(const scene_t *s, const profile_t *p, accuracy *acc, diag_t *d);
+int accuracy_of_scene(const alb_scene *s, const alb_profile *p, accuracy *acc, alb_diag *d);
 /* The same on scene text. */
-int accuracy_of_text(const char *text, const profile_t *p, accuracy *acc, char *err, size_t len);
+int accuracy_of_text(const char *text, const alb_profile *p, accuracy *acc, char *err, size_t len);
 
 #endif

@@ -3,17 +3,18 @@
  * evaluates the scene's fields at the hit point by barycentric coordinates,
  * where the GP solves system (11) and the VP divides linear forms. */
 #include "ref.h"
+#include "../common/vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 /* Observer space as in docs/gp.md: P = S O^T (Q R + pos - E). */
-static void object_to_observer(const scene_frame *fr, unsigned oi, double aspect, mat3 *m, vec3 *t,
+static void object_to_observer(const alb_scene_frame *fr, unsigned oi, double aspect, mat3 *m, vec3 *t,
                                mat3 *inv)
 {
-    const scene_pose *pose = &fr->poses[oi];
-    const scene_observer *ob = &fr->obs;
+    const alb_scene_pose *pose = &fr->poses[oi];
+    const alb_scene_observer *ob = &fr->obs;
     double a = ob->aspect > 0 ? ob->aspect : aspect;
     double sy = 1 / tan(ob->fov_y * VEC3_PI / 360), sx = sy / a;
     mat3 q = m3_orientation(pose->yaw, pose->pitch, pose->roll);
@@ -58,26 +59,26 @@ static void prepare_face(ref_face *rf, const vec3 *p, unsigned n)
     }
 }
 
-int ref_prepare(const scene_t *s, const profile_t *prof, unsigned frame, ref_frame *rf)
+int ref_prepare(const alb_scene *s, const alb_profile *prof, unsigned frame, ref_frame *rf)
 {
-    const scene_frame *fr = &s->frames[frame];
+    const alb_scene_frame *fr = &s->frames[frame];
     rf->n = 0;
     rf->faces = malloc((s->nfaces ? s->nfaces : 1) * sizeof *rf->faces);
     if (!rf->faces)
         return -1;
     for (unsigned oi = 0; oi < s->nobj; oi++) {
-        const scene_object *o = &s->obj[oi];
+        const alb_scene_object *o = &s->obj[oi];
         mat3 m, inv;
         vec3 t;
         object_to_observer(fr, oi, (double)prof->width / prof->height, &m, &t, &inv);
         mat3 qt = m3_orientation(fr->poses[oi].yaw, fr->poses[oi].pitch, fr->poses[oi].roll);
         qt = m3_transpose(&qt);
         for (unsigned j = 0; j < o->nf; j++) {
-            const scene_face *f = &o->f[j];
-            vec3 p[SCENE_MAX_FACE_VERTICES], c = {0, 0, 0};
+            const alb_scene_face *f = &o->f[j];
+            vec3 p[ALB_SCENE_MAX_FACE_VERTICES], c = {0, 0, 0};
             bool any_front = false;
             for (unsigned k = 0; k < f->count; k++) {
-                p[k] = v3_add(m3_apply(&m, scene_face_vertex(o, f, k)), t);
+                p[k] = v3_add(m3_apply(&m, alb_scene_face_vertex(o, f, k)), t);
                 any_front |= p[k].z > 0;
                 c = v3_add(c, p[k]);
             }
@@ -110,15 +111,15 @@ void ref_frame_free(ref_frame *rf)
 
 /* The vertex triple (0, a, b) spanning the largest triangle: the one the
  * scene format's fields are defined by (docs/scene-format.md). */
-static void field_triple(const scene_object *o, const scene_face *f, unsigned tri[3])
+static void field_triple(const alb_scene_object *o, const alb_scene_face *f, unsigned tri[3])
 {
     double best = -1;
-    vec3 p0 = scene_face_vertex(o, f, 0);
+    vec3 p0 = alb_scene_face_vertex(o, f, 0);
     tri[0] = 0, tri[1] = 1, tri[2] = 2;
     for (unsigned a = 1; a + 1 < f->count; a++)
         for (unsigned b = a + 1; b < f->count; b++) {
-            vec3 k = v3_cross(v3_sub(scene_face_vertex(o, f, a), p0),
-                              v3_sub(scene_face_vertex(o, f, b), p0));
+            vec3 k = v3_cross(v3_sub(alb_scene_face_vertex(o, f, a), p0),
+                              v3_sub(alb_scene_face_vertex(o, f, b), p0));
             if (v3_dot(k, k) > best) {
                 best = v3_dot(k, k);
                 tri[1] = a, tri[2] = b;
@@ -127,12 +128,12 @@ static void field_triple(const scene_object *o, const scene_face *f, unsigned tr
 }
 
 /* Barycentric weights of object point q in the triple: q = v0 + s e1 + t e2. */
-static void barycentric(const scene_object *o, const scene_face *f, const unsigned tri[3], vec3 q,
+static void barycentric(const alb_scene_object *o, const alb_scene_face *f, const unsigned tri[3], vec3 q,
                         double *s, double *t)
 {
-    vec3 v0 = scene_face_vertex(o, f, tri[0]);
-    vec3 e1 = v3_sub(scene_face_vertex(o, f, tri[1]), v0);
-    vec3 e2 = v3_sub(scene_face_vertex(o, f, tri[2]), v0), w = v3_sub(q, v0);
+    vec3 v0 = alb_scene_face_vertex(o, f, tri[0]);
+    vec3 e1 = v3_sub(alb_scene_face_vertex(o, f, tri[1]), v0);
+    vec3 e2 = v3_sub(alb_scene_face_vertex(o, f, tri[2]), v0), w = v3_sub(q, v0);
     double a = v3_dot(e1, e1), b = v3_dot(e1, e2), c = v3_dot(e2, e2);
     double p = v3_dot(w, e1), r = v3_dot(w, e2), det = a * c - b * b;
     *s = (p * c - r * b) / det;
@@ -145,43 +146,43 @@ static double lerp3(double a, double b, double c, double s, double t)
 }
 
 /* Colour (0..255 per channel, before fog) of face r at observer point P. */
-void ref_shade_point(const scene_t *sc, const ref_face *r, vec3 P, double out[3])
+void ref_shade_point(const alb_scene *sc, const ref_face *r, vec3 P, double out[3])
 {
-    const scene_object *o = r->obj;
-    const scene_face *f = r->face;
+    const alb_scene_object *o = r->obj;
+    const alb_scene_face *f = r->face;
     vec3 q = m3_apply(&r->to_object, v3_sub(P, r->t));
     unsigned tri[3];
     field_triple(o, f, tri);
     double s, t;
     barycentric(o, f, tri, q, &s, &t);
-    const scene_vertex *v[3];
+    const alb_scene_vertex *v[3];
     for (int k = 0; k < 3; k++)
         v[k] = &o->v[o->idx[f->first + tri[k]]];
     double inten = f->intensity;
-    if (f->shade == SHADE_VERTEX) {
+    if (f->shade == ALB_SHADE_VERTEX) {
         inten = lerp3(v[0]->i, v[1]->i, v[2]->i, s, t);
-    } else if (f->shade == SHADE_LIT) {
+    } else if (f->shade == ALB_SHADE_LIT) {
         /* -Newell is the front normal (docs/gp.md) */
-        vec3 fn = v3_scale(scene_face_newell(o, f), -1 / v3_len(scene_face_newell(o, f)));
+        vec3 fn = v3_scale(alb_scene_face_newell(o, f), -1 / v3_len(alb_scene_face_newell(o, f)));
         vec3 nv[3];
         for (int k = 0; k < 3; k++)
-            nv[k] = (v[k]->has & SV_NORMAL) ? v[k]->n : fn;
+            nv[k] = (v[k]->has & ALB_SV_NORMAL) ? v[k]->n : fn;
         vec3 n = v3(lerp3(nv[0].x, nv[1].x, nv[2].x, s, t), lerp3(nv[0].y, nv[1].y, nv[2].y, s, t),
                     lerp3(nv[0].z, nv[1].z, nv[2].z, s, t));
         inten = r->ambient + v3_dot(r->light_obj, n);
     }
     inten = fmin(fmax(inten, 0), 1);
     double texel[3] = {255, 255, 255};
-    if (f->texmap != TEXMAP_NONE) {
+    if (f->texmap != ALB_TEXMAP_NONE) {
         double u, w;
-        if (f->texmap == TEXMAP_AXES) {
+        if (f->texmap == ALB_TEXMAP_AXES) {
             u = f->axes[0] * q.x + f->axes[1] * q.y + f->axes[2] * q.z + f->axes[3];
             w = f->axes[4] * q.x + f->axes[5] * q.y + f->axes[6] * q.z + f->axes[7];
         } else {
             u = lerp3(v[0]->u, v[1]->u, v[2]->u, s, t);
             w = lerp3(v[0]->v, v[1]->v, v[2]->v, s, t);
         }
-        const scene_texture *tx = &sc->tex[f->texture];
+        const alb_scene_texture *tx = &sc->tex[f->texture];
         unsigned size = 1u << tx->log2size;
         unsigned iu = (unsigned)((u - floor(u)) * size) & (size - 1);
         unsigned iv = (unsigned)((w - floor(w)) * size) & (size - 1);
@@ -220,7 +221,7 @@ static hit cast(const ref_frame *rf, double x, double y)
     return h;
 }
 
-static double fogged(const scene_t *s, const ref_face *f, double c, double fogc, double z)
+static double fogged(const alb_scene *s, const ref_face *f, double c, double fogc, double z)
 {
     if (!s->fog || !f->face->fog)
         return c;
@@ -228,18 +229,18 @@ static double fogged(const scene_t *s, const ref_face *f, double c, double fogc,
     return fogc + (c - fogc) * vis;
 }
 
-void ref_fog_point(const scene_t *s, const ref_face *f, double z, double rgb[3])
+void ref_fog_point(const alb_scene *s, const ref_face *f, double z, double rgb[3])
 {
     for (int ch = 0; ch < 3; ch++)
         rgb[ch] = fogged(s, f, rgb[ch], s->fog_rgb[ch], z);
 }
 
-int ref_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *out)
+int ref_render(const alb_scene *s, const alb_profile *p, unsigned frame, alb_frame *out)
 {
     ref_frame rf;
     if (ref_prepare(s, p, frame, &rf))
         return -1;
-    if (frame_alloc(out, p->width, p->height, false)) {
+    if (alb_frame_alloc(out, p->width, p->height, false)) {
         ref_frame_free(&rf);
         return -1;
     }
@@ -278,9 +279,9 @@ int ref_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *ou
             size_t i = (size_t)y * p->width + x;
             for (int ch = 0; ch < 3; ch++)
                 out->rgb[3 * i + ch] = (uint16_t)floor(sum[ch] / (n * n) / 255 * top + 0.5);
-            out->face[i] = best >= 0 ? rf.faces[best].id : FRAME_NO_FACE;
+            out->face[i] = best >= 0 ? rf.faces[best].id : ALB_FRAME_NO_FACE;
             out->depth[i] = best >= 0 ? (uint32_t)fmin(floor(s->near * best_q * (dmax + 1)), dmax) : 0;
-            out->level[i] = FRAME_NO_LEVEL;
+            out->level[i] = ALB_FRAME_NO_LEVEL;
             out->coverage[i] = (uint16_t)covered;
         }
     ref_frame_free(&rf);

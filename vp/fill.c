@@ -16,11 +16,11 @@ enum { U_SHADE = 1, U_TEXTURE = 2, U_FOG = 4 };
 
 unsigned vp_face_units(const vp_face_setup *fs)
 {
-    return (fs->flags & WS_FACE_SHADE ? U_SHADE : 0) |
-           (fs->flags & WS_FACE_TEXTURE ? U_TEXTURE : 0) | (fs->flags & WS_FACE_FOG ? U_FOG : 0);
+    return (fs->flags & ALB_WS_FACE_SHADE ? U_SHADE : 0) |
+           (fs->flags & ALB_WS_FACE_TEXTURE ? U_TEXTURE : 0) | (fs->flags & ALB_WS_FACE_FOG ? U_FOG : 0);
 }
 
-void vp_flat_colour(const vp_t *vp, const vp_face_setup *fs, uint16_t rgb[3])
+void vp_flat_colour(const alb_vp *vp, const vp_face_setup *fs, uint16_t rgb[3])
 {
     const unsigned fi = vp->prof.shade_frac_bits;
     const uint64_t top = (1u << vp->prof.colour_bits) - 1;
@@ -31,7 +31,7 @@ void vp_flat_colour(const vp_t *vp, const vp_face_setup *fs, uint16_t rgb[3])
 /* The samples of cell k for a face using `units`; a constant at each call
  * site, so every test of it below folds away. */
 static inline __attribute__((always_inline)) void
-fill_cell(vp_t *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned units)
+fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned units)
 {
     const uint32_t cw = 1u << k->wl, ch = 1u << k->hl;
     const unsigned fi = vp->prof.shade_frac_bits, rb = vp->prof.recip_bits, lg = fs->tex_log2;
@@ -117,7 +117,7 @@ fill_cell(vp_t *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned un
 }
 
 /* Every unit on: the same walk, each written sample through vp_shade_sample. */
-static void fill_all_units(vp_t *vp, const vp_face_setup *fs, const vp_cell *k)
+static void fill_all_units(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
 {
     const uint32_t cw = 1u << k->wl, ch = 1u << k->hl;
     vp->st.samples_covered += (uint64_t)cw * ch;
@@ -139,7 +139,7 @@ static void fill_all_units(vp_t *vp, const vp_face_setup *fs, const vp_cell *k)
 }
 
 #define FILL_UNITS(n) \
-    static void fill_##n(vp_t *vp, const vp_face_setup *fs, const vp_cell *k) \
+    static void fill_##n(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k) \
     { \
         fill_cell(vp, fs, k, n); \
     }
@@ -147,11 +147,11 @@ FILL_UNITS(0) FILL_UNITS(1) FILL_UNITS(2) FILL_UNITS(3)
 FILL_UNITS(4) FILL_UNITS(5) FILL_UNITS(6) FILL_UNITS(7)
 #undef FILL_UNITS
 
-static void (*const fill_for_units[8])(vp_t *, const vp_face_setup *, const vp_cell *) = {
+static void (*const fill_for_units[8])(alb_vp *, const vp_face_setup *, const vp_cell *) = {
     fill_0, fill_1, fill_2, fill_3, fill_4, fill_5, fill_6, fill_7,
 };
 
-void vp_fill(vp_t *vp, const vp_face_setup *fs, const vp_cell *k)
+void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
 {
     if (vp->prof.all_units) {
         fill_all_units(vp, fs, k);

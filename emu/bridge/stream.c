@@ -6,9 +6,10 @@
  * Payloads are as long as the board's INFO report allows.  Every loss is
  * counted, the first problem described, and the first loss on the link named
  * by the packet and what it carried (the streamer remembers what it sent). */
-#include "stream.h"
-#include "link.h"
-#include "../../common/words.h"
+#include "albatros/stream.h"
+#include "../../firmware/proto.h"
+#include "albatros/link.h"
+#include "albatros/words.h"
 
 #include <stdarg.h>
 #include <stdlib.h>
@@ -28,21 +29,21 @@ typedef struct {
 #define SENT_RING 4096   /* packets remembered: the window's 16 frames at any payload */
 
 typedef struct {
-    transport_t *t;
+    alb_transport *t;
     const uint32_t *w;
     size_t n;
-    stream_frame *f;
+    alb_stream_frame *f;
     unsigned nf;
-    const stream_opts *o;
-    stream_report *r;
-    link_rx rx;
+    const alb_stream_opts *o;
+    alb_stream_report *r;
+    alb_link_rx rx;
     uint32_t seq;
     uint8_t *pkt;             /* encode buffer */
     size_t max;               /* payload in use (board_payload) */
     sent_packet *sent;        /* SENT_RING, indexed by seq */
     bool need_resume, failed;
     bool gone;                /* the device disconnected; o->reattach will be tried */
-    bool can_reattach;        /* stream_run, with o->reattach */
+    bool can_reattach;        /* alb_stream_run, with o->reattach */
     unsigned next;            /* next frame to send */
     /* a READBACK in progress */
     int rb_frame;
@@ -53,7 +54,7 @@ typedef struct {
     uint32_t status[PROTO_STATUS_BYTES / 4];
 } streamer;
 
-void stream_opts_default(stream_opts *o)
+void alb_stream_opts_default(alb_stream_opts *o)
 {
     memset(o, 0, sizeof *o);
     o->timeout_ms = 2000;
@@ -156,17 +157,17 @@ static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32
     if (stopped(s))
         return -1;
     *sent_at(s, s->seq) = (sent_packet){s->seq, type, true, len >= 4 ? PROTO_GET32(payload) : 0, 0};
-    size_t n = link_encode(s->pkt, type, s->seq++, payload, len);
-    tr_status st = s->t->ops->write(s->t, s->pkt, n);
-    if (st == TR_OK)
+    size_t n = alb_link_encode(s->pkt, type, s->seq++, payload, len);
+    alb_tr_status st = s->t->ops->write(s->t, s->pkt, n);
+    if (st == ALB_TR_OK)
         st = s->t->ops->flush(s->t);
     if (stopped(s))
         return -1;
-    if (st != TR_OK) {
-        if (st == TR_GONE && may_reattach(s, "sending", s->seq - 1))
+    if (st != ALB_TR_OK) {
+        if (st == ALB_TR_GONE && may_reattach(s, "sending", s->seq - 1))
             return -1;
         problem(s, "link failed while sending packet %u (%s): %s", (unsigned)(s->seq - 1),
-                st == TR_GONE ? "device disconnected" : "I/O error", s->t->error);
+                st == ALB_TR_GONE ? "device disconnected" : "I/O error", s->t->error);
         s->failed = true;
         return -1;
     }
@@ -194,13 +195,13 @@ static int send_u32(streamer *s, uint8_t type, uint32_t v)
 static int board_payload(streamer *s, size_t least, bool words)
 {
     uint8_t rep[PROTO_HID_REPORT + 1] = {PROTO_HID_INFO};
-    link_info info;
+    alb_link_info info;
     if (s->t->ops->hid_get(s->t, rep, PROTO_HID_REPORT)) {
         note(s, "the board's INFO report (HID report 1) could not be read (%s): payloads of %u "
                 "bytes, which every board takes", s->t->error, SAFE_PAYLOAD);
         memset(&info, 0, sizeof info);
         info.max_payload = SAFE_PAYLOAD;
-    } else if (link_info_decode(rep, &info)) {
+    } else if (alb_link_info_decode(rep, &info)) {
         problem(s, "the device's INFO report lacks the ALBI magic: not an albatros board?");
         s->failed = true;
         return -1;
@@ -257,7 +258,7 @@ static unsigned first_unconfirmed(const streamer *s)
     return i;
 }
 
-static void on_result(streamer *s, const link_packet *p)
+static void on_result(streamer *s, const alb_link_packet *p)
 {
     if (p->len < PROTO_RESULT_BYTES)
         return;
@@ -267,7 +268,7 @@ static void on_result(streamer *s, const link_packet *p)
         problem(s, "the board reported frame %u, which the stream does not have", number);
         return;
     }
-    stream_frame *f = &s->f[i];
+    alb_stream_frame *f = &s->f[i];
     uint32_t crc = PROTO_GET32(p->payload + PROTO_RESULT_CRC);
     uint64_t cyc = PROTO_GET32(p->payload + PROTO_RESULT_CYC_LO) |
                    (uint64_t)PROTO_GET32(p->payload + PROTO_RESULT_CYC_HI) << 32;
@@ -299,13 +300,13 @@ static void on_result(streamer *s, const link_packet *p)
                 (unsigned long long)cyc, (unsigned long long)f->cycles);
 }
 
-static void on_error(streamer *s, const link_packet *p)
+static void on_error(streamer *s, const alb_link_packet *p)
 {
     if (p->len < 16)
         return;
     uint32_t code = PROTO_GET32(p->payload), seq = PROTO_GET32(p->payload + 4);
     uint32_t expected = PROTO_GET32(p->payload + 8), detail = PROTO_GET32(p->payload + 12);
-    s->r->board_errors[code < STREAM_ERROR_CODES ? code : 0]++;
+    s->r->board_errors[code < ALB_STREAM_ERROR_CODES ? code : 0]++;
     /* name the packet concerned: for a gap the first one missing (ERROR
      * fields: firmware/core.c), else the one the board refused */
     char what[200], text[300];
@@ -316,7 +317,7 @@ static void on_error(streamer *s, const link_packet *p)
     } else {
         describe(s, seq, what, sizeof what);
         snprintf(text, sizeof text, "board: %s at %s (expected %u, detail %u)",
-                 link_error_name(code), what, expected, detail);
+                 alb_link_error_name(code), what, expected, detail);
     }
     note(s, "%s", text);
     if (!s->r->first_link_error[0])
@@ -325,11 +326,11 @@ static void on_error(streamer *s, const link_packet *p)
         s->need_resume = true;
 }
 
-static void on_pixels(streamer *s, const link_packet *p)
+static void on_pixels(streamer *s, const alb_link_packet *p)
 {
     if (p->len < 12 || s->rb_frame < 0)
         return;
-    const stream_frame *f = &s->f[s->rb_frame];
+    const alb_stream_frame *f = &s->f[s->rb_frame];
     uint32_t first = PROTO_GET32(p->payload + 4), count = PROTO_GET32(p->payload + 8);
     size_t npix = (size_t)f->width * f->height;
     if ((uint64_t)count * 6 + 12 != p->len || first + (uint64_t)count > npix)
@@ -349,7 +350,7 @@ static void on_pixels(streamer *s, const link_packet *p)
     s->rb_got += count;
 }
 
-static void on_status(streamer *s, const link_packet *p)
+static void on_status(streamer *s, const alb_link_packet *p)
 {
     if (p->len < PROTO_STATUS_BYTES)
         return;
@@ -358,7 +359,7 @@ static void on_status(streamer *s, const link_packet *p)
     s->have_status = true;
 }
 
-static void dispatch(streamer *s, const link_packet *p)
+static void dispatch(streamer *s, const alb_link_packet *p)
 {
     switch (p->type) {
     case PROTO_T_RESULT: on_result(s, p); break;
@@ -379,22 +380,22 @@ static bool pump(streamer *s, unsigned timeout_ms)
         return false;
     for (;;) {
         size_t got = 0;
-        tr_status st = s->t->ops->read(s->t, buf, sizeof buf, &got, any ? 0 : timeout_ms);
+        alb_tr_status st = s->t->ops->read(s->t, buf, sizeof buf, &got, any ? 0 : timeout_ms);
         if (stopped(s))
             return any;
-        if (st == TR_GONE && may_reattach(s, "reading", s->seq - 1))
+        if (st == ALB_TR_GONE && may_reattach(s, "reading", s->seq - 1))
             return any;
-        if (st == TR_GONE || st == TR_ERROR) {
+        if (st == ALB_TR_GONE || st == ALB_TR_ERROR) {
             problem(s, "link failed while reading from the board: %s", s->t->error);
             s->failed = true;
             return any;
         }
         if (!got)
             break;
-        if (link_rx_feed(&s->rx, buf, got))
+        if (alb_link_rx_feed(&s->rx, buf, got))
             break;
-        link_packet p;
-        while (link_rx_next(&s->rx, &p) == 1) {
+        alb_link_packet p;
+        while (alb_link_rx_next(&s->rx, &p) == 1) {
             any = true;
             dispatch(s, &p);
         }
@@ -406,7 +407,7 @@ static bool pump(streamer *s, unsigned timeout_ms)
 /* Ask a board for a bad frame's store and name its first wrong pixel. */
 static void readback(streamer *s, unsigned i)
 {
-    stream_frame *f = &s->f[i];
+    alb_stream_frame *f = &s->f[i];
     if (!f->rgb)
         return;
     s->rb_frame = (int)i;
@@ -485,13 +486,13 @@ static void finish(streamer *s, double t0)
                  (unsigned long long)s->rx.crc_errors, (unsigned long long)s->rx.garbage,
                  (unsigned long long)s->rx.seq_gaps);
     s->r->seconds = now() - t0;
-    link_rx_free(&s->rx);
+    alb_link_rx_free(&s->rx);
     free(s->pkt);
     free(s->sent);
 }
 
 /* A streamer for t, its buffers allocated (s->failed if not). */
-static void start(streamer *s, transport_t *t, const stream_opts *o, stream_report *r)
+static void start(streamer *s, alb_transport *t, const alb_stream_opts *o, alb_stream_report *r)
 {
     memset(s, 0, sizeof *s);
     memset(r, 0, sizeof *r);
@@ -499,7 +500,7 @@ static void start(streamer *s, transport_t *t, const stream_opts *o, stream_repo
     s->o = o;
     s->r = r;
     s->rb_frame = -1;
-    link_rx_init(&s->rx);
+    alb_link_rx_init(&s->rx);
     s->pkt = malloc(PROTO_HEADER + PROTO_MAX_PAYLOAD + PROTO_TRAILER);
     s->sent = calloc(SENT_RING, sizeof *s->sent);
     if (!s->pkt || !s->sent) {
@@ -535,16 +536,16 @@ static void reattach(streamer *s, size_t preamble)
     s->next = 0;
 }
 
-uint64_t stream_board_errors(const stream_report *r)
+uint64_t alb_stream_board_errors(const alb_stream_report *r)
 {
     uint64_t n = 0;
-    for (unsigned c = 0; c < STREAM_ERROR_CODES; c++)
+    for (unsigned c = 0; c < ALB_STREAM_ERROR_CODES; c++)
         n += r->board_errors[c];
     return n;
 }
 
-int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames, unsigned nframes,
-               const stream_opts *o, stream_report *r)
+int alb_stream_run(alb_transport *t, const uint32_t *w, size_t n, alb_stream_frame *frames, unsigned nframes,
+               const alb_stream_opts *o, alb_stream_report *r)
 {
     streamer s;
     double t0 = now();
@@ -629,23 +630,23 @@ int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames
     return r->matched == nframes ? 0 : 1;
 }
 
-int stream_frames(const uint32_t *w, size_t n, stream_frame **frames, unsigned *nframes)
+int alb_stream_frames(const uint32_t *w, size_t n, alb_stream_frame **frames, unsigned *nframes)
 {
-    ws_reader rd;
-    ws_event *ev = malloc(sizeof *ev);
-    diag_t d;
-    diag_init(&d, NULL);
-    stream_frame *f = NULL;
+    alb_ws_reader rd;
+    alb_ws_event *ev = malloc(sizeof *ev);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_stream_frame *f = NULL;
     unsigned nf = 0;
     int rc = ev ? 0 : -1;
-    ws_reader_init(&rd, w, n, "stream");
+    alb_ws_reader_init(&rd, w, n, "stream");
     while (!rc && !rd.ended) {
-        if (ws_next(&rd, ev, &d)) {
+        if (alb_ws_next(&rd, ev, &d)) {
             rc = -1;
             break;
         }
-        if (ev->kind == WS_EV_FRAME) {
-            stream_frame *nfp = realloc(f, (nf + 1) * sizeof *nfp);
+        if (ev->kind == ALB_WS_EV_FRAME) {
+            alb_stream_frame *nfp = realloc(f, (nf + 1) * sizeof *nfp);
             if (!nfp) {
                 rc = -1;
                 break;
@@ -656,7 +657,7 @@ int stream_frames(const uint32_t *w, size_t n, stream_frame **frames, unsigned *
             f[nf].first_word = ev->first;
             nf++;
         }
-        if (ev->kind == WS_EV_FRAME_END)
+        if (ev->kind == ALB_WS_EV_FRAME_END)
             f[nf - 1].end_word = ev->first + ev->count;
     }
     free(ev);
@@ -673,7 +674,7 @@ int stream_frames(const uint32_t *w, size_t n, stream_frame **frames, unsigned *
 
 /* One frame's tiles: strips as tall as a payload holds (narrower than the
  * frame only if one row does not fit). */
-static void send_tiles(streamer *s, const stream_tiles_frame *f, uint8_t *buf, size_t max)
+static void send_tiles(streamer *s, const alb_stream_tiles_frame *f, uint8_t *buf, size_t max)
 {
     size_t per_row = (max - 12) / 3;
     unsigned tw = f->width < per_row ? f->width : (unsigned)per_row;
@@ -696,8 +697,8 @@ static void send_tiles(streamer *s, const stream_tiles_frame *f, uint8_t *buf, s
         }
 }
 
-int stream_tiles(transport_t *t, const stream_tiles_frame *frames, unsigned nframes,
-                 const stream_opts *o, stream_report *r)
+int alb_stream_tiles(alb_transport *t, const alb_stream_tiles_frame *frames, unsigned nframes,
+                 const alb_stream_opts *o, alb_stream_report *r)
 {
     streamer s;
     double t0 = now();

@@ -4,9 +4,9 @@
  * libusb claims only the data interface).  Error messages carry
  * libusb_error_name() and what we were doing; LIBUSB_ERROR_ACCESS names the
  * udev rule to install (docs/usb-protocol.md, "Permissions").  `albatros
- * board` opens the HID interface alone (transport_hid_open), so it works
+ * board` opens the HID interface alone (alb_transport_hid_open), so it works
  * beside a running stream. */
-#include "transport.h"
+#include "albatros/transport.h"
 #include "../../firmware/proto.h"
 
 #include <hidapi.h>
@@ -46,9 +46,9 @@ struct usb_link {
     bool gone, failed;
     char error[400];
     unsigned busy_out, busy_in;
-    bool hid_only;            /* transport_hid_open: no data interface, no transfers */
+    bool hid_only;            /* alb_transport_hid_open: no data interface, no transfers */
     bool hid_by_libusb;       /* no hidraw node: HID class requests on endpoint 0 */
-    const volatile sig_atomic_t *stop;   /* transport_usb_set_stop */
+    const volatile sig_atomic_t *stop;   /* alb_transport_usb_set_stop */
 };
 
 static void set_error(usb_link *u, const char *doing, int rc)
@@ -161,12 +161,12 @@ static void events(usb_link *u, unsigned ms)
 
 /* ---- operations ---- */
 
-static tr_status status_of(transport_t *t, usb_link *u)
+static alb_tr_status status_of(alb_transport *t, usb_link *u)
 {
     if (!u->failed)
-        return TR_OK;
+        return ALB_TR_OK;
     snprintf(t->error, sizeof t->error, "%s", u->error);
-    return u->gone ? TR_GONE : TR_ERROR;
+    return u->gone ? ALB_TR_GONE : ALB_TR_ERROR;
 }
 
 static int submit_out(usb_link *u, unsigned i)
@@ -189,7 +189,7 @@ static int submit_out(usb_link *u, unsigned i)
     return 0;
 }
 
-static tr_status usb_flush(transport_t *t)
+static alb_tr_status usb_flush(alb_transport *t)
 {
     usb_link *u = t->impl;
     if (u->filling < OUT_TRANSFERS && u->fill_len)
@@ -197,7 +197,7 @@ static tr_status usb_flush(transport_t *t)
     return status_of(t, u);
 }
 
-static tr_status usb_write(transport_t *t, const uint8_t *data, size_t len)
+static alb_tr_status usb_write(alb_transport *t, const uint8_t *data, size_t len)
 {
     usb_link *u = t->impl;
     while (len && !u->failed) {
@@ -211,7 +211,7 @@ static tr_status usb_write(transport_t *t, const uint8_t *data, size_t len)
                     break;
                 if (u->stop && *u->stop) {   /* Ctrl-C while the board NAKs */
                     snprintf(t->error, sizeof t->error, "writing to the board: interrupted");
-                    return TR_ERROR;
+                    return ALB_TR_ERROR;
                 }
                 events(u, 100);
             }
@@ -231,7 +231,7 @@ static tr_status usb_write(transport_t *t, const uint8_t *data, size_t len)
     return status_of(t, u);
 }
 
-static tr_status usb_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got, unsigned timeout_ms)
+static alb_tr_status usb_read(alb_transport *t, uint8_t *buf, size_t cap, size_t *got, unsigned timeout_ms)
 {
     usb_link *u = t->impl;
     struct timespec start;
@@ -245,10 +245,10 @@ static tr_status usb_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got,
         clock_gettime(CLOCK_MONOTONIC, &now);
         long ms = (long)(now.tv_sec - start.tv_sec) * 1000 + (now.tv_nsec - start.tv_nsec) / 1000000;
         if (ms >= (long)timeout_ms)
-            return TR_TIMEOUT;
+            return ALB_TR_TIMEOUT;
         if (u->stop && *u->stop) {
             snprintf(t->error, sizeof t->error, "reading from the board: interrupted");
-            return TR_ERROR;
+            return ALB_TR_ERROR;
         }
         events(u, (unsigned)(timeout_ms - (unsigned)ms < 50 ? timeout_ms - (unsigned)ms : 50));
     }
@@ -257,7 +257,7 @@ static tr_status usb_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got,
     memmove(u->rx, u->rx + n, u->rx_len - n);
     u->rx_len -= n;
     *got = n;
-    return n ? TR_OK : status_of(t, u);
+    return n ? ALB_TR_OK : status_of(t, u);
 }
 
 /* HID class requests (HID 1.11, 7.2) on endpoint 0, for a board whose HID
@@ -268,7 +268,7 @@ static tr_status usb_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got,
 #define HID_FEATURE      0x0300
 #define HID_CTRL_TIMEOUT 1000
 
-static tr_status libusb_hid(transport_t *t, bool get, uint8_t *buf, size_t len)
+static alb_tr_status libusb_hid(alb_transport *t, bool get, uint8_t *buf, size_t len)
 {
     usb_link *u = t->impl;
     int rc = libusb_control_transfer(
@@ -279,29 +279,29 @@ static tr_status libusb_hid(transport_t *t, bool get, uint8_t *buf, size_t len)
     if (rc < 0) {
         snprintf(t->error, sizeof t->error, "HID %s_REPORT %u through libusb (no hidraw node): %s",
                  get ? "GET" : "SET", buf[0], libusb_error_name(rc));
-        return rc == LIBUSB_ERROR_NO_DEVICE ? TR_GONE : TR_ERROR;
+        return rc == LIBUSB_ERROR_NO_DEVICE ? ALB_TR_GONE : ALB_TR_ERROR;
     }
-    return TR_OK;
+    return ALB_TR_OK;
 }
 
-static tr_status usb_hid_get(transport_t *t, uint8_t *buf, size_t len)
+static alb_tr_status usb_hid_get(alb_transport *t, uint8_t *buf, size_t len)
 {
     usb_link *u = t->impl;
     if (u->hid_by_libusb)
         return libusb_hid(t, true, buf, len);
     if (!u->hid) {
         snprintf(t->error, sizeof t->error, "no HID interface open");
-        return TR_ERROR;
+        return ALB_TR_ERROR;
     }
     /* hidapi: byte 0 is the report ID, the buffer one byte longer than the report */
     if (hid_get_feature_report(u->hid, buf, len) < 0) {
         snprintf(t->error, sizeof t->error, "HID GET_REPORT %u: %ls", buf[0], hid_error(u->hid));
-        return TR_ERROR;
+        return ALB_TR_ERROR;
     }
-    return TR_OK;
+    return ALB_TR_OK;
 }
 
-static tr_status usb_hid_set(transport_t *t, const uint8_t *buf, size_t len)
+static alb_tr_status usb_hid_set(alb_transport *t, const uint8_t *buf, size_t len)
 {
     usb_link *u = t->impl;
     if (u->hid_by_libusb) {
@@ -314,14 +314,14 @@ static tr_status usb_hid_set(transport_t *t, const uint8_t *buf, size_t len)
     if (!u->hid || hid_send_feature_report(u->hid, buf, len) < 0) {
         snprintf(t->error, sizeof t->error, "HID SET_REPORT %u: %ls", buf[0],
                  u->hid ? hid_error(u->hid) : L"no HID interface open");
-        return TR_ERROR;
+        return ALB_TR_ERROR;
     }
-    return TR_OK;
+    return ALB_TR_OK;
 }
 
 /* Tear down in order: cancel every transfer, handle events until all their
  * callbacks have run, release the interface, close. */
-static void usb_close(transport_t *t)
+static void usb_close(alb_transport *t)
 {
     usb_link *u = t->impl;
     for (unsigned i = 0; i < OUT_TRANSFERS; i++)
@@ -355,10 +355,10 @@ static void usb_close(transport_t *t)
     free(t);
 }
 
-static const transport_ops usb_ops = {"usb", usb_write, usb_flush, usb_read, usb_hid_get,
+static const alb_transport_ops usb_ops = {"usb", usb_write, usb_flush, usb_read, usb_hid_get,
                                       usb_hid_set, usb_close};
 
-void transport_usb_set_stop(transport_t *t, const volatile sig_atomic_t *stop)
+void alb_transport_usb_set_stop(alb_transport *t, const volatile sig_atomic_t *stop)
 {
     if (t->ops == &usb_ops)
         ((usb_link *)t->impl)->stop = stop;
@@ -492,9 +492,9 @@ nomem:
 }
 
 /* A transport with its (empty) USB state, or NULL with a message. */
-static transport_t *usb_transport_new(const transport_ops *ops, char *err, size_t errlen)
+static alb_transport *usb_transport_new(const alb_transport_ops *ops, char *err, size_t errlen)
 {
-    transport_t *t = calloc(1, sizeof *t);
+    alb_transport *t = calloc(1, sizeof *t);
     usb_link *u = calloc(1, sizeof *u);
     if (!t || !u) {
         free(t);
@@ -507,10 +507,10 @@ static transport_t *usb_transport_new(const transport_ops *ops, char *err, size_
     return t;
 }
 
-transport_t *transport_usb_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
+alb_transport *alb_transport_usb_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
                                 char *err, size_t errlen)
 {
-    transport_t *t = usb_transport_new(&usb_ops, err, errlen);
+    alb_transport *t = usb_transport_new(&usb_ops, err, errlen);
     if (!t)
         return NULL;
     usb_link *u = t->impl;
@@ -542,21 +542,21 @@ fail:
     return NULL;
 }
 
-static tr_status no_bulk(transport_t *t)
+static alb_tr_status no_bulk(alb_transport *t)
 {
     snprintf(t->error, sizeof t->error, "the board was opened for HID control only: no bulk link");
-    return TR_ERROR;
+    return ALB_TR_ERROR;
 }
 
-static tr_status hid_only_write(transport_t *t, const uint8_t *data, size_t len)
+static alb_tr_status hid_only_write(alb_transport *t, const uint8_t *data, size_t len)
 {
     (void)data, (void)len;
     return no_bulk(t);
 }
 
-static tr_status hid_only_flush(transport_t *t) { return no_bulk(t); }
+static alb_tr_status hid_only_flush(alb_transport *t) { return no_bulk(t); }
 
-static tr_status hid_only_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got,
+static alb_tr_status hid_only_read(alb_transport *t, uint8_t *buf, size_t cap, size_t *got,
                                unsigned timeout_ms)
 {
     (void)buf, (void)cap, (void)timeout_ms;
@@ -564,13 +564,13 @@ static tr_status hid_only_read(transport_t *t, uint8_t *buf, size_t cap, size_t 
     return no_bulk(t);
 }
 
-static const transport_ops hid_only_ops = {"hid", hid_only_write, hid_only_flush, hid_only_read,
+static const alb_transport_ops hid_only_ops = {"hid", hid_only_write, hid_only_flush, hid_only_read,
                                            usb_hid_get, usb_hid_set, usb_close};
 
-transport_t *transport_hid_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
+alb_transport *alb_transport_hid_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
                                 char *err, size_t errlen)
 {
-    transport_t *t = usb_transport_new(&hid_only_ops, err, errlen);
+    alb_transport *t = usb_transport_new(&hid_only_ops, err, errlen);
     if (!t)
         return NULL;
     usb_link *u = t->impl;
@@ -601,7 +601,7 @@ fail:
     return NULL;
 }
 
-int transport_usb_list(uint16_t vid, uint16_t pid, tr_usb_device *out, int max, char *err,
+int alb_transport_usb_list(uint16_t vid, uint16_t pid, alb_tr_usb_device *out, int max, char *err,
                        size_t errlen)
 {
     libusb_context *ctx;
@@ -627,8 +627,8 @@ int transport_usb_list(uint16_t vid, uint16_t pid, tr_usb_device *out, int max, 
             libusb_close(h);
         }
         if (found < max) {
-            tr_usb_device *d = &out[found];
-            *d = (tr_usb_device){libusb_get_bus_number(list[i]), libusb_get_device_address(list[i]),
+            alb_tr_usb_device *d = &out[found];
+            *d = (alb_tr_usb_device){libusb_get_bus_number(list[i]), libusb_get_device_address(list[i]),
                                  vid, pid, "", orc == LIBUSB_ERROR_ACCESS};
             snprintf(d->serial, sizeof d->serial, "%s", sn[0] ? sn : "?");
         }
