@@ -16,9 +16,10 @@
 #include "fx2sim.h"
 #include "i8051.h"
 #include "../../proto.h"
-#include "../../../common/profile.h"
-#include "../../../emu/bridge/stream.h"
-#include "../../../emu/bridge/transport.h"
+#include "../../sim/board.h"
+#include "albatros/profile.h"
+#include "albatros/stream.h"
+#include "albatros/transport.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -42,7 +43,7 @@ typedef struct {
 } cap_event;
 
 typedef struct {
-    transport_t *inner;
+    alb_transport *inner;
     cap_event *ev;
     size_t n, cap;
     uint8_t *cur;             /* the transfer being filled */
@@ -68,16 +69,16 @@ static int cap_push(capture *c, ev_kind kind, const uint8_t *d, size_t len)
     return 0;
 }
 
-static capture *cap_of(transport_t *t) { return t->impl; }
+static capture *cap_of(alb_transport *t) { return t->impl; }
 
-static tr_status pass_error(transport_t *t, tr_status st)
+static alb_tr_status pass_error(alb_transport *t, alb_tr_status st)
 {
-    if (st != TR_OK)
+    if (st != ALB_TR_OK)
         snprintf(t->error, sizeof t->error, "%s", cap_of(t)->inner->error);
     return st;
 }
 
-static tr_status rec_write(transport_t *t, const uint8_t *data, size_t len)
+static alb_tr_status rec_write(alb_transport *t, const uint8_t *data, size_t len)
 {
     capture *c = cap_of(t);
     if (c->cur_len + len > c->cur_cap) {
@@ -87,7 +88,7 @@ static tr_status rec_write(transport_t *t, const uint8_t *data, size_t len)
         uint8_t *p = realloc(c->cur, cap);
         if (!p) {
             c->oom = true;
-            return TR_ERROR;
+            return ALB_TR_ERROR;
         }
         c->cur = p;
         c->cur_cap = cap;
@@ -98,7 +99,7 @@ static tr_status rec_write(transport_t *t, const uint8_t *data, size_t len)
 }
 
 /* The USB transport ends a transfer here (transport.h). */
-static tr_status rec_flush(transport_t *t)
+static alb_tr_status rec_flush(alb_transport *t)
 {
     capture *c = cap_of(t);
     if (c->cur_len) {
@@ -109,13 +110,13 @@ static tr_status rec_flush(transport_t *t)
     return pass_error(t, c->inner->ops->flush(c->inner));
 }
 
-static tr_status rec_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got, unsigned ms)
+static alb_tr_status rec_read(alb_transport *t, uint8_t *buf, size_t cap, size_t *got, unsigned ms)
 {
     capture *c = cap_of(t);
     return pass_error(t, c->inner->ops->read(c->inner, buf, cap, got, ms));
 }
 
-static tr_status rec_hid_get(transport_t *t, uint8_t *buf, size_t len)
+static alb_tr_status rec_hid_get(alb_transport *t, uint8_t *buf, size_t len)
 {
     capture *c = cap_of(t);
     if (cap_push(c, EV_HID_GET, buf, 1))
@@ -123,7 +124,7 @@ static tr_status rec_hid_get(transport_t *t, uint8_t *buf, size_t len)
     return pass_error(t, c->inner->ops->hid_get(c->inner, buf, len));
 }
 
-static tr_status rec_hid_set(transport_t *t, const uint8_t *buf, size_t len)
+static alb_tr_status rec_hid_set(alb_transport *t, const uint8_t *buf, size_t len)
 {
     capture *c = cap_of(t);
     if (cap_push(c, EV_HID_SET, buf, len))
@@ -131,9 +132,9 @@ static tr_status rec_hid_set(transport_t *t, const uint8_t *buf, size_t len)
     return pass_error(t, c->inner->ops->hid_set(c->inner, buf, len));
 }
 
-static void rec_close(transport_t *t) { (void)t; }   /* the caller closes the inner one */
+static void rec_close(alb_transport *t) { (void)t; }   /* the caller closes the inner one */
 
-static const transport_ops rec_ops = {"recording", rec_write, rec_flush, rec_read,
+static const alb_transport_ops rec_ops = {"recording", rec_write, rec_flush, rec_read,
                                       rec_hid_get, rec_hid_set, rec_close};
 
 static void cap_free(capture *c)
@@ -191,28 +192,28 @@ static uint32_t *read_stream(const char *path, size_t *n)
 
 /* The bridge sending the stream to the simulated board with the FX2's
  * payload, every transfer recorded. */
-static int record_bridge(const uint32_t *w, size_t n, stream_frame *frames, unsigned nf,
+static int record_bridge(const uint32_t *w, size_t n, alb_stream_frame *frames, unsigned nf,
                          capture *c)
 {
-    profile_t prof;
+    alb_profile prof;
     char err[512];
-    if (profile_lookup("a512", &prof)) {
+    if (alb_profile_lookup("a512", &prof)) {
         fprintf(stderr, "fx2_s51: no profile a512\n");
         return -1;
     }
-    transport_t *inner = transport_sim_open(&prof, BOARD_PAYLOAD, err, sizeof err);
+    alb_transport *inner = sim_board_transport(&prof, BOARD_PAYLOAD, err, sizeof err);
     if (!inner) {
         fprintf(stderr, "fx2_s51: the simulated board: %s\n", err);
         return -1;
     }
     c->inner = inner;
-    transport_t rec = {&rec_ops, c, "", inner->max_payload};
-    stream_opts so;
-    stream_opts_default(&so);
+    alb_transport rec = {&rec_ops, c, "", inner->max_payload};
+    alb_stream_opts so;
+    alb_stream_opts_default(&so);
     so.readback = false;   /* the frames carry no emulator results: no CRC to match */
-    stream_report r;
+    alb_stream_report r;
     /* 1 (frames differ) is expected: these frames carry no emulator CRC */
-    int rc = stream_run(&rec, w, n, frames, nf, &so, &r);
+    int rc = alb_stream_run(&rec, w, n, frames, nf, &so, &r);
     inner->ops->close(inner);
     if (c->oom || rc < 0) {
         fprintf(stderr, "fx2_s51: the bridge's stream failed: %s\n",
@@ -281,7 +282,7 @@ static uint32_t get32(const uint8_t *p)
 /* The recorded traffic through the image; the FPGA answers each frame's
  * last word with its RESULT record, and the USB frame counter moves on by
  * one stream frame's time (1000 / fps ms). */
-static int replay(fx2_t *f, const capture *c, const stream_frame *fr, unsigned nf, unsigned fps,
+static int replay(fx2_t *f, const capture *c, const alb_stream_frame *fr, unsigned nf, unsigned fps,
                   tally *t)
 {
     size_t words = 0;
@@ -402,7 +403,7 @@ static double fx2_seconds(uint64_t cycles) { return (double)cycles * FX2_CLOCKS 
 /* One replay of the recorded traffic through the image on `cpu`; with
  * `stats`, s51's code-fetch counts over it into before/after. */
 static int measure(const char *ihx, const listing_t *l, const char *cpu, const char *preload,
-                   const capture *c, const stream_frame *fr, unsigned nf, unsigned fps,
+                   const capture *c, const alb_stream_frame *fr, unsigned nf, unsigned fps,
                    uint64_t *before, uint64_t *after, tally *t, uint64_t *clocks)
 {
     static fx2_t f;
@@ -514,9 +515,9 @@ int speed_run(const char *ihx, const listing_t *l, const char *stream_path, cons
     uint32_t *w = read_stream(stream_path, &n);
     if (!w)
         return 1;
-    stream_frame *fr = NULL;
+    alb_stream_frame *fr = NULL;
     unsigned nf = 0;
-    if (stream_frames(w, n, &fr, &nf) || !nf) {
+    if (alb_stream_frames(w, n, &fr, &nf) || !nf) {
         fprintf(stderr, "fx2_s51: %s: %s\n", stream_path,
                 nf ? "a malformed word stream" : "no frames in the stream");
         free(w);
