@@ -876,13 +876,106 @@ static bool sc_random(pair_t *p)
     return !p->bad;
 }
 
+/* A standard or class request answered by usb.c alone: its data stage
+ * and STALL against USB 2.0 chapter 9 (and HID 1.11 §7.2 for the idle rate). */
+static bool request(pair_t *p, const char *what, uint8_t rt, uint8_t req, uint16_t value,
+                    uint16_t index, uint16_t length, const uint8_t *want, unsigned want_len,
+                    bool stall)
+{
+    uint8_t s[8];
+    if (p->bad)
+        return false;
+    p->steps++;
+    setup_of(s, rt, req, value, index, length);
+    return sim_ok(p, fx2_control(&p->f, s, NULL, 0)) &&
+           control_check(p, what, want, want_len, length, stall);
+}
+
+/* A register of the chip after a request. */
+static bool reg_is(pair_t *p, const char *name, unsigned addr, uint8_t mask, uint8_t want)
+{
+    uint8_t v;
+    if (!sim_ok(p, fx2_peek(&p->f, addr, &v, 1)))
+        return false;
+    return (v & mask) == want ? true : failf(p, "%s & 0x%02x is 0x%02x, expected 0x%02x", name,
+                                             mask, v & mask, want);
+}
+
+#define EP2CS   0xE6A3u
+#define EP6CS   0xE6A5u
+#define TOGCTL  0xE683u
+#define GET_STATUS 0x00
+#define CLEAR_FEATURE 0x01
+#define SET_FEATURE 0x03
+#define ENDPOINT_HALT 0
+
+/* Chapter 9 beyond the descriptors: status, configuration and interface,
+ * endpoint halt and its data toggle, HID idle, a bus reset. */
+static bool sc_standard(pair_t *p)
+{
+    static const uint8_t zero2[2] = {0, 0}, halted[2] = {1, 0}, self_powered[2] = {1, 0},
+                         one = 1, none = 0, idle = 0x10;
+    if (!enumerate(p) ||
+        !request(p, "GET_STATUS(device)", 0x80, GET_STATUS, 0, 0, 2, self_powered, 2, false) ||
+        !request(p, "GET_CONFIGURATION", 0x80, 0x08, 0, 0, 1, &one, 1, false) ||
+        !request(p, "GET_INTERFACE(0)", 0x81, 0x0A, 0, 0, 1, &none, 1, false) ||
+        !request(p, "SET_INTERFACE(0, alt 1)", 0x01, 0x0B, 1, 0, 0, NULL, 0, true) ||
+        !request(p, "SET_INTERFACE(0, alt 0)", 0x01, 0x0B, 0, 0, 0, NULL, 0, false) ||
+        !request(p, "SET_CONFIGURATION(2)", 0x00, 0x09, 2, 0, 0, NULL, 0, true) ||
+        !request(p, "a vendor request", 0xC0, 0x42, 0, 0, 4, NULL, 0, true))
+        return false;
+    /* halt: set by the host, seen in GET_STATUS and EPxCS, cleared with the
+     * data toggle reset (TOGCTL: endpoint in bits 3..0, IN in bit 4, R 5) */
+    static const struct {
+        uint8_t ep;
+        unsigned cs;
+        uint8_t toggle;
+    } ep[] = {{PROTO_EP_OUT, EP2CS, 0x22}, {PROTO_EP_IN, EP6CS, 0x36}};
+    for (size_t i = 0; i < 2; i++) {
+        if (!request(p, "GET_STATUS(endpoint)", 0x82, GET_STATUS, 0, ep[i].ep, 2, zero2, 2, false) ||
+            !request(p, "SET_FEATURE(ENDPOINT_HALT)", 0x02, SET_FEATURE, ENDPOINT_HALT, ep[i].ep, 0,
+                     NULL, 0, false) ||
+            !reg_is(p, "EPxCS after SET_FEATURE(HALT)", ep[i].cs, 0x01, 0x01) ||
+            !request(p, "GET_STATUS(halted endpoint)", 0x82, GET_STATUS, 0, ep[i].ep, 2, halted, 2,
+                     false) ||
+            !request(p, "CLEAR_FEATURE(ENDPOINT_HALT)", 0x02, CLEAR_FEATURE, ENDPOINT_HALT, ep[i].ep,
+                     0, NULL, 0, false) ||
+            !reg_is(p, "EPxCS after CLEAR_FEATURE(HALT)", ep[i].cs, 0x01, 0x00) ||
+            !reg_is(p, "TOGCTL after CLEAR_FEATURE(HALT)", TOGCTL, 0xFF, ep[i].toggle))
+            return false;
+    }
+    if (!request(p, "GET_STATUS(endpoint 0x04)", 0x82, GET_STATUS, 0, 0x04, 2, NULL, 0, true) ||
+        !request(p, "SET_IDLE(16 ms x 4)", 0x21, 0x0A, (uint16_t)(idle << 8), PROTO_IF_HID, 0, NULL,
+                 0, false) ||
+        !request(p, "GET_IDLE", 0xA1, 0x02, 0, PROTO_IF_HID, 1, &idle, 1, false))
+        return false;
+    /* a bus reset unconfigures: bulk data waits for SET_CONFIGURATION again */
+    p->steps++;
+    if (!sim_ok(p, fx2_bus_reset(&p->f)) ||
+        !request(p, "GET_CONFIGURATION after a bus reset", 0x80, 0x08, 0, 0, 1, &none, 1, false))
+        return false;
+    uint8_t b[32];
+    size_t n = enc(b, PROTO_T_RESET, 0, NULL, 0);
+    p->seq = 1;
+    p->steps++;
+    if (!sim_ok(p, fx2_bulk_out(&p->f, b, (uint16_t)n)))
+        return false;
+    if (p->f.ep2_taken)
+        return failf(p, "the device took bulk data after a bus reset, unconfigured");
+    fw_rx(&p->r.core, b, (uint16_t)n);   /* it will, once configured */
+    return request(p, "SET_CONFIGURATION(1)", 0x00, 0x09, 1, 0, 0, NULL, 0, false) &&
+           (p->f.ep2_taken || failf(p, "the packet still waits after SET_CONFIGURATION")) &&
+           pkt(p, PROTO_T_PING, NULL, 0);
+}
+
 typedef struct {
     const char *name;
     bool (*run)(pair_t *p);
 } scenario;
 
 static const scenario scenarios[] = {
-    {"enumeration", sc_enumeration}, {"reset-words", sc_reset_words},
+    {"enumeration", sc_enumeration}, {"standard-requests", sc_standard},
+    {"reset-words", sc_reset_words},
     {"many-words", sc_many_words},   {"errors", sc_errors},
     {"results-query", sc_results},   {"crc", sc_crc},
     {"resync", sc_resync},           {"hid", sc_hid},
@@ -948,7 +1041,7 @@ static bool run_one(size_t i, const char *cpu, uint64_t *reads, uint64_t *clocks
  * and their FX2 cycles within 0.1% of its Dallas core's count. */
 static bool cycle_counts(void)
 {
-    size_t i = 2;   /* many-words */
+    size_t i = 3;   /* many-words */
     uint64_t *reads = calloc(g_lst.code_end, sizeof *reads), clocks = 0, dallas = 0;
     bool ok = reads && run_one(i, "C52", reads, &clocks) && run_one(i, "DS320", NULL, &dallas);
     uint64_t classic = 0, fx2 = 0;

@@ -45,6 +45,7 @@
 #define EP6FULL  0x20u
 #define EP8EMPTY 0x40u
 #define SUDAV    0x01u
+#define URES     0x10u
 #define EPSTALL  0x01u
 #define HSNAK    0x80u
 #define HSM      0x80u          /* USBCS: the link runs at high speed */
@@ -396,6 +397,21 @@ int fx2_frame(fx2_t *f, uint16_t frame)
 }
 
 int fx2_turn(fx2_t *f) { return turn(f, TURN_LIMIT); }
+
+int fx2_bus_reset(fx2_t *f)
+{
+    if (s51_write8(&f->s, "xram", R_USBIRQ, URES))
+        return sim_fail(f, "USBIRQ");
+    int rc = turn(f, TURN_LIMIT);
+    if (!rc && s51_write8(&f->s, "xram", R_USBIRQ, 0))   /* acknowledged: the chip clears it */
+        return sim_fail(f, "USBIRQ");
+    return rc;
+}
+
+int fx2_peek(fx2_t *f, unsigned addr, uint8_t *out, unsigned n)
+{
+    return s51_read(&f->s, "xram", addr, out, n) ? sim_fail(f, "peek") : 0;
+}
 
 int fx2_patch_rom(fx2_t *f, unsigned addr, uint8_t value)
 {

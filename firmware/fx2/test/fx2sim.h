@@ -101,6 +101,10 @@ int fx2_record(fx2_t *f, const uint8_t *data, uint16_t len);
 int fx2_frame(fx2_t *f, uint16_t frame);
 /* One turn with nothing new. */
 int fx2_turn(fx2_t *f);
+/* A USB bus reset (URES in USBIRQ); one turn. */
+int fx2_bus_reset(fx2_t *f);
+/* n bytes of the chip's external RAM (its registers: EP2CS, TOGCTL, ...). */
+int fx2_peek(fx2_t *f, unsigned addr, uint8_t *out, unsigned n);
 
 /* That the firmware wrote the EP4 and EP6 buffers only through xcopy (they
  * still hold the pattern fx2_open put in s51's copy of them). */
