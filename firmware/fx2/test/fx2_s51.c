@@ -646,6 +646,13 @@ static bool sc_errors(pair_t *p)
     if (!pkt_u32(p, PROTO_T_RESUME, 7) || !pkt(p, PROTO_T_WORDS, w, 12) ||
         !pkt(p, PROTO_T_WORDS, w, 40) || !words(p, 3, 0x66666666u))
         return false;
+    /* WORDS and a RESUME in one USB packet: the restart empties EP4, so
+     * those words never reach the FPGA (main.c; the reference knows) */
+    uint8_t two[128];
+    size_t k = enc(two, PROTO_T_WORDS, p->seq++, w, 40);
+    k += enc(two + k, PROTO_T_RESUME, p->seq++, w + 12, 4);
+    if (!usb(p, two, (uint16_t)k) || !pkt(p, PROTO_T_WORDS, w + 12, 28))
+        return false;
     /* HID MODE idle: WORDS refused; back to words mode */
     if (!set_hid(p, PROTO_HID_MODE, PROTO_MODE_IDLE) || !words(p, 2, 0x77777777u) ||
         !set_hid(p, PROTO_HID_MODE, PROTO_MODE_WORDS) || !words(p, 2, 0x88888888u))
