@@ -71,7 +71,7 @@ FX2_FPS     ?= 50
 
 .PHONY: firmware-check firmware-speed
 all: $(FX2_S51) $(FX2_FASTPOLL)
-test: $(FX2_S51) $(FX2_FASTPOLL)
+test memcheck: $(FX2_S51) $(FX2_FASTPOLL)
 
 # the FX2 headers' memory qualifier means nothing on the host
 $(BUILD)/firmware/fx2/test/fx2_s51.o: firmware/fx2/test/fx2_s51.c
