@@ -153,7 +153,8 @@ $(DPI_TB): include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv $(LIBALB_SO)
 	@mkdir -p $(BUILD)/dpi
 	verilator --binary -j 2 -Wall --Mdir $(BUILD)/dpi/obj --top-module tb_vector \
 	  include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv \
-	  -LDFLAGS "-L$(abspath $(BUILD)/lib) -lalbatros -Wl,-rpath,$(abspath $(BUILD)/lib)" -o tb_vector
+	  -LDFLAGS "-L$(abspath $(BUILD)/lib) -lalbatros -Wl,-rpath,$(abspath $(BUILD)/lib) $(EXTRA_LDLIBS)" \
+	  -o tb_vector
 	cp $(BUILD)/dpi/obj/tb_vector $@
 
 $(ALBATROS): $(EMU_OBJ) $(CLIENT_OBJ) $(LIBALB_A)

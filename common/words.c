@@ -535,18 +535,11 @@ static int memh_word(void *ctx, const uint32_t *value, unsigned line, unsigned c
 
 alb_err alb_ws_read_file(const char *path, uint32_t **w, size_t *n, alb_diag *d)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
     char *text;
     size_t len;
-    int rc = alb_file_read_all(f, &text, &len);
-    int err = errno;
-    fclose(f);
-    if (rc == -2)
-        return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "stream too large for memory");
-    if (rc)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
+    alb_err le = alb_file_load(path, &text, &len, d);
+    if (le)
+        return le;
     if (memh_looks_like(text, len)) {
         memh_words m = {NULL, 0, 0};
         alb_err e = memh_scan(text, len, path, 32, memh_word, &m, d);

@@ -105,17 +105,11 @@ static int put_memh(void *ctx, const uint32_t *value, unsigned line, unsigned co
 alb_err alb_dump_read(const char *path, const alb_frame *shape, alb_frame *out, alb_diag *d)
 {
     memset(out, 0, sizeof *out);
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
     char *text;
     size_t len;
-    int rc = alb_file_read_all(fp, &text, &len);
-    int err = errno;
-    fclose(fp);
-    if (rc)
-        return rc == -2 ? alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "too large for memory")
-                        : alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
+    alb_err le = alb_file_load(path, &text, &len, d);
+    if (le)
+        return le;
     if (alb_frame_alloc(out, shape->width, shape->height, false)) {
         free(text);
         return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory");

@@ -601,16 +601,11 @@ alb_err alb_gp_compile_file(const char *scene, const char *profile, const char *
     *w = NULL;
     *n = 0;
     alb_profile p;
-    if (alb_profile_lookup(profile ? profile : "a512", &p))
-        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "unknown profile '%s'", profile);
-    char msg[256];
-    for (size_t i = 0; sets && sets[i]; i++)
-        if (alb_profile_set(&p, sets[i], msg, sizeof msg))
-            return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "%s", msg);
-    if (alb_profile_check(&p, msg, sizeof msg))
-        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "profile %s: %s", p.name, msg);
+    alb_err e = alb_profile_open(&p, profile, sets, d);
+    if (e)
+        return e;
     alb_scene s;
-    alb_err e = scene ? alb_scene_load(scene, &s, d) : alb_scene_load_builtin(&s, d);
+    e = scene ? alb_scene_load(scene, &s, d) : alb_scene_load_builtin(&s, d);
     if (e)
         return e;
     if ((e = alb_scene_resolve_screenspace(&s, p.width, p.height, d))) {

@@ -1,6 +1,8 @@
 /* gp_helpers.c — see gp_helpers.h. */
 #include "gp_helpers.h"
+#include "../tools/scenegen.h"
 
+#include <dirent.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -199,3 +201,48 @@ void vector_profile(const char *name, alb_profile *p)
             alb_profile_set(p, tok, err, sizeof err);
     }
 }
+
+unsigned for_each_vector(vector_fn fn, void *ctx)
+{
+    DIR *dir = opendir("test-vectors");
+    if (!dir)
+        return 0;
+    unsigned n = 0;
+    struct dirent *de;
+    while ((de = readdir(dir))) {
+        if (de->d_name[0] == '.')
+            continue;
+        char path[600];
+        snprintf(path, sizeof path, "test-vectors/%s/expected.stream", de->d_name);
+        alb_ws_buf b;
+        alb_ws_buf_init(&b);
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        if (alb_ws_read_file(path, &b.w, &b.n, &d))
+            continue;   /* not a vector */
+        alb_profile p;
+        vector_profile(de->d_name, &p);
+        fn(de->d_name, &p, &b, ctx);
+        alb_ws_buf_free(&b);
+        n++;
+    }
+    closedir(dir);
+    return n;
+}
+
+char *random_frames_stream(uint64_t seed, const scenegen_params *gp, unsigned extra,
+                           const alb_profile *p, alb_ws_buf *b)
+{
+    char *text = scenegen_random(seed, gp), *more = NULL;
+    if (text && (more = realloc(text, strlen(text) + 7 * extra + 1)) != NULL) {
+        text = more;
+        for (unsigned i = 0; i < extra; i++)
+            strcat(text, "\nframe\n");
+    }
+    if (!more || stream_of(text, p, b)) {
+        free(more ? more : text);
+        return NULL;
+    }
+    return text;
+}
+

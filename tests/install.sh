@@ -22,15 +22,16 @@ done
 mkdir -p "$tmp/work" && cp "$src/examples/replay.c" "$tmp/work/" && cd "$tmp/work" || exit 1
 export PKG_CONFIG_PATH=$root/lib/pkgconfig PKG_CONFIG_SYSROOT_DIR=$dest
 flags=$(pkg-config --cflags --libs albatros) && ok || bad "pkg-config albatros"
+san=$(sanitizer_flags "$root/lib/libalbatros.so.0")
 [[ $flags == *"-I$root/include"* && $flags == *-lalbatros* ]] && ok || bad "pkg-config flags: $flags"
-cc -std=c11 -Wall -Wextra -Werror replay.c $flags -o replay 2> cc.log && ok || bad "cc with pkg-config: $(cat cc.log)"
+cc -std=c11 -Wall -Wextra -Werror $san replay.c $flags -o replay 2> cc.log && ok || bad "cc with pkg-config: $(cat cc.log)"
 vec=$src/test-vectors/builtin
 out=$(LD_LIBRARY_PATH=$root/lib ./replay a512 "$vec/expected.stream" "$vec/expected.frames" 2>&1)
 [[ $? -eq 0 && $(grep -c '^frame' <<<"$out") -eq 4 && $out != *MISMATCH* ]] && ok || bad "replay (shared): $out"
 LD_LIBRARY_PATH=$root/lib ldd ./replay | grep -q "$root/lib/libalbatros.so.0" \
     && ok || bad "replay is not linked to the installed library: $(LD_LIBRARY_PATH=$root/lib ldd ./replay)"
 # the static library, its own dependencies shared (docs/cosim.md)
-cc -std=c11 -Wall -Wextra -Werror replay.c $(pkg-config --cflags albatros) "$root/lib/libalbatros.a" \
+cc -std=c11 -Wall -Wextra -Werror $san replay.c $(pkg-config --cflags albatros) "$root/lib/libalbatros.a" \
     $(pkg-config --libs libpng libusb-1.0 hidapi-hidraw zlib) -lOpenEXRCore-3_1 -lm -pthread \
     -o replay-static 2> cc2.log && ok || bad "static link: $(cat cc2.log)"
 ! ldd ./replay-static | grep -q libalbatros && ok || bad "replay-static needs the shared library"
@@ -61,7 +62,7 @@ comp=$(bash -c "source '$root/share/bash-completion/completions/albatros'
 [[ $comp == $'render\n--events-only\nt32' ]] && ok || bad "bash completion: $comp"
 # the Python module, as installed
 pydir=$(dirname "$(find "$root/lib" -name albatros.py | head -1)")
-py=$(PYTHONPATH=$pydir ALBATROS_LIB=$root/lib/libalbatros.so.0 python3 -c \
+py=$(PYTHONPATH=$pydir ALBATROS_LIB=$root/lib/libalbatros.so.0 $(python_preload "$root/lib/libalbatros.so.0") python3 -c \
     'import albatros; w = albatros.compile_scene(None, "t32"); m = albatros.Model("t32"); m.push(w)
 while not m.done: m.run(until=albatros.EV_FRAME)
 print(albatros.version(), m.frames)' 2>&1)

@@ -8,4 +8,5 @@ if ! command -v python3 >/dev/null || [[ -z $so ]]; then
     echo "0 passed, 1 failed"
     exit 1
 fi
-ALBATROS_LIB=$(realpath "$so") exec python3 "$(dirname "$0")/python/test_model.py"
+source "$(dirname "$0")/sanitizers.sh"
+ALBATROS_LIB=$(realpath "$so") exec $(python_preload "$so") python3 "$(dirname "$0")/python/test_model.py"

@@ -8,7 +8,6 @@
 #include "albatros/albatros.h"
 #include "../tools/scenegen.h"
 
-#include <dirent.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -237,11 +236,10 @@ TEST(model_write_events_rebuild_every_frame)
         alb_profile_lookup("t32", &p);
         profile_set_all(&p, sets[seed % 4]);
         gp.faces = 4 + (unsigned)(seed % 13);
-        char *text = scenegen_random(seed, &gp);
         alb_ws_buf b;
-        if (!text || stream_of(text, &p, &b)) {
+        char *text = random_frames_stream(seed, &gp, (unsigned)(seed % 3), &p, &b);
+        if (!text) {
             CHECK_MSG(0, "seed %llu: no stream", (unsigned long long)seed);
-            free(text);
             return;
         }
         alb_model *m = model(&p, ALB_FIDELITY_CYCLE, ALB_PRODUCER_GP, ALB_EV_ALL);
@@ -415,75 +413,57 @@ TEST(model_step_sizes_give_the_same_events)
     free(text);
 }
 
+static void vector_fidelities(const char *name, const alb_profile *p, const alb_ws_buf *b,
+                              void *ctx)
+{
+    (void)ctx;
+    /* the expected cycle counts and retirements, by frame */
+    uint64_t cycles[64], retire[64];
+    unsigned nexp = 0;
+    char path[600];
+    snprintf(path, sizeof path, "test-vectors/%s/expected.cycles", name);
+    FILE *f = fopen(path, "r");
+    char line[1024];
+    while (f && nexp < 64 && fgets(line, sizeof line, f)) {
+        unsigned long long c, r;
+        const char *pc = strstr(line, " cycles="), *pr = strstr(line, " retire=");
+        if (pc && pr && sscanf(pc, " cycles=%llu", &c) == 1 && sscanf(pr, " retire=%llu", &r) == 1) {
+            cycles[nexp] = c;
+            retire[nexp++] = r;
+        }
+    }
+    if (f)
+        fclose(f);
+    ev_log l[3] = {{0}};
+    static const alb_fidelity fids[3] = {ALB_FIDELITY_CYCLE, ALB_FIDELITY_TIMED,
+                                         ALB_FIDELITY_FUNCTIONAL};
+    for (int k = 0; k < 3; k++) {
+        alb_model *m = model(p, fids[k], ALB_PRODUCER_GP, ALB_EV_FRAME);
+        CHECK_MSG(m && run_all(m, b, 1u << 20, &l[k]) == 0, "%s: %s", name,
+                  m ? alb_model_error(m) : "no model");
+        alb_model_destroy(m);
+    }
+    CHECK_MSG(l[0].n == nexp && nexp > 0, "%s: %zu frames, %u expected", name, l[0].n, nexp);
+    for (size_t i = 0; i < l[0].n && i < nexp; i++) {
+        CHECK_EQ(l[0].e[i].cycles, cycles[i]);
+        CHECK_EQ(l[0].e[i].cycle, retire[i]);
+    }
+    CHECK(events_equal(&l[0], &l[1], ALB_EV_FRAME));
+    CHECK_EQ(l[2].n, l[0].n);
+    for (size_t i = 0; i < l[2].n && i < l[0].n; i++) {
+        CHECK_EQ(l[2].e[i].crc, l[0].e[i].crc);
+        CHECK_EQ(l[2].e[i].number, l[0].e[i].number);
+    }
+    for (int k = 0; k < 3; k++)
+        free(l[k].e);
+}
+
 /* Every golden vector through the API: the cycle model's frame events are
  * the vector's expected counters (expected.cycles), the timed fidelity's
  * the same, the functional one's CRCs the same. */
 TEST(model_fidelities_on_every_vector)
 {
-    DIR *dir = opendir("test-vectors");
-    CHECK(dir != NULL);
-    if (!dir)
-        return;
-    unsigned vectors = 0;
-    struct dirent *de;
-    while ((de = readdir(dir))) {
-        if (de->d_name[0] == '.')
-            continue;
-        char path[600];
-        snprintf(path, sizeof path, "test-vectors/%s/expected.stream", de->d_name);
-        alb_ws_buf b;
-        alb_ws_buf_init(&b);
-        alb_diag d;
-        alb_diag_init(&d, NULL);
-        if (alb_ws_read_file(path, &b.w, &b.n, &d))
-            continue;
-        alb_profile p;
-        vector_profile(de->d_name, &p);
-        /* the expected cycle counts and retirements, by frame */
-        uint64_t cycles[64], retire[64];
-        unsigned nexp = 0;
-        snprintf(path, sizeof path, "test-vectors/%s/expected.cycles", de->d_name);
-        FILE *f = fopen(path, "r");
-        char line[1024];
-        while (f && nexp < 64 && fgets(line, sizeof line, f)) {
-            unsigned long long c, r;
-            const char *pc = strstr(line, " cycles="), *pr = strstr(line, " retire=");
-            if (pc && pr && sscanf(pc, " cycles=%llu", &c) == 1 &&
-                sscanf(pr, " retire=%llu", &r) == 1) {
-                cycles[nexp] = c;
-                retire[nexp++] = r;
-            }
-        }
-        if (f)
-            fclose(f);
-        ev_log l[3] = {{0}};
-        static const alb_fidelity fids[3] = {ALB_FIDELITY_CYCLE, ALB_FIDELITY_TIMED,
-                                             ALB_FIDELITY_FUNCTIONAL};
-        for (int k = 0; k < 3; k++) {
-            alb_model *m = model(&p, fids[k], ALB_PRODUCER_GP, ALB_EV_FRAME);
-            CHECK_MSG(m && run_all(m, &b, 1u << 20, &l[k]) == 0, "%s: %s", de->d_name,
-                      m ? alb_model_error(m) : "no model");
-            alb_model_destroy(m);
-        }
-        CHECK_MSG(l[0].n == nexp && nexp > 0, "%s: %zu frames, %u expected", de->d_name, l[0].n,
-                  nexp);
-        for (size_t i = 0; i < l[0].n && i < nexp; i++) {
-            CHECK_EQ(l[0].e[i].cycles, cycles[i]);
-            CHECK_EQ(l[0].e[i].cycle, retire[i]);
-        }
-        CHECK(events_equal(&l[0], &l[1], ALB_EV_FRAME));
-        CHECK_EQ(l[2].n, l[0].n);
-        for (size_t i = 0; i < l[2].n && i < l[0].n; i++) {
-            CHECK_EQ(l[2].e[i].crc, l[0].e[i].crc);
-            CHECK_EQ(l[2].e[i].number, l[0].e[i].number);
-        }
-        for (int k = 0; k < 3; k++)
-            free(l[k].e);
-        alb_ws_buf_free(&b);
-        vectors++;
-    }
-    closedir(dir);
-    CHECK(vectors >= 12);
+    CHECK(for_each_vector(vector_fidelities, NULL) >= 12);
 }
 
 TEST(model_masks_record_only_what_is_asked)

@@ -647,24 +647,6 @@ TEST(timing_vcd_pixel_writes_of_the_worked_example)
 }
 
 
-/* A random scene with `extra` more `frame` lines (each copies the last) and
- * its stream in *b; the scene's text (to free), or NULL on failure. */
-static char *random_frames_stream(uint64_t seed, const scenegen_params *gp, unsigned extra,
-                                  const alb_profile *p, alb_ws_buf *b)
-{
-    char *text = scenegen_random(seed, gp), *more = NULL;
-    if (text && (more = realloc(text, strlen(text) + 7 * extra + 1)) != NULL) {
-        text = more;
-        for (unsigned i = 0; i < extra; i++)
-            strcat(text, "\nframe\n");
-    }
-    if (!more || stream_of(text, p, b)) {
-        free(more ? more : text);
-        return NULL;
-    }
-    return text;
-}
-
 /* Over whole traces of random scenes (several frames, odd fill rates and
  * latencies, stalls): the samples written by the pipeline's last stage sum
  * to the frames' samples_written, and the samples through it to
@@ -733,33 +715,16 @@ TEST(timing_vcd_pixel_writes_match_the_counters)
 
 /* cycle == timed == functional on every golden vector's stream, with the
  * vector's own profile (its options file: --profile and --set only). */
+static void vector_fidelities(const char *name, const alb_profile *p, const alb_ws_buf *b,
+                              void *ctx)
+{
+    (void)ctx;
+    check_fidelities(p, b, name);
+}
+
 TEST(timing_fidelities_agree_on_every_vector)
 {
-    DIR *dir = opendir("test-vectors");
-    CHECK(dir != NULL);
-    if (!dir)
-        return;
-    struct dirent *de;
-    unsigned n = 0;
-    while ((de = readdir(dir))) {
-        if (de->d_name[0] == '.')
-            continue;
-        char path[600];
-        alb_profile p;
-        vector_profile(de->d_name, &p);
-        snprintf(path, sizeof path, "test-vectors/%s/expected.stream", de->d_name);
-        alb_ws_buf b;
-        alb_ws_buf_init(&b);
-        alb_diag d;
-        alb_diag_init(&d, NULL);
-        if (alb_ws_read_file(path, &b.w, &b.n, &d))
-            continue;   /* not a vector */
-        check_fidelities(&p, &b, de->d_name);
-        alb_ws_buf_free(&b);
-        n++;
-    }
-    closedir(dir);
-    CHECK(n >= 12);
+    CHECK(for_each_vector(vector_fidelities, NULL) >= 12);
 }
 
 /* The timed model fed a stream in pieces of any size (the simulated board's
