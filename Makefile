@@ -52,7 +52,9 @@ LIB_SONAME := libalbatros.so.$(ALB_ABI)
 LIBALB_A   := $(BUILD)/lib/libalbatros.a
 LIBALB_SO  := $(BUILD)/lib/libalbatros.so.$(ALB_ABI).$(ALB_MINOR).$(ALB_PATCH)
 LIB_CFLAGS := -fPIC -fvisibility=hidden
-$(LIBALB_OBJ): EXTRA_CFLAGS += $(LIB_CFLAGS)
+# (a target-specific variable of its own: EXTRA_CFLAGS on the command line,
+# as CI and make asan give it, would override one added to EXTRA_CFLAGS)
+$(LIBALB_OBJ): OBJ_CFLAGS := $(LIB_CFLAGS)
 
 # What the albatros command adds to the library: the CLI, the references,
 # classic methods and stress scenes (tools/), and the simulated board with
@@ -119,10 +121,10 @@ deps:
 # ---- build ----
 $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -MMD -MP -c $< -o $@
+	$(CC) $(ALL_CFLAGS) $(OBJ_CFLAGS) -MMD -MP -c $< -o $@
 
 $(BUILD)/gen/%.o: $(BUILD)/gen/%.c
-	$(CC) $(ALL_CFLAGS) -I. -c $< -o $@
+	$(CC) $(ALL_CFLAGS) $(OBJ_CFLAGS) -I. -c $< -o $@
 
 $(BUILD)/tools/embed: tools/embed.c
 	@mkdir -p $(dir $@)
