@@ -52,8 +52,9 @@ LIB_SONAME := libalbatros.so.$(ALB_ABI)
 LIBALB_A   := $(BUILD)/lib/libalbatros.a
 LIBALB_SO  := $(BUILD)/lib/libalbatros.so.$(ALB_ABI).$(ALB_MINOR).$(ALB_PATCH)
 LIB_CFLAGS := -fPIC -fvisibility=hidden
-# override: a command-line EXTRA_CFLAGS (CI: -Werror) must not drop the library's flags
-$(LIBALB_OBJ): override EXTRA_CFLAGS += $(LIB_CFLAGS)
+# (a target-specific variable of its own: EXTRA_CFLAGS on the command line,
+# as CI and make asan give it, would override one added to EXTRA_CFLAGS)
+$(LIBALB_OBJ): OBJ_CFLAGS := $(LIB_CFLAGS)
 
 # What the albatros command adds to the library: the CLI, the references,
 # classic methods and stress scenes (tools/), and the simulated board with
@@ -108,11 +109,13 @@ help:
 	@echo "                TARGET = $(FUZZ_TARGETS) (fuzz/README.md)"
 	@echo "make fuzz-replay  the fuzz harnesses over their seeds and regressions (in make test)"
 	@echo "make firmware   the FX2LP board firmware (sdcc); make firmware-size checks it fits"
+	@echo "make firmware-check  that image on the s51 simulator against the host core (in make test)"
+	@echo "make firmware-speed  its parsing speed on the bridge's stream, from s51's cycle counts"
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev zlib1g-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev gnuplot-nox sdcc umockdev libumockdev-dev verilator iverilog python3 man-db
+            libhidapi-dev gnuplot-nox sdcc sdcc-ucsim umockdev libumockdev-dev verilator iverilog python3 man-db
 setup: deps
 	$(MAKE) all
 deps:
@@ -127,10 +130,10 @@ deps:
 # ---- build ----
 $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -MMD -MP -c $< -o $@
+	$(CC) $(ALL_CFLAGS) $(OBJ_CFLAGS) -MMD -MP -c $< -o $@
 
 $(BUILD)/gen/%.o: $(BUILD)/gen/%.c
-	$(CC) $(ALL_CFLAGS) -I. -c $< -o $@
+	$(CC) $(ALL_CFLAGS) $(OBJ_CFLAGS) -I. -c $< -o $@
 
 $(BUILD)/tools/embed: tools/embed.c
 	@mkdir -p $(dir $@)
