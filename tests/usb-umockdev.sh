@@ -132,19 +132,24 @@ has "frame 2: DIFFERS"
 has "GOLDEN MISMATCH: frame 2"
 has "golden: 3 of 4 frames"
 
-# the FX2's payload (one 512-byte packet a protocol packet), at high speed;
-# 4096-byte transfers are whole packets: each ends with a zero-length one
-usb 0 "FX2 payload, 4 KiB transfers" --payload 492 -- "$bin" stream --profile a256 --usb-buffer 4096
+# the FX2's payload at high speed: every full WORDS packet is one 512-byte
+# USB packet in a transfer of its own, ended by a zero-length one
+usb 0 "FX2 payload" --payload 492 -- "$bin" stream --profile a256
 has "payloads up to 492 bytes"
-has "USB: high speed \(480 Mbit/s\), 512-byte bulk packets; 16 transfers of 4096 bytes in flight; [1-9][0-9]* zero-length packets"
-has "bulk OUT [0-9]+ bytes in [0-9]+ URBs \([1-9][0-9]* zero-length packets\)"
+has "USB: high speed \(480 Mbit/s\), 512-byte bulk packets; 16 transfers of 65536 bytes in flight; [1-9][0-9]+ zero-length packets"
+has "bulk OUT [0-9]+ bytes in [0-9]+ URBs \([1-9][0-9]+ zero-length packets\)"
 # full speed: 64-byte packets, the ZLP rule from wMaxPacketSize, not 512:
 # 640-byte protocol packets (a 620-byte payload) are whole packets there
 usb 0 "full speed" --speed full --payload 620 -- "$bin" stream --profile a256
 has "the board is on a full-speed link \(12 Mbit/s, 64-byte packets\)"
 has "USB: full speed \(12 Mbit/s\), 64-byte bulk packets"
-usb 0 "full speed, 640-byte transfers" --speed full --payload 620 -- "$bin" stream --profile a256 --usb-buffer 640
 has "full speed, 64-byte packets; bulk OUT [0-9]+ bytes in [0-9]+ URBs \([1-9][0-9]+ zero-length packets\)"
+# the transport's own transfers, filled to the buffer (a client writing
+# without flushing, here usb_bench): 4 KiB of 64-byte packets, each ended
+# by a ZLP, 1 MB intact through the board's core
+usb 0 "whole-buffer transfers" --sink --speed full -- "$build/tests/usb_bench" --transfers 4 --buffer 4096 --mb 1
+has "^4,4096,16384,1\.0,"
+has "full speed, 64-byte packets; bulk OUT 10[0-9]{5} bytes in 2[0-9]{2} URBs \(2[0-9]{2} zero-length packets\)"
 # 8-byte bulk packets (legal at full speed): every 40-byte RESULT is whole
 # packets, ended by a zero-length one from the board, and so are many of the
 # host's transfers

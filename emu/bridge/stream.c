@@ -158,10 +158,11 @@ static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32
         return -1;
     *sent_at(s, s->seq) = (sent_packet){s->seq, type, true, len >= 4 ? PROTO_GET32(payload) : 0, 0};
     size_t n = alb_link_encode(s->pkt, type, s->seq++, payload, len);
-    /* queued, not flushed: packets share USB transfers until the streamer
-     * waits for the board (pump flushes), which is what lets a transfer
-     * carry a whole frame's words */
+    /* one packet a transfer: a packet then starts a USB packet, where the
+     * FX2 firmware parses it in place (firmware/fx2/main.c) */
     alb_tr_status st = s->t->ops->write(s->t, s->pkt, n);
+    if (st == ALB_TR_OK)
+        st = s->t->ops->flush(s->t);
     if (stopped(s))
         return -1;
     if (st != ALB_TR_OK) {
@@ -175,22 +176,6 @@ static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32
     s->r->bytes += n;
     s->r->packets++;
     return 0;
-}
-
-/* What is queued toward the board, sent now (before waiting for it). */
-static int flush_link(streamer *s)
-{
-    alb_tr_status st = s->t->ops->flush(s->t);
-    if (stopped(s))
-        return -1;
-    if (st == ALB_TR_OK)
-        return 0;
-    if (st == ALB_TR_GONE && may_reattach(s, "sending", s->seq - 1))
-        return -1;
-    problem(s, "link failed while sending up to packet %u (%s): %s", (unsigned)(s->seq - 1),
-            st == ALB_TR_GONE ? "device disconnected" : "I/O error", s->t->error);
-    s->failed = true;
-    return -1;
 }
 
 static int send_u32(streamer *s, uint8_t type, uint32_t v)
@@ -393,7 +378,7 @@ static bool pump(streamer *s, unsigned timeout_ms)
 {
     uint8_t buf[65536];
     bool any = false;
-    if (s->gone || flush_link(s))
+    if (s->gone)
         return false;
     for (;;) {
         size_t got = 0;
