@@ -152,8 +152,10 @@ static bool may_reattach(streamer *s, const char *doing, uint32_t seq)
     return true;
 }
 
-/* One packet, after `pad` zero bytes (at most PAD_MAX) in the same write. */
-#define PAD_MAX (PROTO_MAX_PAYLOAD + PROTO_HEADER + PROTO_TRAILER)
+/* One packet, after `pad` zero bytes (at most PAD_MAX) in the same write:
+ * the largest packet rounded up to whole USB packets. */
+#define PAD_MAX ((PROTO_MAX_PAYLOAD + PROTO_HEADER + PROTO_TRAILER + PROTO_BULK_MAXPKT - 1) / \
+                 PROTO_BULK_MAXPKT * PROTO_BULK_MAXPKT)
 
 static int send_padded(streamer *s, size_t pad, uint8_t type, const uint8_t *payload, uint32_t len)
 {
@@ -164,6 +166,9 @@ static int send_padded(streamer *s, size_t pad, uint8_t type, const uint8_t *pay
     *sent_at(s, s->seq) = (sent_packet){s->seq, type, true, len >= 4 ? PROTO_GET32(payload) : 0, 0};
     memset(s->pkt, 0, pad);
     size_t n = pad + alb_link_encode(s->pkt + pad, type, s->seq++, payload, len);
+    /* one packet a transfer: a packet then starts a USB packet, where the
+     * FX2 firmware parses it in place (firmware/fx2/main.c); a padding is a
+     * whole number of USB packets, so the packet behind it starts one too */
     alb_tr_status st = s->t->ops->write(s->t, s->pkt, n);
     if (st == ALB_TR_OK)
         st = s->t->ops->flush(s->t);
@@ -206,6 +211,7 @@ static int send_u32(streamer *s, uint8_t type, uint32_t v)
 static size_t flush_bytes(const streamer *s)
 {
     size_t pad = s->board_max + PROTO_HEADER + PROTO_TRAILER;
+    pad = (pad + PROTO_BULK_MAXPKT - 1) / PROTO_BULK_MAXPKT * PROTO_BULK_MAXPKT;
     return pad < PAD_MAX ? pad : PAD_MAX;
 }
 
@@ -549,9 +555,8 @@ static void start(streamer *s, alb_transport *t, const alb_stream_opts *o, alb_s
 static void reattach(streamer *s, size_t preamble)
 {
     s->gone = false;
-    s->r->reattaches++;
     note(s, "the board disconnected: waiting for it to come back (%u of at most %u)",
-         s->r->reattaches, s->o->reattach_max);
+         s->r->reattaches + 1, s->o->reattach_max);
     char err[600] = "";
     s->t = s->o->reattach(s->o->reattach_ctx, s->t, err, sizeof err);
     if (!s->t) {
@@ -559,6 +564,7 @@ static void reattach(streamer *s, size_t preamble)
         s->failed = true;
         return;
     }
+    s->r->reattaches++;   /* counted once it is back: the report says "came back" */
     /* what the old link left half-read is not the new board's */
     s->rx.start = s->rx.len = 0;
     s->rx.have_seq = false;
