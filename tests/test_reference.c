@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <zlib.h>
 
 /* The observer-space vertices (screen-scaled: x/z, y/z on the screen) of the
  * first face the reference keeps in frame 0 of scene text; 0 on success. */
@@ -171,4 +172,38 @@ TEST(gp_camera_agrees_with_reference)
         accuracy_add(&total, &a);
     }
     CHECK(total.pixels == 6 * 128 * 128);
+}
+
+/* alb_frame_digest (emu/frame_out.c, its own CRC table) against the byte
+ * layout it documents, hashed here by zlib: a change of layout or table
+ * shows, and so does a plane left out. */
+TEST(frame_digest_is_the_documented_crc)
+{
+    alb_frame f;
+    CHECK(alb_frame_alloc(&f, 3, 2, true) == 0);
+    f.colour_bits = 8, f.depth_bits = 24, f.aa_levels = 0, f.number = 7;
+    for (unsigned i = 0; i < 6; i++) {
+        for (int ch = 0; ch < 3; ch++)
+            f.rgb[3 * i + ch] = (uint16_t)(40 * i + ch);
+        f.depth[i] = 0x10000 * i + 3, f.face[i] = i == 4 ? ALB_FRAME_NO_FACE : i;
+        f.level[i] = (uint8_t)i, f.coverage[i] = (uint16_t)(i & 1), f.cycles[i] = 1000 * i;
+    }
+    uint8_t bytes[6 * 21 + 24], *p = bytes;
+    for (unsigned i = 0; i < 6; i++) {
+        uint64_t v[8] = {f.rgb[3 * i], f.rgb[3 * i + 1], f.rgb[3 * i + 2], f.depth[i], f.face[i],
+                         f.level[i], f.coverage[i], f.cycles[i]};
+        static const int size[8] = {2, 2, 2, 4, 4, 1, 2, 4};
+        for (int k = 0; k < 8; k++)
+            for (int b = 0; b < size[k]; b++)
+                *p++ = (uint8_t)(v[k] >> 8 * b);
+    }
+    const uint32_t meta[6] = {3, 2, 8, 24, 0, 7};
+    for (int k = 0; k < 6; k++)
+        for (int b = 0; b < 4; b++)
+            *p++ = (uint8_t)(meta[k] >> 8 * b);
+    CHECK_EQ(alb_frame_digest(&f), (uint32_t)crc32(0, bytes, (uInt)(p - bytes)));
+    uint32_t d0 = alb_frame_digest(&f);
+    f.level[5] ^= 1;   /* any plane counts */
+    CHECK(alb_frame_digest(&f) != d0);
+    alb_frame_free(&f);
 }
