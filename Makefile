@@ -162,7 +162,7 @@ $(LIBALB_SO): $(LIBALB_OBJ) lib/albatros.map
 # library (tests/dpi.sh)
 $(DPI_TB): include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv $(LIBALB_SO)
 	@mkdir -p $(BUILD)/dpi
-	verilator --binary -j 2 -Wall --Mdir $(BUILD)/dpi/obj --top-module tb_vector \
+	+verilator --binary -j 2 -Wall --Mdir $(BUILD)/dpi/obj --top-module tb_vector \
 	  include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv \
 	  -LDFLAGS "-L$(abspath $(BUILD)/lib) -lalbatros -Wl,-rpath,$(abspath $(BUILD)/lib) $(EXTRA_LDLIBS)" \
 	  -o tb_vector
