@@ -71,6 +71,7 @@ TEST_OBJ   := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 LIB_OBJ    := $(sort $(LIBALB_OBJ) $(CLIENT_OBJ))
 
 ALBATROS := $(BUILD)/albatros
+DPI_TB   := $(BUILD)/dpi/tb_vector
 UNIT     := $(BUILD)/tests/unit
 USB_DESC := $(BUILD)/tests/usb_descriptors
 # the board on an emulated USB bus (umockdev) and its permission shim
@@ -94,7 +95,7 @@ BENCH_MODEL := $(BUILD)/tools/bench-model
 include fuzz/fuzz.mk
 
 # the replay harnesses too, so a warning in them fails CI's -Werror build
-all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(USB_BOARD) $(USB_SHIM) $(USB_ROGUE) $(USB_BENCH) $(REPLAYS)
+all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(USB_BOARD) $(USB_SHIM) $(USB_ROGUE) $(USB_BENCH) $(REPLAYS) $(DPI_TB)
 
 help:
 	@echo "make            build $(ALBATROS) and the tests"
@@ -164,10 +165,9 @@ $(LIBALB_SO): $(LIBALB_OBJ) lib/albatros.map
 
 # a SystemVerilog bench over DPI-C, built by Verilator against the shared
 # library (tests/dpi.sh)
-DPI_TB := $(BUILD)/dpi/tb_vector
 $(DPI_TB): include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv $(LIBALB_SO)
 	@mkdir -p $(BUILD)/dpi
-	verilator --binary -j 2 -Wall --Mdir $(BUILD)/dpi/obj --top-module tb_vector \
+	+verilator --binary -j 2 -Wall --Mdir $(BUILD)/dpi/obj --top-module tb_vector \
 	  include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv \
 	  -LDFLAGS "-L$(abspath $(BUILD)/lib) -lalbatros -Wl,-rpath,$(abspath $(BUILD)/lib) $(EXTRA_LDLIBS)" \
 	  -o tb_vector
