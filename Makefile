@@ -217,7 +217,7 @@ $(UNIT): $(TEST_OBJ) $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 # ---- tests: every runner prints "N passed, N failed"; tests/summary adds them ----
-test: $(ALBATROS) $(UNIT) $(REPLAYS) $(USB_DESC) $(USB_BOARD) $(USB_SHIM) $(USB_ROGUE) $(DPI_TB)
+test: all
 	@bash tests/run-all.sh $(BUILD)
 
 unit: $(UNIT)
