@@ -68,6 +68,6 @@
 `define E_AFTER_END    8'd13   // a word after END
 `define E_OVERFLOW     8'd14   // word pushed while the FIFO was full
 `define E_FRAMES_AHEAD 8'd15   // more FRAMEs taken ahead than FRAME_QUEUE holds
-`define E_SCAN_OVERRUN 8'd16   // a frame retired before the previous one was scanned out
+`define E_TAG_ALIAS    8'd16   // 2^(TAG_BITS-1) - 1 scan-outs of a store cut off in a row
 
 `endif

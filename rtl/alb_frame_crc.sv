@@ -8,15 +8,21 @@
 // the next cycle and clears the samples' depths as it reads them, so the store
 // is clean when it is drawn again.
 //
-// The scan takes W H / PIXELS cycles (plus one).  The micro-architecture
-// leaves the scan-out untimed ("it must fit in the next frame's time"); a
-// frame that retires while the previous one is still being scanned out
-// overruns it: that is reported (err_overrun), not silently wrong.
+// A sample is covered if its depth is not 0 and its tag is the frame's
+// (alb_frame_store).  The scan takes W H / PIXELS cycles (plus one).  The
+// micro-architecture leaves the scan-out untimed ("it must fit in the next
+// frame's time"); a frame that retires while the previous one is still being
+// scanned out overruns it: the scan starts over on the new frame and the old
+// frame's CRC is lost — reported (err_overrun), never a wrong CRC.  The store
+// cut off keeps stale depths, harmless while their tags differ from every
+// later frame's drawn there; after 2^(TAG_BITS-1) - 1 such scans of one store
+// in a row the next could alias, and err_alias says so.
 module alb_frame_crc #(
     parameter int LW = 5,
     parameter int LH = 5,
     parameter int AA = 0,
     parameter int COLB = 8,
+    parameter int TAG_BITS = 8,
     parameter int PIXELS = 1            // pixels scanned a cycle, a power of two
 ) (
     input  logic                            clk,
@@ -25,21 +31,24 @@ module alb_frame_crc #(
     input  logic                            start_store, // its store, now the display store
     input  logic [3*COLB-1:0]               start_bg,
     input  logic [23:0]                     start_number,
-    // the scan port: PIXELS x 4^AA samples, each {depth != 0, R, G, B}
+    input  logic [TAG_BITS-1:0]             start_tag,
+    // the scan port: PIXELS x 4^AA samples, each {tag, depth != 0, R, G, B}
     output logic                            sc_en,
     output logic [LW+LH-2*AA-1:0]           sc_pixel,
     output logic                            sc_store,
-    input  logic [PIXELS*(1<<(2*AA))*(1+3*COLB)-1:0] sc_data,
+    input  logic [PIXELS*(1<<(2*AA))*(TAG_BITS+1+3*COLB)-1:0] sc_data,
     // the CRC of a frame, in frame order
     output logic                            ev_crc,
     output logic [23:0]                     ev_crc_number,
     output logic [31:0]                     ev_crc_value,
     output logic                            busy,
-    output logic                            err_overrun
+    output logic                            err_overrun,
+    output logic                            err_alias
 );
     localparam int PW = LW + LH - 2 * AA;              // pixel index bits
     localparam int NS = 1 << (2 * AA);                  // samples a pixel
-    localparam int SD = 1 + 3 * COLB;
+    localparam int SD = TAG_BITS + 1 + 3 * COLB;
+    localparam int CUT_MAX = (1 << (TAG_BITS - 1)) - 1;   // scans of a store cut off in a row
     localparam logic [PW:0] NPIX = (PW + 1)'(1) << PW;
 
     logic          pend;            // a scan read answered this cycle
@@ -48,6 +57,8 @@ module alb_frame_crc #(
     logic [31:0]   crc;
     logic [3*COLB-1:0] bg;
     logic [23:0]   number;
+    logic [TAG_BITS-1:0] tag;
+    logic [TAG_BITS-1:0] cut [0:1];  // per store: scans cut off since its last whole one
 
     function automatic [31:0] crc_byte(input [31:0] c, input [7:0] b);
         logic [31:0] r;
@@ -58,7 +69,8 @@ module alb_frame_crc #(
     endfunction
 
     // one pixel from its samples: the mean of each channel, round half up
-    function automatic [47:0] resolve(input [NS*SD-1:0] s, input [3*COLB-1:0] b);
+    function automatic [47:0] resolve(input [NS*SD-1:0] s, input [3*COLB-1:0] b,
+                                      input [TAG_BITS-1:0] tg);
         logic [COLB+2*AA:0] sum [0:2];
         logic [COLB+2*AA:0] rounded;
         logic [COLB-1:0] v;
@@ -67,7 +79,8 @@ module alb_frame_crc #(
             sum[c] = '0;
         for (int k = 0; k < NS; k++)
             for (int c = 0; c < 3; c++) begin
-                v = s[k*SD + SD - 1] ? s[k*SD + (2-c)*COLB +: COLB] : b[(2-c)*COLB +: COLB];
+                v = s[k*SD + 3*COLB] && s[k*SD + 3*COLB + 1 +: TAG_BITS] == tg
+                  ? s[k*SD + (2-c)*COLB +: COLB] : b[(2-c)*COLB +: COLB];
                 sum[c] = sum[c] + (COLB + 2 * AA + 1)'(v);
             end
         for (int c = 0; c < 3; c++) begin
@@ -82,7 +95,7 @@ module alb_frame_crc #(
         logic [47:0] px;
         crc_after = crc;
         for (int p = 0; p < PIXELS; p++) begin
-            px = resolve(sc_data[p*NS*SD +: NS*SD], bg);
+            px = resolve(sc_data[p*NS*SD +: NS*SD], bg, tag);
             // R, G, B as 16-bit little-endian words
             crc_after = crc_byte(crc_after, px[39:32]);
             crc_after = crc_byte(crc_after, px[47:40]);
@@ -98,14 +111,21 @@ module alb_frame_crc #(
     assign ev_crc = pend && pend_last;
     assign ev_crc_number = number;
     assign ev_crc_value = ~crc_after;
-    assign err_overrun = start && busy;
+    assign err_overrun = start && busy && !ev_crc;
+    assign err_alias = err_overrun && cut[sc_store] == TAG_BITS'(CUT_MAX);
 
     always_ff @(posedge clk) begin
         if (rst) begin
             busy <= 1'b0;
             pend <= 1'b0;
             pend_last <= 1'b0;
+            cut[0] <= '0;
+            cut[1] <= '0;
         end else begin
+            if (ev_crc)
+                cut[sc_store] <= '0;
+            if (err_overrun)
+                cut[sc_store] <= cut[sc_store] + 1'b1;
             pend <= sc_en;
             pend_last <= sc_en && next_pixel + (PW + 1)'(PIXELS) == NPIX;
             if (sc_en)
@@ -120,6 +140,7 @@ module alb_frame_crc #(
                 crc <= 32'hFFFFFFFF;
                 bg <= start_bg;
                 number <= start_number;
+                tag <= start_tag;
                 sc_store <= start_store;
                 pend <= 1'b0;
             end

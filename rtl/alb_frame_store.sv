@@ -11,10 +11,14 @@
 // output stage reads a pixel at once).  Depth ports: per lane a read answered
 // in the same cycle (asynchronous SRAM) and a write at the end of the cycle,
 // for the pipeline's first stage; colour ports (R G B, face id, level) for
-// its last stage.  The drawing store needs no clear pass of its own: the
-// frame CRC unit clears the display store's depths as it scans them out,
-// and depth 0 means "no surface, the frame's background" (docs/vp.md §4:
-// nothing is written with depth 0).
+// its last stage.  A depth word carries the TAG_BITS low bits of the number
+// of the frame that wrote it: a depth whose tag is not the drawing frame's
+// reads as 0, "no surface, the frame's background" (docs/vp.md §4: nothing is
+// written with depth 0).  So the drawing store needs no clear pass before a
+// frame: the frame CRC unit clears the display store's depths as it scans
+// them out, and where a short frame cut that scan off, the stale depths
+// carry an older frame's tag (alb_frame_crc counts such scans, so tags never
+// alias).
 `include "alb_defs.svh"
 
 module alb_frame_store #(
@@ -24,6 +28,7 @@ module alb_frame_store #(
     parameter int AA = 0,
     parameter int DB = 24,
     parameter int COLB = 8,
+    parameter int TAG_BITS = 8,
     parameter int FRAME_QUEUE = 4
 ) (
     input  logic                     clk,
@@ -66,6 +71,7 @@ module alb_frame_store #(
     // the output stage (alb_frame_crc): scan-out of the display store
     output logic                     retire,
     output logic                     display_store,
+    output logic [TAG_BITS-1:0]      display_tag,
     output logic [3*COLB-1:0]        retire_bg,
     output logic [23:0]              retire_number,
     input  logic                     sc_en,
@@ -73,10 +79,10 @@ module alb_frame_store #(
     input  logic                     sc_store,
     // the external memory
     output logic [RATE*(1+LW+LH)-1:0] mem_zr_addr,
-    input  logic [RATE*DB-1:0]       mem_zr_data,
+    input  logic [RATE*(TAG_BITS+DB)-1:0] mem_zr_data,
     output logic [RATE-1:0]          mem_zw_en,
     output logic [RATE*(1+LW+LH)-1:0] mem_zw_addr,
-    output logic [RATE*DB-1:0]       mem_zw_data,
+    output logic [RATE*(TAG_BITS+DB)-1:0] mem_zw_data,
     output logic [RATE-1:0]          mem_cw_en,
     output logic [RATE*(1+LW+LH)-1:0] mem_cw_addr,
     output logic [RATE*(3*COLB+40)-1:0] mem_cw_data,
@@ -90,6 +96,7 @@ module alb_frame_store #(
     output logic                     err_frames         // FRAME_QUEUE frames waiting, one more taken
 );
     localparam int AW = 1 + LW + LH;
+    localparam int ZW = TAG_BITS + DB;
     localparam int FQW = FRAME_QUEUE > 1 ? $clog2(FRAME_QUEUE) : 1;
     localparam int FRW = 24 + 6 * COLB + 1 + 64;
 
@@ -136,17 +143,21 @@ module alb_frame_store #(
     assign ev_frame_cycles = cycle - prev_retire;
     assign err_frames = fr_en && fq_count == (FQW + 1)'(FRAME_QUEUE) && !retire;
 
+    wire [TAG_BITS-1:0] draw_tag = frame_open[TAG_BITS-1:0];
+    assign display_tag = draw_tag;
     always @* begin
         for (int j = 0; j < RATE; j++) begin
             mem_zr_addr[j*AW +: AW] = addr_of(draw_store, z_x[j*16 +: 16], z_y[j*16 +: 16]);
             mem_zw_addr[j*AW +: AW] = addr_of(draw_store, z_x[j*16 +: 16], z_y[j*16 +: 16]);
             mem_cw_addr[j*AW +: AW] = addr_of(draw_store, cw_x[j*16 +: 16], cw_y[j*16 +: 16]);
             mem_cw_data[j*(3*COLB+40) +: 3*COLB+40] = {cw_rgb[j*3*COLB +: 3*COLB], cw_face, cw_level};
+            // another frame's depth is no surface for this one
+            zr_data[j*DB +: DB] = mem_zr_data[j*ZW + DB +: TAG_BITS] == draw_tag
+                                ? mem_zr_data[j*ZW +: DB] : '0;
+            mem_zw_data[j*ZW +: ZW] = {draw_tag, zw_data[j*DB +: DB]};
         end
     end
-    assign zr_data = mem_zr_data;
     assign mem_zw_en = zw_en;
-    assign mem_zw_data = zw_data;
     assign mem_cw_en = cw_en;
     assign mem_sc_en = sc_en;
     assign mem_sc_addr = {sc_store, (LW + LH)'(sc_pixel) << (2 * AA)};

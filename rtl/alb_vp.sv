@@ -37,11 +37,13 @@ module alb_vp #(
     parameter int TEX_WORDS = 65536,    // texture memory, texels
     parameter int FRAME_QUEUE = 4,      // FRAME packets taken ahead of a draining frame
     parameter int SCAN_PIXELS = 1,      // pixels the output stage resolves a cycle
+    parameter int TAG_BITS = 8,         // frame tag of a stored depth (alb_frame_store)
     // derived
     parameter int LW = $clog2(WIDTH) + AA,
     parameter int LH = $clog2(HEIGHT) + AA,
     parameter int AW = 1 + LW + LH,
-    parameter int CWD = 3 * COLOUR_BITS + 40
+    parameter int CWD = 3 * COLOUR_BITS + 40,
+    parameter int ZW = TAG_BITS + DEPTH_BITS
 ) (
     input  logic                            clk,
     input  logic                            rst,
@@ -51,16 +53,16 @@ module alb_vp #(
     output logic                            in_full,
     // the external frame-store memory
     output logic [FILL_RATE*AW-1:0]         mem_zr_addr,
-    input  logic [FILL_RATE*DEPTH_BITS-1:0] mem_zr_data,
+    input  logic [FILL_RATE*ZW-1:0]         mem_zr_data,
     output logic [FILL_RATE-1:0]            mem_zw_en,
     output logic [FILL_RATE*AW-1:0]         mem_zw_addr,
-    output logic [FILL_RATE*DEPTH_BITS-1:0] mem_zw_data,
+    output logic [FILL_RATE*ZW-1:0]         mem_zw_data,
     output logic [FILL_RATE-1:0]            mem_cw_en,
     output logic [FILL_RATE*AW-1:0]         mem_cw_addr,
     output logic [FILL_RATE*CWD-1:0]        mem_cw_data,
     output logic                            mem_sc_en,
     output logic [AW-1:0]                   mem_sc_addr,
-    input  logic [SCAN_PIXELS*(1<<(2*AA))*(1+3*COLOUR_BITS)-1:0] mem_sc_data,
+    input  logic [SCAN_PIXELS*(1<<(2*AA))*(ZW-DEPTH_BITS+1+3*COLOUR_BITS)-1:0] mem_sc_data,
     // events (docs/cosim.md)
     output logic [63:0]                     cycle,
     output logic                            ev_pop,
@@ -94,6 +96,9 @@ module alb_vp #(
     output logic                            ev_crc,
     output logic [23:0]                     ev_crc_number,
     output logic [31:0]                     ev_crc_value,
+    // a frame retired while the previous one was still being scanned out:
+    // that frame's CRC is lost (the scan-out is untimed in the model)
+    output logic                            ev_scan_overrun,
     // a malformed stream or an exceeded size: sticky, the first error's code
     // (rtl/alb_defs.svh) and the word it was found at
     output logic                            error,
@@ -198,28 +203,33 @@ module alb_vp #(
 
     // ---- frame store and frame control ----
     logic                     retire, display_store, frames_idle, err_frames;
+    logic [TAG_BITS-1:0]      display_tag;
     logic [3*COLOUR_BITS-1:0] retire_bg;
     logic [23:0]              retire_number;
     logic                     sc_en, sc_store;
     logic [LW+LH-2*AA-1:0]    sc_pixel;
     alb_frame_store #(.RATE(FILL_RATE), .LW(LW), .LH(LH), .AA(AA), .DB(DEPTH_BITS),
-                      .COLB(COLOUR_BITS), .FRAME_QUEUE(FRAME_QUEUE)) u_frame_store (
+                      .COLB(COLOUR_BITS), .TAG_BITS(TAG_BITS),
+                      .FRAME_QUEUE(FRAME_QUEUE)) u_frame_store (
         .clk, .rst, .fr_en, .fr_number, .fr_bg, .fr_fog, .fr_fog_rgb, .fr_fog_near, .fr_fog_far,
         .end_taken, .frames_taken, .frame_open, .frames_idle, .engine_busy_next,
         .queue_empty_next(q_empty_next), .fill_busy_next, .pipe_busy_before_last, .waiting_next,
         .fog_on, .fog_rgb, .fog_near, .fog_far, .z_x(lane_x), .z_y(lane_y), .zr_data, .zw_en,
         .zw_data, .cw_en(ev_write), .cw_x(ev_write_x), .cw_y(ev_write_y), .cw_rgb(ev_write_rgb),
-        .cw_face(ev_write_face), .cw_level(ev_write_level), .retire, .display_store, .retire_bg,
+        .cw_face(ev_write_face), .cw_level(ev_write_level), .retire, .display_store, .display_tag,
+        .retire_bg,
         .retire_number, .sc_en, .sc_pixel, .sc_store, .mem_zr_addr, .mem_zr_data, .mem_zw_en,
         .mem_zw_addr, .mem_zw_data, .mem_cw_en, .mem_cw_addr, .mem_cw_data, .mem_sc_en,
         .mem_sc_addr, .cycle, .ev_frame, .ev_frame_number, .ev_frame_cycles, .err_frames);
 
     // ---- output stage: frame CRC ----
-    logic crc_busy, err_overrun;
-    alb_frame_crc #(.LW(LW), .LH(LH), .AA(AA), .COLB(COLOUR_BITS), .PIXELS(SCAN_PIXELS)) u_frame_crc (
+    logic crc_busy, err_alias;
+    alb_frame_crc #(.LW(LW), .LH(LH), .AA(AA), .COLB(COLOUR_BITS), .TAG_BITS(TAG_BITS),
+                    .PIXELS(SCAN_PIXELS)) u_frame_crc (
         .clk, .rst, .start(retire), .start_store(display_store), .start_bg(retire_bg),
-        .start_number(retire_number), .sc_en, .sc_pixel, .sc_store, .sc_data(mem_sc_data),
-        .ev_crc, .ev_crc_number, .ev_crc_value, .busy(crc_busy), .err_overrun);
+        .start_number(retire_number), .start_tag(display_tag), .sc_en, .sc_pixel, .sc_store,
+        .sc_data(mem_sc_data), .ev_crc, .ev_crc_number, .ev_crc_value, .busy(crc_busy),
+        .err_overrun(ev_scan_overrun), .err_alias);
 
     // Texture and END wait until everything earlier has retired (state at the
     // start of the cycle: docs/microarchitecture.md, "VP input parser").
@@ -236,9 +246,9 @@ module alb_vp #(
     assign ev_load_edges = fc_edges;
 
     // ---- errors: the first one is kept ----
-    wire       any_err = parse_err || fifo_overflow || err_frames || err_overrun;
+    wire       any_err = parse_err || fifo_overflow || err_frames || err_alias;
     wire [7:0] code_now = parse_err ? parse_err_code : fifo_overflow ? `E_OVERFLOW
-                        : err_frames ? `E_FRAMES_AHEAD : `E_SCAN_OVERRUN;
+                        : err_frames ? `E_FRAMES_AHEAD : `E_TAG_ALIAS;
     always_ff @(posedge clk) begin
         if (rst) begin
             error <= 1'b0;

@@ -25,7 +25,8 @@ module alb_bench_top #(
     parameter int MAX_EDGES = 64,
     parameter int TEX_WORDS = 65536,
     parameter int FRAME_QUEUE = 4,
-    parameter int SCAN_PIXELS = 1
+    parameter int SCAN_PIXELS = 1,
+    parameter int TAG_BITS = 8
 ) (
     input  logic                            clk,
     input  logic                            rst,
@@ -71,6 +72,7 @@ module alb_bench_top #(
     output logic                            ev_crc,
     output logic [23:0]                     ev_crc_number,
     output logic [31:0]                     ev_crc_value,
+    output logic                            ev_scan_overrun,
     output logic                            error,
     output logic [7:0]                      error_code,
     output logic [31:0]                     error_word
@@ -79,7 +81,8 @@ module alb_bench_top #(
     localparam int LH = $clog2(HEIGHT) + AA;
     localparam int AW = 1 + LW + LH;
     localparam int CWD = 3 * COLOUR_BITS + 40;
-    localparam int SCW = SCAN_PIXELS * (1 << (2 * AA)) * (1 + 3 * COLOUR_BITS);
+    localparam int ZW = TAG_BITS + DEPTH_BITS;
+    localparam int SCW = SCAN_PIXELS * (1 << (2 * AA)) * (TAG_BITS + 1 + 3 * COLOUR_BITS);
 
     assign p_width = WIDTH;
     assign p_height = HEIGHT;
@@ -90,7 +93,7 @@ module alb_bench_top #(
     assign p_scan_pixels = SCAN_PIXELS;
 
     logic [FILL_RATE*AW-1:0]         zr_addr, zw_addr, cw_addr;
-    logic [FILL_RATE*DEPTH_BITS-1:0] zr_data, zw_data;
+    logic [FILL_RATE*ZW-1:0]         zr_data, zw_data;
     logic [FILL_RATE-1:0]            zw_en, cw_en;
     logic [FILL_RATE*CWD-1:0]        cw_data;
     logic                            sc_en;
@@ -103,7 +106,8 @@ module alb_bench_top #(
              .FACE_SLOTS(FACE_SLOTS), .EDGE_UNITS(EDGE_UNITS), .FILL_RATE(FILL_RATE),
              .FILL_QUEUE(FILL_QUEUE), .DIVIDER_LATENCY(DIVIDER_LATENCY),
              .SHADE_LATENCY(SHADE_LATENCY), .FRAME_FACES(FRAME_FACES), .MAX_EDGES(MAX_EDGES),
-             .TEX_WORDS(TEX_WORDS), .FRAME_QUEUE(FRAME_QUEUE), .SCAN_PIXELS(SCAN_PIXELS)) u_vp (
+             .TEX_WORDS(TEX_WORDS), .FRAME_QUEUE(FRAME_QUEUE), .SCAN_PIXELS(SCAN_PIXELS),
+             .TAG_BITS(TAG_BITS)) u_vp (
         .clk, .rst, .in_valid, .in_data, .in_full,
         .mem_zr_addr(zr_addr), .mem_zr_data(zr_data), .mem_zw_en(zw_en), .mem_zw_addr(zw_addr),
         .mem_zw_data(zw_data), .mem_cw_en(cw_en), .mem_cw_addr(cw_addr), .mem_cw_data(cw_data),
@@ -113,10 +117,10 @@ module alb_bench_top #(
         .ev_end, .ev_engine_face, .ev_engine_slot, .ev_fill, .ev_fill_face, .ev_fill_cell,
         .ev_write, .ev_write_x, .ev_write_y, .ev_write_depth, .ev_write_rgb, .ev_write_face,
         .ev_write_level, .ev_frame, .ev_frame_number, .ev_frame_cycles, .ev_crc, .ev_crc_number,
-        .ev_crc_value, .error, .error_code, .error_word);
+        .ev_crc_value, .ev_scan_overrun, .error, .error_code, .error_word);
 
     alb_frame_mem #(.RATE(FILL_RATE), .LW(LW), .LH(LH), .AA(AA), .DB(DEPTH_BITS),
-                    .COLB(COLOUR_BITS), .SCAN_PIXELS(SCAN_PIXELS)) u_mem (
+                    .COLB(COLOUR_BITS), .SCAN_PIXELS(SCAN_PIXELS), .TAG_BITS(TAG_BITS)) u_mem (
         .clk, .zr_addr, .zr_data, .zw_en, .zw_addr, .zw_data, .cw_en, .cw_addr, .cw_data,
         .sc_en, .sc_addr, .sc_data);
 endmodule

@@ -1,10 +1,11 @@
 // alb_frame_mem — the external frame-store memory a board would have, as the
 // benches emulate it (not part of the VP): both sample stores, each sample a
-// depth word and a colour word {R G B, face id, level}.  Depth reads are
-// answered in the same cycle (an asynchronous SRAM), writes land at the end of
-// the cycle; the scan port answers in the next cycle with each sample's
-// {depth != 0, R G B} and clears the depths it read (read-first, as a
-// dual-port block RAM does).  Both stores start clear: depth 0, no surface.
+// depth word {frame tag, depth} and a colour word {R G B, face id, level}.
+// Depth reads are answered in the same cycle (an asynchronous SRAM), writes
+// land at the end of the cycle; the scan port answers in the next cycle with
+// each sample's {tag, depth != 0, R G B} and clears the depths it read
+// (read-first, as a dual-port block RAM does).  Both stores start clear:
+// depth 0, no surface.
 module alb_frame_mem #(
     parameter int RATE = 4,
     parameter int LW = 5,
@@ -13,27 +14,29 @@ module alb_frame_mem #(
     parameter int DB = 24,
     parameter int COLB = 8,
     parameter int SCAN_PIXELS = 1,
+    parameter int TAG_BITS = 8,
     parameter int AW = 1 + LW + LH,
-    parameter int CWD = 3 * COLB + 40
+    parameter int CWD = 3 * COLB + 40,
+    parameter int ZW = TAG_BITS + DB
 ) (
     input  logic                     clk,
     input  logic [RATE*AW-1:0]       zr_addr,
-    output logic [RATE*DB-1:0]       zr_data,
+    output logic [RATE*ZW-1:0]       zr_data,
     input  logic [RATE-1:0]          zw_en,
     input  logic [RATE*AW-1:0]       zw_addr,
-    input  logic [RATE*DB-1:0]       zw_data,
+    input  logic [RATE*ZW-1:0]       zw_data,
     input  logic [RATE-1:0]          cw_en,
     input  logic [RATE*AW-1:0]       cw_addr,
     input  logic [RATE*CWD-1:0]      cw_data,
     input  logic                     sc_en,
     input  logic [AW-1:0]            sc_addr,
-    output logic [SCAN_PIXELS*(1<<(2*AA))*(1+3*COLB)-1:0] sc_data
+    output logic [SCAN_PIXELS*(1<<(2*AA))*(TAG_BITS+1+3*COLB)-1:0] sc_data
 );
     localparam int N = 1 << AW;
     localparam int SN = SCAN_PIXELS << (2 * AA);
-    localparam int SD = 1 + 3 * COLB;
+    localparam int SD = TAG_BITS + 1 + 3 * COLB;
 
-    logic [DB-1:0]  depth [0:N-1];
+    logic [ZW-1:0]  depth [0:N-1];
     logic [CWD-1:0] colour [0:N-1];
 
     initial begin
@@ -45,20 +48,21 @@ module alb_frame_mem #(
 
     generate
         for (genvar j = 0; j < RATE; j++) begin : g_read
-            assign zr_data[j*DB +: DB] = depth[zr_addr[j*AW +: AW]];
+            assign zr_data[j*ZW +: ZW] = depth[zr_addr[j*AW +: AW]];
         end
     endgenerate
 
     always_ff @(posedge clk) begin
         for (int j = 0; j < RATE; j++) begin
             if (zw_en[j])
-                depth[zw_addr[j*AW +: AW]] <= zw_data[j*DB +: DB];
+                depth[zw_addr[j*AW +: AW]] <= zw_data[j*ZW +: ZW];
             if (cw_en[j])
                 colour[cw_addr[j*AW +: AW]] <= cw_data[j*CWD +: CWD];
         end
         if (sc_en)
             for (int k = 0; k < SN; k++) begin
-                sc_data[k*SD +: SD] <= {depth[sc_addr + AW'(k)] != '0,
+                sc_data[k*SD +: SD] <= {depth[sc_addr + AW'(k)][ZW-1 -: TAG_BITS],
+                                        depth[sc_addr + AW'(k)][DB-1:0] != '0,
                                         colour[sc_addr + AW'(k)][CWD-1 -: 3*COLB]};
                 depth[sc_addr + AW'(k)] <= '0;
             end

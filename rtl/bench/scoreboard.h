@@ -29,6 +29,10 @@ public:
     // The RTL reported frame `number`'s CRC in cycle t.
     bool crc(uint64_t t, uint32_t number, uint32_t value, Mismatch &m);
     size_t crcs_pending() const { return pending_.size(); }
+    // The RTL's output stage gave up the oldest frame waiting for its CRC
+    // (a scan-out overrun): that CRC cannot be checked.
+    void crc_lost() { if (!pending_.empty()) { pending_.pop_front(); lost_++; } }
+    uint64_t crcs_lost() const { return lost_; }
     uint64_t matched() const { return matched_; }
     uint64_t matched(int kind) const { return by_kind_[kind]; }
     uint64_t crcs_matched() const { return crcs_; }
@@ -38,7 +42,7 @@ private:
         uint64_t number, value;
     };
     std::deque<Crc> pending_;
-    uint64_t matched_ = 0, crcs_ = 0;
+    uint64_t matched_ = 0, crcs_ = 0, lost_ = 0;
     uint64_t by_kind_[EV_KINDS] = {};
 };
 
