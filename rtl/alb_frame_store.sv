@@ -103,9 +103,11 @@ module alb_frame_store #(
     // a sample's address in the store being drawn
     localparam logic [15:0] SUB = 16'((1 << AA) - 1);
     function automatic [AW-1:0] addr_of(input st, input [15:0] x, input [15:0] y);
-        logic [AW-2:0] pixel, sub;
-        pixel = (AW - 1)'(((y >> AA) << (LW - AA)) | (x >> AA));
-        sub = (AW - 1)'(((y & SUB) << AA) | (x & SUB));
+        logic [31:0] xx, yy, pixel, sub;
+        xx = 32'(x);
+        yy = 32'(y);
+        pixel = ((yy >> AA) << (LW - AA)) | (xx >> AA);
+        sub = ((yy & 32'(SUB)) << AA) | (xx & 32'(SUB));
         addr_of = {st, (AW - 1)'((pixel << (2 * AA)) | sub)};
     endfunction
 

@@ -4,7 +4,7 @@
 # --set overrides:
 #
 #   rtl/profile-params.sh [--format verilator|icarus|svh|shell] [--top MODULE]
-#                         [--albatros PATH] PROFILE [--set key=value ...]
+#                         [--albatros PATH] [--profile] PROFILE [--set key=value ...]
 #                         [--rtl NAME=VALUE ...]
 #
 # verilator: -GNAME=VALUE options; icarus: -PMODULE.NAME=VALUE options; svh:
@@ -25,6 +25,8 @@ while [ $# -gt 0 ]; do
         --top) [ $# -ge 2 ] || die "--top needs a value"; top=$2; shift 2 ;;
         --albatros) [ $# -ge 2 ] || die "--albatros needs a value"; albatros=$2; shift 2 ;;
         --set) [ $# -ge 2 ] || die "--set needs key=value"; sets="$sets --set $2"; shift 2 ;;
+        --profile) [ $# -ge 2 ] || die "--profile needs a name"
+                   [ -z "$profile" ] || die "one profile, got $profile and $2"; profile=$2; shift 2 ;;
         --rtl) [ $# -ge 2 ] || die "--rtl needs NAME=VALUE"
                case $2 in *=*) ;; *) die "--rtl $2: expected NAME=VALUE" ;; esac
                rtl="$rtl $2"; shift 2 ;;

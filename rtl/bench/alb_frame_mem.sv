@@ -59,12 +59,16 @@ module alb_frame_mem #(
             if (cw_en[j])
                 colour[cw_addr[j*AW +: AW]] <= cw_data[j*CWD +: CWD];
         end
-        if (sc_en)
-            for (int k = 0; k < SN; k++) begin
-                sc_data[k*SD +: SD] <= {depth[sc_addr + AW'(k)][ZW-1 -: TAG_BITS],
-                                        depth[sc_addr + AW'(k)][DB-1:0] != '0,
-                                        colour[sc_addr + AW'(k)][CWD-1 -: 3*COLB]};
-                depth[sc_addr + AW'(k)] <= '0;
-            end
     end
+    generate
+        for (genvar k = 0; k < SN; k++) begin : g_scan
+            always_ff @(posedge clk)
+                if (sc_en) begin
+                    sc_data[k*SD +: SD] <= {depth[sc_addr + AW'(k)][ZW-1 -: TAG_BITS],
+                                            depth[sc_addr + AW'(k)][DB-1:0] != '0,
+                                            colour[sc_addr + AW'(k)][CWD-1 -: 3*COLB]};
+                    depth[sc_addr + AW'(k)] <= '0;
+                end
+        end
+    endgenerate
 endmodule
