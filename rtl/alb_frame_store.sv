@@ -10,8 +10,10 @@
 // sub-sample row, sub-sample column} (a pixel's 4^aa samples adjacent, so the
 // output stage reads a pixel at once).  Depth ports: per lane a read answered
 // in the same cycle (asynchronous SRAM) and a write at the end of the cycle,
-// for the pipeline's first stage; colour ports (R G B, face id, level) for
-// its last stage.  A depth word carries the TAG_BITS low bits of the number
+// for the pipeline's first stage (with the pipeline's ZR_REG, the read is
+// answered in the next cycle and the write is the second stage's, at the
+// place the pipeline gives); colour ports (R G B, face id, level) for its
+// last stage.  A depth word carries the TAG_BITS low bits of the number
 // of the frame that wrote it: a depth whose tag is not the drawing frame's
 // reads as 0, "no surface, the frame's background" (docs/vp.md §4: nothing is
 // written with depth 0).  So the drawing store needs no clear pass before a
@@ -61,6 +63,8 @@ module alb_frame_store #(
     input  logic [RATE*16-1:0]       z_y,
     output logic [RATE*DB-1:0]       zr_data,
     input  logic [RATE-1:0]          zw_en,
+    input  logic [RATE*16-1:0]       zw_x,
+    input  logic [RATE*16-1:0]       zw_y,
     input  logic [RATE*DB-1:0]       zw_data,
     input  logic [RATE-1:0]          cw_en,
     input  logic [RATE*16-1:0]       cw_x,
@@ -150,7 +154,7 @@ module alb_frame_store #(
     always @* begin
         for (int j = 0; j < RATE; j++) begin
             mem_zr_addr[j*AW +: AW] = addr_of(draw_store, z_x[j*16 +: 16], z_y[j*16 +: 16]);
-            mem_zw_addr[j*AW +: AW] = addr_of(draw_store, z_x[j*16 +: 16], z_y[j*16 +: 16]);
+            mem_zw_addr[j*AW +: AW] = addr_of(draw_store, zw_x[j*16 +: 16], zw_y[j*16 +: 16]);
             mem_cw_addr[j*AW +: AW] = addr_of(draw_store, cw_x[j*16 +: 16], cw_y[j*16 +: 16]);
             mem_cw_data[j*(3*COLB+40) +: 3*COLB+40] = {cw_rgb[j*3*COLB +: 3*COLB], cw_face, cw_level};
             // another frame's depth is no surface for this one

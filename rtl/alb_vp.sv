@@ -38,6 +38,7 @@ module alb_vp #(
     parameter int FRAME_QUEUE = 4,      // FRAME packets taken ahead of a draining frame
     parameter int SCAN_PIXELS = 1,      // pixels the output stage resolves a cycle
     parameter int TAG_BITS = 8,         // frame tag of a stored depth (alb_frame_store)
+    parameter int ZR_REG = 0,           // 1: depth reads answered in the next cycle (block RAM)
     // derived
     parameter int LW = $clog2(WIDTH) + AA,
     parameter int LH = $clog2(HEIGHT) + AA,
@@ -191,12 +192,14 @@ module alb_vp #(
     logic [3*COLOUR_BITS-1:0]     fog_rgb;
     logic [31:0]                  fog_near, fog_far;
     logic [FILL_RATE*DEPTH_BITS-1:0] zr_data, zw_data;
+    logic [FILL_RATE*16-1:0]      zw_x, zw_y;
     logic [FILL_RATE-1:0]         zw_en;
-    alb_pipe #(.RATE(FILL_RATE), .LW(LW), .LH(LH), .DB(DEPTH_BITS), .COLB(COLOUR_BITS),
-               .RB(RECIP_BITS), .FI(SHADE_FRAC_BITS), .DIV_LAT(DIVIDER_LATENCY),
-               .SHADE_LAT(SHADE_LATENCY), .TEX_WORDS(TEX_WORDS)) u_pipe (
+    alb_pipe #(.RATE(FILL_RATE), .LW(LW), .LH(LH), .CB(COEF_BITS), .DB(DEPTH_BITS),
+               .COLB(COLOUR_BITS), .RB(RECIP_BITS), .FI(SHADE_FRAC_BITS),
+               .DIV_LAT(DIVIDER_LATENCY), .SHADE_LAT(SHADE_LATENCY), .TEX_WORDS(TEX_WORDS),
+               .ZR_REG(ZR_REG)) u_pipe (
         .clk, .rst, .lane_v, .lane_x, .lane_y, .setup(fill_setup), .level(fill_level), .fog_on,
-        .fog_rgb, .fog_near, .fog_far, .zr_data, .zw_en, .zw_data, .cw_en(ev_write),
+        .fog_rgb, .fog_near, .fog_far, .zr_data, .zw_en, .zw_x, .zw_y, .zw_data, .cw_en(ev_write),
         .cw_x(ev_write_x), .cw_y(ev_write_y), .cw_depth(ev_write_depth), .cw_rgb(ev_write_rgb),
         .cw_face(ev_write_face), .cw_level(ev_write_level), .tw_en, .tw_addr, .tw_data,
         .busy(pipe_busy), .busy_before_last(pipe_busy_before_last));
@@ -215,7 +218,7 @@ module alb_vp #(
         .end_taken, .frames_taken, .frame_open, .frames_idle, .engine_busy_next,
         .queue_empty_next(q_empty_next), .fill_busy_next, .pipe_busy_before_last, .waiting_next,
         .fog_on, .fog_rgb, .fog_near, .fog_far, .z_x(lane_x), .z_y(lane_y), .zr_data, .zw_en,
-        .zw_data, .cw_en(ev_write), .cw_x(ev_write_x), .cw_y(ev_write_y), .cw_rgb(ev_write_rgb),
+        .zw_x, .zw_y, .zw_data, .cw_en(ev_write), .cw_x(ev_write_x), .cw_y(ev_write_y), .cw_rgb(ev_write_rgb),
         .cw_face(ev_write_face), .cw_level(ev_write_level), .retire, .display_store, .display_tag,
         .retire_bg,
         .retire_number, .sc_en, .sc_pixel, .sc_store, .mem_zr_addr, .mem_zr_data, .mem_zw_en,

@@ -31,7 +31,7 @@ done
 if ((fail)); then echo "$pass passed, $fail failed"; exit 1; fi
 
 rtl_files=(rtl/alb_fifo.sv rtl/alb_parser.sv rtl/alb_edge_store.sv rtl/alb_engine.sv
-           rtl/alb_fill_queue.sv rtl/alb_fill.sv rtl/alb_pipe.sv rtl/alb_frame_store.sv
+           rtl/alb_fill_queue.sv rtl/alb_fill.sv rtl/alb_pipe_reg.sv rtl/alb_pipe.sv rtl/alb_frame_store.sv
            rtl/alb_frame_crc.sv rtl/alb_vp.sv)
 
 # ---- lint and synthesis ----

@@ -26,7 +26,8 @@ module alb_bench_top #(
     parameter int TEX_WORDS = 65536,
     parameter int FRAME_QUEUE = 4,
     parameter int SCAN_PIXELS = 1,
-    parameter int TAG_BITS = 8
+    parameter int TAG_BITS = 8,
+    parameter int ZR_REG = 0
 ) (
     input  logic                            clk,
     input  logic                            rst,
@@ -107,7 +108,7 @@ module alb_bench_top #(
              .FILL_QUEUE(FILL_QUEUE), .DIVIDER_LATENCY(DIVIDER_LATENCY),
              .SHADE_LATENCY(SHADE_LATENCY), .FRAME_FACES(FRAME_FACES), .MAX_EDGES(MAX_EDGES),
              .TEX_WORDS(TEX_WORDS), .FRAME_QUEUE(FRAME_QUEUE), .SCAN_PIXELS(SCAN_PIXELS),
-             .TAG_BITS(TAG_BITS)) u_vp (
+             .TAG_BITS(TAG_BITS), .ZR_REG(ZR_REG)) u_vp (
         .clk, .rst, .in_valid, .in_data, .in_full,
         .mem_zr_addr(zr_addr), .mem_zr_data(zr_data), .mem_zw_en(zw_en), .mem_zw_addr(zw_addr),
         .mem_zw_data(zw_data), .mem_cw_en(cw_en), .mem_cw_addr(cw_addr), .mem_cw_data(cw_data),
@@ -120,7 +121,8 @@ module alb_bench_top #(
         .ev_crc_value, .ev_scan_overrun, .error, .error_code, .error_word);
 
     alb_frame_mem #(.RATE(FILL_RATE), .LW(LW), .LH(LH), .AA(AA), .DB(DEPTH_BITS),
-                    .COLB(COLOUR_BITS), .SCAN_PIXELS(SCAN_PIXELS), .TAG_BITS(TAG_BITS)) u_mem (
+                    .COLB(COLOUR_BITS), .SCAN_PIXELS(SCAN_PIXELS), .TAG_BITS(TAG_BITS),
+                    .ZR_REG(ZR_REG)) u_mem (
         .clk, .zr_addr, .zr_data, .zw_en, .zw_addr, .zw_data, .cw_en, .cw_addr, .cw_data,
         .sc_en, .sc_addr, .sc_data);
 endmodule

@@ -1,8 +1,9 @@
 // alb_frame_mem — the external frame-store memory a board would have, as the
 // benches emulate it (not part of the VP): both sample stores, each sample a
 // depth word {frame tag, depth} and a colour word {R G B, face id, level}.
-// Depth reads are answered in the same cycle (an asynchronous SRAM), writes
-// land at the end of the cycle; the scan port answers in the next cycle with
+// Depth reads are answered in the same cycle (an asynchronous SRAM) — with
+// ZR_REG in the next, as a block RAM does, before that cycle's write —
+// writes land at the end of the cycle; the scan port answers in the next cycle with
 // each sample's {tag, depth != 0, R G B} and clears the depths it read
 // (read-first, as a dual-port block RAM does).  Both stores start clear:
 // depth 0, no surface.
@@ -15,6 +16,7 @@ module alb_frame_mem #(
     parameter int COLB = 8,
     parameter int SCAN_PIXELS = 1,
     parameter int TAG_BITS = 8,
+    parameter int ZR_REG = 0,
     parameter int AW = 1 + LW + LH,
     parameter int CWD = 3 * COLB + 40,
     parameter int ZW = TAG_BITS + DB
@@ -48,7 +50,12 @@ module alb_frame_mem #(
 
     generate
         for (genvar j = 0; j < RATE; j++) begin : g_read
-            assign zr_data[j*ZW +: ZW] = depth[zr_addr[j*AW +: AW]];
+            if (ZR_REG != 0) begin : g_sync
+                always_ff @(posedge clk)
+                    zr_data[j*ZW +: ZW] <= depth[zr_addr[j*AW +: AW]];
+            end else begin : g_async
+                assign zr_data[j*ZW +: ZW] = depth[zr_addr[j*AW +: AW]];
+            end
         end
     endgenerate
 
