@@ -18,6 +18,7 @@ module alb_parser #(
     parameter int EW = 27,              // edge value width (docs/vp.md §2)
     parameter int MAX_EDGES = 64,
     parameter int TEX_WORDS = 65536,
+    parameter int TEX_IDS = 256,        // texture ids the table holds (the format has 256)
     parameter int FRAME_FACES = 16777215
 ) (
     input  logic                 clk,
@@ -64,6 +65,7 @@ module alb_parser #(
 );
     localparam int P = LW > LH ? LW : LH;
     localparam int TA = $clog2(TEX_WORDS);
+    localparam int IW = TEX_IDS > 1 ? $clog2(TEX_IDS) : 1;
     localparam logic [31:0] ILIM = 32'd1 << (3 + F);           // intercepts below 2^(3+F)
     localparam logic signed [31:0] MLIM = (32'sd1 <<< (CB - 1)) - 32'sd1;
     localparam logic [15:0] TOP = 16'((1 << COLB) - 1);
@@ -85,7 +87,7 @@ module alb_parser #(
     logic [23:0] f_tbase;
     logic [3:0]  f_tlg;
     logic signed [7:0]  fm_exp;
-    logic signed [31:0] fm_a, fm_b;
+    logic signed [CB-1:0] fm_a, fm_b;   // mantissas, checked to fit CB bits
     logic [`FORM_W-1:0] f_form [0:3];
     logic        e_u, e_r;
     logic [31:0] e_x1;
@@ -97,19 +99,27 @@ module alb_parser #(
     logic        fr_fog_r;
     logic [31:0] fr_near_r;
     // texture table: where each id's texels are
-    logic [255:0] tab_valid;
-    logic [TA:0] tab_base [0:255];
-    logic [3:0]  tab_lg [0:255];
-    logic [3:0]  tab_alloc [0:255];   // log2 side the region was allocated for
+    logic [TEX_IDS-1:0] tab_valid;
+    logic [TA:0] tab_base [0:TEX_IDS-1];
+    logic [3:0]  tab_lg [0:TEX_IDS-1];
+    logic [3:0]  tab_alloc [0:TEX_IDS-1];   // log2 side the region was allocated for
     logic [TA+1:0] alloc_ptr;
 
     // ---- this cycle's word ----
     wire [31:0] w = fifo_head;
     wire [7:0]  op = w[31:24];
-    wire [3:0]  tab_alloc_w = tab_alloc[w[23:16]];    // a TEXTURE header's id
-    wire [TA:0] tab_base_w = tab_base[w[23:16]];
-    wire [TA:0] tab_base_f = tab_base[w[7:0]];        // a FACE header's texture
-    wire [3:0]  tab_lg_f = tab_lg[w[7:0]];
+    // a TEXTURE header's id, a FACE header's texture; an id beyond the table
+    // is never loaded (a TEXTURE of one: texture memory full)
+    wire        tid_w_ok = 32'(w[23:16]) < TEX_IDS;
+    wire        tid_f_ok = 32'(w[7:0]) < TEX_IDS;
+    wire [IW-1:0] ti_w = IW'(w[23:16]);
+    wire [IW-1:0] ti_f = IW'(w[7:0]);
+    wire        tab_valid_w = tid_w_ok && tab_valid[ti_w];
+    wire        tab_valid_f = tid_f_ok && tab_valid[ti_f];
+    wire [3:0]  tab_alloc_w = tab_alloc[ti_w];
+    wire [TA:0] tab_base_w = tab_base[ti_w];
+    wire [TA:0] tab_base_f = tab_base[ti_f];
+    wire [3:0]  tab_lg_f = tab_lg[ti_f];
 
     function automatic [2:0] kind_of(input [7:0] o);
         case (o)
@@ -166,8 +176,8 @@ module alb_parser #(
     // X = (2c + 1 - S_W) 2^(P-LW), Y = (S_H - 2r - 1) 2^(P-LH) in units of
     // 2^-P, and N = A X + B Y + C 2^P; S_W, S_H powers of two make every
     // product a shift.
-    function automatic [`FORM_W-1:0] form_terms(input signed [7:0] e, input signed [31:0] a,
-                                               input signed [31:0] b, input signed [31:0] c);
+    function automatic [`FORM_W-1:0] form_terms(input signed [7:0] e, input signed [CB-1:0] a,
+                                               input signed [CB-1:0] b, input signed [CB-1:0] c);
         logic signed [63:0] a64, b64, c64, origin, step_c, step_r;
         a64 = 64'(a);
         b64 = 64'(b);
@@ -250,7 +260,7 @@ module alb_parser #(
                         end
                     `K_TEXTURE: begin
                         tex_size = (TA + 2)'(1) << {w[11:8], 1'b0};
-                        tex_alloc = !(tab_valid[w[23:16]] && tab_alloc_w >= w[11:8]);
+                        tex_alloc = !(tab_valid_w && tab_alloc_w >= w[11:8]);
                         tex_base_new = tex_alloc ? alloc_ptr[TA:0] : tab_base_w;
                         if (w[15:8] > 8'd10) begin
                             bad = 1'b1;
@@ -258,8 +268,8 @@ module alb_parser #(
                         end else if (w[7:0] != 8'd0) begin
                             bad = 1'b1;
                             bad_code = `E_RESERVED;
-                        end else if (tex_alloc && {1'b0, alloc_ptr} + {1'b0, tex_size} >
-                                                  (TA + 3)'(TEX_WORDS)) begin
+                        end else if (!tid_w_ok || (tex_alloc && {1'b0, alloc_ptr} +
+                                                   {1'b0, tex_size} > (TA + 3)'(TEX_WORDS))) begin
                             bad = 1'b1;
                             bad_code = `E_TEX_FULL;
                         end
@@ -274,7 +284,7 @@ module alb_parser #(
                         end else if (faces_in_frame >= 24'(FRAME_FACES)) begin
                             bad = 1'b1;
                             bad_code = `E_COUNT;
-                        end else if (w[9] && !tab_valid[w[7:0]]) begin
+                        end else if (w[9] && !tab_valid_f) begin
                             bad = 1'b1;
                             bad_code = `E_TEXTURE;
                         end
@@ -347,7 +357,7 @@ module alb_parser #(
     wire [3*EW-1:0] eterms = edge_terms(e_u, e_r, e_x1, w);
     wire take = pop && !bad;
     wire face_word = in_pkt && kind == `K_FACE;
-    wire [`FORM_W-1:0] cur_form = form_terms(fm_exp, fm_a, fm_b, w);
+    wire [`FORM_W-1:0] cur_form = form_terms(fm_exp, fm_a, fm_b, w[CB-1:0]);
 
     assign ew_en = take && face_word && wi >= estart && eoff[0];
     assign ew_idx = edge_no;
@@ -420,11 +430,11 @@ module alb_parser #(
                             t_base <= tex_base_new;
                             if (tex_alloc) begin
                                 alloc_ptr <= alloc_ptr + tex_size;
-                                tab_alloc[w[23:16]] <= w[11:8];
+                                tab_alloc[ti_w] <= w[11:8];
                             end
-                            tab_valid[w[23:16]] <= 1'b1;
-                            tab_base[w[23:16]] <= tex_base_new;
-                            tab_lg[w[23:16]] <= w[11:8];
+                            tab_valid[ti_w] <= 1'b1;
+                            tab_base[ti_w] <= tex_base_new;
+                            tab_lg[ti_w] <= w[11:8];
                         end
                         `K_FACE: begin
                             f_edges <= w[22:16];
@@ -472,8 +482,8 @@ module alb_parser #(
                             if (in_forms) begin
                                 case (form_word)
                                     2'd0: fm_exp <= w[7:0];
-                                    2'd1: fm_a <= w;
-                                    2'd2: fm_b <= w;
+                                    2'd1: fm_a <= w[CB-1:0];
+                                    2'd2: fm_b <= w[CB-1:0];
                                     default: f_form[form_slot] <= cur_form;
                                 endcase
                             end

@@ -509,11 +509,11 @@ module alb_pipe #(
     generate
         if (ON_D) begin : g_tex_sync
             wire [TA-1:0] a0 = tw_en ? tw_addr : s4_taddr[0 +: TA];
-            always_ff @(posedge clk) begin
+            always_ff @(posedge clk)
                 if (tw_en)
                     tex_mem[a0] <= tw_data;
-                s5_fetched[0 +: 24] <= tex_mem[a0];
-            end
+                else
+                    s5_fetched[0 +: 24] <= tex_mem[a0];
             for (genvar j = 1; j < RATE; j++) begin : g_lane
                 always_ff @(posedge clk)
                     s5_fetched[j*24 +: 24] <= tex_mem[s4_taddr[j*TA +: TA]];

@@ -35,6 +35,7 @@ module alb_vp #(
     // sizes the profile does not bound (rtl/README.md)
     parameter int MAX_EDGES = 64,       // edges a face may have (the word format's limit)
     parameter int TEX_WORDS = 65536,    // texture memory, texels
+    parameter int TEX_IDS = 256,        // texture ids the parser's table holds
     parameter int FRAME_QUEUE = 4,      // FRAME packets taken ahead of a draining frame
     parameter int SCAN_PIXELS = 1,      // pixels the output stage resolves a cycle
     parameter int TAG_BITS = 8,         // frame tag of a stored depth (alb_frame_store)
@@ -133,7 +134,7 @@ module alb_vp #(
     logic [7:0]          parse_err_code;
     logic                slot_free, drained;
     alb_parser #(.F(EDGE_FRAC_BITS), .CB(COEF_BITS), .COLB(COLOUR_BITS), .LW(LW), .LH(LH),
-                 .EW(EW), .MAX_EDGES(MAX_EDGES), .TEX_WORDS(TEX_WORDS),
+                 .EW(EW), .MAX_EDGES(MAX_EDGES), .TEX_WORDS(TEX_WORDS), .TEX_IDS(TEX_IDS),
                  .FRAME_FACES(FRAME_FACES)) u_parser (
         .clk, .rst, .fifo_empty, .fifo_head, .pop, .slot_free, .drained, .frames_taken,
         .ew_en, .ew_idx, .ew_c, .ew_da, .ew_db, .fc_en, .fc_setup, .fc_edges, .fc_frame,
