@@ -58,6 +58,8 @@ BENCH    := $(BUILD)/tools/bench
 .PHONY: all test unit vectors bless asan memcheck bench demo setup deps clean help crosscheck sweep
 # libFuzzer harnesses and their replay over the seeds and regressions
 include fuzz/fuzz.mk
+# the reference RTL and its co-simulation against the model: make cosim
+include rtl/rtl.mk
 
 # the replay harnesses too, so a warning in them fails CI's -Werror build
 all: $(ALBATROS) $(UNIT) $(USB_DESC) $(REPLAYS)
@@ -78,11 +80,12 @@ help:
 	@echo "                TARGET = $(FUZZ_TARGETS) (fuzz/README.md)"
 	@echo "make fuzz-replay  the fuzz harnesses over their seeds and regressions (in make test)"
 	@echo "make firmware   the FX2LP board firmware (sdcc); make firmware-size checks it fits"
+	@echo "make cosim      the reference RTL (rtl/) against the cycle model, everything"
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev gnuplot-nox sdcc umockdev
+            libhidapi-dev gnuplot-nox sdcc umockdev verilator iverilog yosys
 setup: deps
 	$(MAKE) all
 deps:

@@ -45,5 +45,6 @@ run malformed bash tests/malformed.sh "$bin"
 run fuzz-replay bash tests/fuzz-replay.sh "$build" "${unit[@]}"
 run firmware bash tests/firmware.sh "$build"
 run usb-umockdev bash tests/usb-umockdev.sh "$build" "$bin"
+run cosim bash tests/cosim.sh "$build"
 echo "$total_pass passed, $total_fail failed"
 [[ $status -eq 0 && $total_fail -eq 0 ]]
