@@ -1,7 +1,8 @@
 /* diag.c — located diagnostics (see diag.h). */
-#include "diag.h"
+#include "albatros/diag.h"
 
 #include <stdarg.h>
+#include <stdlib.h>
 #include <string.h>
 
 const char *alb_strerror(alb_err e)
@@ -21,19 +22,19 @@ const char *alb_strerror(alb_err e)
     return "unknown error";
 }
 
-void diag_init(diag_t *d, FILE *warn)
+void alb_diag_init(alb_diag *d, FILE *warn)
 {
     memset(d, 0, sizeof *d);
     d->offset = -1;
     d->warn = warn;
 }
 
-static void set_file(diag_t *d, const char *file)
+static void set_file(alb_diag *d, const char *file)
 {
     snprintf(d->file, sizeof d->file, "%s", file ? file : "");
 }
 
-alb_err diag_at(diag_t *d, alb_err e, const char *file, unsigned line,
+alb_err alb_diag_at(alb_diag *d, alb_err e, const char *file, unsigned line,
                 unsigned col, const char *fmt, ...)
 {
     va_list ap;
@@ -47,7 +48,7 @@ alb_err diag_at(diag_t *d, alb_err e, const char *file, unsigned line,
     return e;
 }
 
-alb_err diag_off(diag_t *d, alb_err e, const char *file, long long offset,
+alb_err alb_diag_off(alb_diag *d, alb_err e, const char *file, long long offset,
                  const char *fmt, ...)
 {
     va_list ap;
@@ -60,7 +61,7 @@ alb_err diag_off(diag_t *d, alb_err e, const char *file, long long offset,
     return e;
 }
 
-void diag_warn(diag_t *d, const char *file, unsigned line, const char *fmt, ...)
+void alb_diag_warn(alb_diag *d, const char *file, unsigned line, const char *fmt, ...)
 {
     va_list ap;
     d->warnings++;
@@ -75,7 +76,20 @@ void diag_warn(diag_t *d, const char *file, unsigned line, const char *fmt, ...)
     fputc('\n', d->warn);
 }
 
-void diag_print(const diag_t *d, FILE *f)
+int alb_diag_format(const alb_diag *d, char *buf, size_t len)
+{
+    if (!d->file[0])
+        return snprintf(buf, len, "error: %s", d->msg);
+    if (d->line && d->col)
+        return snprintf(buf, len, "%s:%u:%u: error: %s", d->file, d->line, d->col, d->msg);
+    if (d->line)
+        return snprintf(buf, len, "%s:%u: error: %s", d->file, d->line, d->msg);
+    if (d->offset >= 0)
+        return snprintf(buf, len, "%s: offset %lld: error: %s", d->file, d->offset, d->msg);
+    return snprintf(buf, len, "%s: error: %s", d->file, d->msg);
+}
+
+void alb_diag_print(const alb_diag *d, FILE *f)
 {
     if (d->file[0]) {
         fputs(d->file, f);
@@ -90,3 +104,5 @@ void diag_print(const diag_t *d, FILE *f)
     }
     fprintf(f, "error: %s\n", d->msg);
 }
+
+void alb_free(void *p) { free(p); }

@@ -1,5 +1,5 @@
 /* profile.c — the built-in members of the family and their overrides. */
-#include "profile.h"
+#include "albatros/profile.h"
 #include "fix.h"
 
 #include <errno.h>
@@ -15,19 +15,19 @@
  * for 1024x1024, a 512-word FIFO, two face slots, a 4-cell fill queue, an
  * 8-stage divider; the GP spends 24 + 6 per edge clocks per face. */
 #define CLOCKED(khz, fill) khz, 512, 2, 8, fill, 4, 8, 4, 24, 6, 16, 16777215, 0
-static const profile_t builtin[] = {
-    {"a512", 512, 512, 0, 14, 24, 24, 8, 16, 12, BOUND_ALBATROS, true, CLOCKED(40000, 4)},
-    {"a1024", 1024, 1024, 0, 15, 24, 24, 8, 16, 12, BOUND_ALBATROS, true, CLOCKED(80000, 8)},
-    {"a1024x512", 1024, 512, 0, 15, 24, 24, 8, 16, 12, BOUND_ALBATROS, true, CLOCKED(60000, 8)},
-    {"a256", 256, 256, 0, 13, 24, 24, 8, 16, 12, BOUND_ALBATROS, true, CLOCKED(20000, 4)},
-    {"t32", 32, 32, 0, 10, 24, 24, 8, 16, 12, BOUND_ALBATROS, true, CLOCKED(10000, 4)},
+static const alb_profile builtin[] = {
+    {"a512", 512, 512, 0, 14, 24, 24, 8, 16, 12, ALB_BOUND_ALBATROS, true, CLOCKED(40000, 4)},
+    {"a1024", 1024, 1024, 0, 15, 24, 24, 8, 16, 12, ALB_BOUND_ALBATROS, true, CLOCKED(80000, 8)},
+    {"a1024x512", 1024, 512, 0, 15, 24, 24, 8, 16, 12, ALB_BOUND_ALBATROS, true, CLOCKED(60000, 8)},
+    {"a256", 256, 256, 0, 13, 24, 24, 8, 16, 12, ALB_BOUND_ALBATROS, true, CLOCKED(20000, 4)},
+    {"t32", 32, 32, 0, 10, 24, 24, 8, 16, 12, ALB_BOUND_ALBATROS, true, CLOCKED(10000, 4)},
 };
 
 static const char *const names[] = {"a512", "a1024", "a1024x512", "a256", "t32", NULL};
 
-const char *const *profile_names(void) { return names; }
+const char *const *alb_profile_names(void) { return names; }
 
-int profile_lookup(const char *name, profile_t *p)
+int alb_profile_lookup(const char *name, alb_profile *p)
 {
     for (size_t i = 0; i < sizeof builtin / sizeof builtin[0]; i++) {
         if (strcmp(builtin[i].name, name) == 0) {
@@ -38,22 +38,22 @@ int profile_lookup(const char *name, profile_t *p)
     return -1;
 }
 
-const char *bound_method_name(bound_method m)
+const char *alb_bound_method_name(alb_bound_method m)
 {
     switch (m) {
-    case BOUND_NONE: return "none";
-    case BOUND_ALBATROS: return "albatros";
-    case BOUND_BOX: return "box";
-    case BOUND_BISECTOR: return "bisector";
+    case ALB_BOUND_NONE: return "none";
+    case ALB_BOUND_ALBATROS: return "albatros";
+    case ALB_BOUND_BOX: return "box";
+    case ALB_BOUND_BISECTOR: return "bisector";
     }
     return "?";
 }
 
-int bound_method_parse(const char *s, bound_method *m)
+int alb_bound_method_parse(const char *s, alb_bound_method *m)
 {
-    for (int i = BOUND_NONE; i <= BOUND_BISECTOR; i++) {
-        if (strcmp(s, bound_method_name((bound_method)i)) == 0) {
-            *m = (bound_method)i;
+    for (int i = ALB_BOUND_NONE; i <= ALB_BOUND_BISECTOR; i++) {
+        if (strcmp(s, alb_bound_method_name((alb_bound_method)i)) == 0) {
+            *m = (alb_bound_method)i;
             return 0;
         }
     }
@@ -61,7 +61,7 @@ int bound_method_parse(const char *s, bound_method *m)
 }
 
 /* Decimal digits only (strtoul would take a sign and spaces); -1 if not
- * such, -2 if above PROFILE_MAX_VALUE. */
+ * such, -2 if above ALB_PROFILE_MAX_VALUE. */
 static int parse_uint(const char *s, unsigned *out)
 {
     char *end;
@@ -71,7 +71,7 @@ static int parse_uint(const char *s, unsigned *out)
     unsigned long v = strtoul(s, &end, 10);
     if (*end)
         return -1;
-    if (errno == ERANGE || v > PROFILE_MAX_VALUE)
+    if (errno == ERANGE || v > ALB_PROFILE_MAX_VALUE)
         return -2;
     *out = (unsigned)v;
     return 0;
@@ -82,9 +82,9 @@ typedef struct {
     size_t offset;
 } uint_field;
 
-#define FIELD(f) {#f, offsetof(profile_t, f)}
+#define FIELD(f) {#f, offsetof(alb_profile, f)}
 static const uint_field uint_fields[] = {
-    FIELD(width), FIELD(height), {"aa", offsetof(profile_t, aa_levels)},
+    FIELD(width), FIELD(height), {"aa", offsetof(alb_profile, aa_levels)},
     FIELD(edge_frac_bits), FIELD(coef_bits), FIELD(depth_bits),
     FIELD(colour_bits), FIELD(recip_bits), FIELD(shade_frac_bits), FIELD(clock_khz),
     FIELD(fifo_depth), FIELD(face_slots), FIELD(edge_units), FIELD(fill_rate), FIELD(fill_queue),
@@ -92,7 +92,7 @@ static const uint_field uint_fields[] = {
     FIELD(gp_frame_cycles), FIELD(frame_faces), FIELD(all_units),
 };
 
-int profile_set(profile_t *p, const char *assignment, char *err, size_t errlen)
+int alb_profile_set(alb_profile *p, const char *assignment, char *err, size_t errlen)
 {
     const char *eq = strchr(assignment, '=');
     if (!eq) {
@@ -109,7 +109,7 @@ int profile_set(profile_t *p, const char *assignment, char *err, size_t errlen)
             if (bad) {
                 if (bad == -2)
                     snprintf(err, errlen, "'%s': out of range (at most %u)", assignment,
-                             PROFILE_MAX_VALUE);
+                             ALB_PROFILE_MAX_VALUE);
                 else
                     snprintf(err, errlen, "'%s': expected a non-negative integer", assignment);
                 return -1;
@@ -119,7 +119,7 @@ int profile_set(profile_t *p, const char *assignment, char *err, size_t errlen)
         }
     }
     if (klen == 5 && strncmp(assignment, "bound", 5) == 0) {
-        if (bound_method_parse(val, &p->bound)) {
+        if (alb_bound_method_parse(val, &p->bound)) {
             snprintf(err, errlen, "'%s': expected none, albatros, box or bisector", assignment);
             return -1;
         }
@@ -141,21 +141,21 @@ int profile_set(profile_t *p, const char *assignment, char *err, size_t errlen)
     return -1;
 }
 
-unsigned profile_levels(const profile_t *p)
+unsigned alb_profile_levels(const alb_profile *p)
 {
     unsigned w = fix_log2(p->width), h = fix_log2(p->height);
     return (w > h ? w : h) + p->aa_levels;
 }
 
-unsigned profile_sample_shift(const profile_t *p) { return profile_levels(p); }
+unsigned alb_profile_sample_shift(const alb_profile *p) { return alb_profile_levels(p); }
 
-int profile_check(const profile_t *p, char *err, size_t errlen)
+int alb_profile_check(const alb_profile *p, char *err, size_t errlen)
 {
 #define BAD(...) do { snprintf(err, errlen, __VA_ARGS__); return -1; } while (0)
     if (!fix_is_pow2(p->width) || !fix_is_pow2(p->height) || p->width < 2 ||
-        p->height < 2 || p->width > PROFILE_MAX_SIDE || p->height > PROFILE_MAX_SIDE)
+        p->height < 2 || p->width > ALB_PROFILE_MAX_SIDE || p->height > ALB_PROFILE_MAX_SIDE)
         BAD("screen %ux%u: width and height must be powers of two in 2..%d",
-            p->width, p->height, PROFILE_MAX_SIDE);
+            p->width, p->height, ALB_PROFILE_MAX_SIDE);
     if (p->aa_levels > 3)
         BAD("aa=%u: at most 3 anti-aliasing levels (64 samples per pixel)", p->aa_levels);
     if (p->edge_frac_bits < EDGE_FRAC_MIN || p->edge_frac_bits > EDGE_FRAC_MAX)
@@ -179,11 +179,11 @@ int profile_check(const profile_t *p, char *err, size_t errlen)
     /* A form evaluated at a sample is below 2^(coef_bits + levels + 1); times a
      * reciprocal of recip_bits + 1 bits it must stay inside int64
      * (docs/number-formats.md §4): the sum plus 3 at most 63. */
-    if (p->coef_bits + profile_levels(p) + p->recip_bits > 60)
+    if (p->coef_bits + alb_profile_levels(p) + p->recip_bits > 60)
         BAD("coef_bits + levels + recip_bits = %u: must be at most 60 (levels = %u: log2 of "
             "the larger screen side plus aa), so that the VP's form-times-reciprocal "
-            "products fit 64-bit integers", p->coef_bits + profile_levels(p) + p->recip_bits,
-            profile_levels(p));
+            "products fit 64-bit integers", p->coef_bits + alb_profile_levels(p) + p->recip_bits,
+            alb_profile_levels(p));
     if (p->clock_khz < 1 || p->clock_khz > 10000000)
         BAD("clock_khz=%u: must be in 1..10000000", p->clock_khz);
     if (p->fifo_depth < 1 || p->fifo_depth > (1u << 20))
@@ -208,7 +208,7 @@ int profile_check(const profile_t *p, char *err, size_t errlen)
 #undef BAD
 }
 
-void profile_describe(const profile_t *p, char *buf, size_t len)
+void alb_profile_describe(const alb_profile *p, char *buf, size_t len)
 {
     snprintf(buf, len,
              "profile=%s\nwidth=%u\nheight=%u\naa=%u\nedge_frac_bits=%u\n"
@@ -219,8 +219,21 @@ void profile_describe(const profile_t *p, char *buf, size_t len)
              "gp_frame_cycles=%u\nframe_faces=%u\nall_units=%u\n",
              p->name, p->width, p->height, p->aa_levels, p->edge_frac_bits,
              p->coef_bits, p->depth_bits, p->colour_bits, p->recip_bits,
-             p->shade_frac_bits, bound_method_name(p->bound), p->cull_backfaces, p->clock_khz,
+             p->shade_frac_bits, alb_bound_method_name(p->bound), p->cull_backfaces, p->clock_khz,
              p->fifo_depth, p->face_slots, p->edge_units, p->fill_rate, p->fill_queue,
              p->divider_latency, p->shade_latency, p->gp_face_cycles, p->gp_edge_cycles,
              p->gp_frame_cycles, p->frame_faces, p->all_units);
+}
+
+alb_err alb_profile_open(alb_profile *p, const char *name, const char *const *sets, alb_diag *d)
+{
+    char msg[256];
+    if (alb_profile_lookup(name ? name : "a512", p))
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "unknown profile '%s'", name);
+    for (size_t i = 0; sets && sets[i]; i++)
+        if (alb_profile_set(p, sets[i], msg, sizeof msg))
+            return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "%s", msg);
+    if (alb_profile_check(p, msg, sizeof msg))
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "profile %s: %s", p->name, msg);
+    return ALB_OK;
 }

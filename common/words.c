@@ -1,25 +1,27 @@
 /* words.c — packing and validating decoding of the GP -> VP word stream.
  * The layouts are those of docs/word-format.md; tests/test_words.c checks
  * every packet by round trip and every malformation by its message. */
-#include "words.h"
-#include "file.h"
+#include "albatros/words.h"
+#include "memh.h"
+#include "albatros/file.h"
 #include "fix.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <stdarg.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-void ws_buf_init(ws_buf *b) { memset(b, 0, sizeof *b); }
+void alb_ws_buf_init(alb_ws_buf *b) { memset(b, 0, sizeof *b); }
 
-void ws_buf_free(ws_buf *b)
+void alb_ws_buf_free(alb_ws_buf *b)
 {
     free(b->w);
     memset(b, 0, sizeof *b);
 }
 
-void ws_put(ws_buf *b, uint32_t word)
+void alb_ws_put(alb_ws_buf *b, uint32_t word)
 {
     if (b->oom)
         return;
@@ -38,93 +40,93 @@ void ws_put(ws_buf *b, uint32_t word)
 
 static uint32_t op_word(unsigned op, uint32_t low24) { return (uint32_t)op << 24 | (low24 & 0xFFFFFF); }
 
-void ws_put_config(ws_buf *b, const ws_config *c)
+void alb_ws_put_config(alb_ws_buf *b, const alb_ws_config *c)
 {
     uint32_t near_bits;
     memcpy(&near_bits, &c->near, sizeof near_bits);
-    ws_put(b, op_word(WS_OP_CONFIG, WS_VERSION << 16 | 2));
-    ws_put(b, (uint32_t)c->coef_bits << 8 | c->edge_frac_bits);
-    ws_put(b, near_bits);
+    alb_ws_put(b, op_word(ALB_WS_OP_CONFIG, ALB_WS_VERSION << 16 | 2));
+    alb_ws_put(b, (uint32_t)c->coef_bits << 8 | c->edge_frac_bits);
+    alb_ws_put(b, near_bits);
 }
 
-void ws_put_texture(ws_buf *b, const ws_texture *t)
+void alb_ws_put_texture(alb_ws_buf *b, const alb_ws_texture *t)
 {
     size_t n = (size_t)1 << (2 * t->log2size);
-    ws_put(b, op_word(WS_OP_TEXTURE, (uint32_t)t->id << 16 | (uint32_t)t->log2size << 8));
+    alb_ws_put(b, op_word(ALB_WS_OP_TEXTURE, (uint32_t)t->id << 16 | (uint32_t)t->log2size << 8));
     for (size_t i = 0; i < n; i++)
-        ws_put(b, t->texels[i] & 0xFFFFFF);
+        alb_ws_put(b, t->texels[i] & 0xFFFFFF);
 }
 
-void ws_put_frame(ws_buf *b, const ws_frame *f)
+void alb_ws_put_frame(alb_ws_buf *b, const alb_ws_frame *f)
 {
-    ws_put(b, op_word(WS_OP_FRAME, f->number));
-    ws_put(b, f->background & 0xFFFFFF);
-    ws_put(b, (f->fog ? 1u << 31 : 0) | (f->fog_rgb & 0xFFFFFF));
-    ws_put(b, f->fog_near);
-    ws_put(b, f->fog_far);
+    alb_ws_put(b, op_word(ALB_WS_OP_FRAME, f->number));
+    alb_ws_put(b, f->background & 0xFFFFFF);
+    alb_ws_put(b, (f->fog ? 1u << 31 : 0) | (f->fog_rgb & 0xFFFFFF));
+    alb_ws_put(b, f->fog_near);
+    alb_ws_put(b, f->fog_far);
 }
 
-static void put_form(ws_buf *b, const ws_form *f)
+static void put_form(alb_ws_buf *b, const alb_ws_form *f)
 {
-    ws_put(b, (uint32_t)f->exp);
+    alb_ws_put(b, (uint32_t)f->exp);
     for (int i = 0; i < 3; i++)
-        ws_put(b, (uint32_t)f->m[i]);
+        alb_ws_put(b, (uint32_t)f->m[i]);
 }
 
-void ws_put_face(ws_buf *b, const ws_face *f)
+void alb_ws_put_face(alb_ws_buf *b, const alb_ws_face *f)
 {
-    ws_put(b, op_word(WS_OP_FACE, (uint32_t)f->n_edges << 16 | (uint32_t)f->flags << 8 | f->texture));
-    ws_put(b, f->id);
-    ws_put(b, f->rgb & 0xFFFFFF);
+    alb_ws_put(b, op_word(ALB_WS_OP_FACE, (uint32_t)f->n_edges << 16 | (uint32_t)f->flags << 8 | f->texture));
+    alb_ws_put(b, f->id);
+    alb_ws_put(b, f->rgb & 0xFFFFFF);
     put_form(b, &f->depth);
-    if (f->flags & WS_FACE_SHADE)
+    if (f->flags & ALB_WS_FACE_SHADE)
         put_form(b, &f->shade);
-    if (f->flags & WS_FACE_TEXTURE) {
+    if (f->flags & ALB_WS_FACE_TEXTURE) {
         put_form(b, &f->tex_u);
         put_form(b, &f->tex_v);
     }
     for (unsigned i = 0; i < f->n_edges; i++) {
-        ws_put(b, ws_edge_word0(&f->edge[i]));
-        ws_put(b, f->edge[i].x2);
+        alb_ws_put(b, alb_ws_edge_word0(&f->edge[i]));
+        alb_ws_put(b, f->edge[i].x2);
     }
 }
 
-size_t ws_face_words(const ws_face *f)
+size_t alb_ws_face_words(const alb_ws_face *f)
 {
     size_t n = 3 + 4;
-    if (f->flags & WS_FACE_SHADE)
+    if (f->flags & ALB_WS_FACE_SHADE)
         n += 4;
-    if (f->flags & WS_FACE_TEXTURE)
+    if (f->flags & ALB_WS_FACE_TEXTURE)
         n += 8;
     return n + 2u * f->n_edges;
 }
 
-size_t ws_packet_words(uint32_t header)
+size_t alb_ws_packet_words(uint32_t header)
 {
     unsigned flags = header >> 8 & 0xFF;
     switch (header >> 24) {
-    case WS_OP_CONFIG: return 3;
-    case WS_OP_TEXTURE: {
+    case ALB_WS_OP_CONFIG: return 3;
+    case ALB_WS_OP_TEXTURE: {
         unsigned lg = header >> 8 & 0xFF;
         /* a size the decoder refuses: the header alone, refused there */
-        return lg > WS_TEX_LOG2_MAX ? 1 : 1 + ((size_t)1 << (2 * lg));
+        return lg > ALB_WS_TEX_LOG2_MAX ? 1 : 1 + ((size_t)1 << (2 * lg));
     }
-    case WS_OP_FRAME: return 5;
-    case WS_OP_FACE:
-        return 7 + (flags & WS_FACE_SHADE ? 4 : 0) + (flags & WS_FACE_TEXTURE ? 8 : 0) +
+    case ALB_WS_OP_FRAME: return 5;
+    case ALB_WS_OP_FACE:
+        return 7 + (flags & ALB_WS_FACE_SHADE ? 4 : 0) + (flags & ALB_WS_FACE_TEXTURE ? 8 : 0) +
                2 * (size_t)(header >> 16 & 0xFF);
-    case WS_OP_FRAME_END:
-    case WS_OP_END: return 1;
+    case ALB_WS_OP_FRAME_END:
+    case ALB_WS_OP_END: return 1;
     }
     return 0;
 }
 
-void ws_put_frame_end(ws_buf *b, uint32_t faces) { ws_put(b, op_word(WS_OP_FRAME_END, faces)); }
-void ws_put_end(ws_buf *b) { ws_put(b, op_word(WS_OP_END, 0)); }
+void alb_ws_put_frame_end(alb_ws_buf *b, uint32_t faces) { alb_ws_put(b, op_word(ALB_WS_OP_FRAME_END, faces)); }
+void alb_ws_put_end(alb_ws_buf *b) { alb_ws_put(b, op_word(ALB_WS_OP_END, 0)); }
 
 /* ---- decoding ---- */
 
-void ws_reader_init(ws_reader *r, const uint32_t *w, size_t n, const char *name)
+void alb_ws_reader_init(alb_ws_reader *r, const uint32_t *w, size_t n, const char *name)
 {
     memset(r, 0, sizeof *r);
     r->w = w;
@@ -135,25 +137,25 @@ void ws_reader_init(ws_reader *r, const uint32_t *w, size_t n, const char *name)
 
 /* Fail at word `word`: the message names the word index; the diag the byte offset. */
 static alb_err __attribute__((format(printf, 4, 5)))
-bad(ws_reader *r, diag_t *d, size_t word, const char *fmt, ...)
+bad(alb_ws_reader *r, alb_diag *d, size_t word, const char *fmt, ...)
 {
     char msg[400];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    return diag_off(d, ALB_ERR_STREAM, r->name, (long long)word * 4, "word %zu: %s", word, msg);
+    return alb_diag_off(d, ALB_ERR_STREAM, r->name, (long long)word * 4, "word %zu: %s", word, msg);
 }
 
 /* Take `count` words starting at r->pos, or fail naming what was cut short. */
-static alb_err need(ws_reader *r, diag_t *d, size_t count, const char *what)
+static alb_err need(alb_ws_reader *r, alb_diag *d, size_t count, const char *what)
 {
     if (r->n - r->pos < count)
         return bad(r, d, r->n, "stream truncated inside %s (%zu more words expected)", what, count - (r->n - r->pos));
     return ALB_OK;
 }
 
-static alb_err read_form(ws_reader *r, diag_t *d, ws_form *f, const char *name)
+static alb_err read_form(alb_ws_reader *r, alb_diag *d, alb_ws_form *f, const char *name)
 {
     alb_err e = need(r, d, 4, name);
     if (e)
@@ -175,16 +177,16 @@ static alb_err read_form(ws_reader *r, diag_t *d, ws_form *f, const char *name)
     return ALB_OK;
 }
 
-static alb_err read_face(ws_reader *r, diag_t *d, ws_face *f, uint32_t head)
+static alb_err read_face(alb_ws_reader *r, alb_diag *d, alb_ws_face *f, uint32_t head)
 {
     size_t at = r->pos;
     f->n_edges = (uint8_t)(head >> 16);
     f->flags = (uint8_t)(head >> 8);
     f->texture = (uint8_t)head;
-    if (f->flags & ~WS_FACE_FLAGS_ALL)
+    if (f->flags & ~ALB_WS_FACE_FLAGS_ALL)
         return bad(r, d, at, "FACE flags 0x%02x has reserved bits set", f->flags);
-    if (f->n_edges > WS_MAX_EDGES)
-        return bad(r, d, at, "FACE has %u edges, the VP edge store holds %d", f->n_edges, WS_MAX_EDGES);
+    if (f->n_edges > ALB_WS_MAX_EDGES)
+        return bad(r, d, at, "FACE has %u edges, the VP edge store holds %d", f->n_edges, ALB_WS_MAX_EDGES);
     r->pos++;
     alb_err e = need(r, d, 2, "FACE header");
     if (e)
@@ -196,9 +198,9 @@ static alb_err read_face(ws_reader *r, diag_t *d, ws_face *f, uint32_t head)
     r->pos += 2;
     if ((e = read_form(r, d, &f->depth, "depth")))
         return e;
-    if ((f->flags & WS_FACE_SHADE) && (e = read_form(r, d, &f->shade, "shade")))
+    if ((f->flags & ALB_WS_FACE_SHADE) && (e = read_form(r, d, &f->shade, "shade")))
         return e;
-    if (f->flags & WS_FACE_TEXTURE) {
+    if (f->flags & ALB_WS_FACE_TEXTURE) {
         if ((e = read_form(r, d, &f->tex_u, "tex_u")) || (e = read_form(r, d, &f->tex_v, "tex_v")))
             return e;
     }
@@ -207,7 +209,7 @@ static alb_err read_face(ws_reader *r, diag_t *d, ws_face *f, uint32_t head)
     uint32_t lim = 1u << (EDGE_INT_BITS + r->config.edge_frac_bits);
     for (unsigned i = 0; i < f->n_edges; i++) {
         uint32_t w0 = r->w[r->pos], w1 = r->w[r->pos + 1];
-        ws_edge *ed = &f->edge[i];
+        alb_ws_edge *ed = &f->edge[i];
         ed->u = (uint8_t)(w0 >> 31);
         ed->r = (uint8_t)(w0 >> 30 & 1);
         ed->x1 = w0 & 0x3FFFFFFF;
@@ -224,17 +226,17 @@ static alb_err read_face(ws_reader *r, diag_t *d, ws_face *f, uint32_t head)
 static const char *op_name(unsigned op)
 {
     switch (op) {
-    case WS_OP_CONFIG: return "CONFIG";
-    case WS_OP_TEXTURE: return "TEXTURE";
-    case WS_OP_FRAME: return "FRAME";
-    case WS_OP_FACE: return "FACE";
-    case WS_OP_FRAME_END: return "FRAME_END";
-    case WS_OP_END: return "END";
+    case ALB_WS_OP_CONFIG: return "CONFIG";
+    case ALB_WS_OP_TEXTURE: return "TEXTURE";
+    case ALB_WS_OP_FRAME: return "FRAME";
+    case ALB_WS_OP_FACE: return "FACE";
+    case ALB_WS_OP_FRAME_END: return "FRAME_END";
+    case ALB_WS_OP_END: return "END";
     }
     return NULL;
 }
 
-alb_err ws_next(ws_reader *r, ws_event *ev, diag_t *d)
+alb_err alb_ws_next(alb_ws_reader *r, alb_ws_event *ev, alb_diag *d)
 {
     alb_err e;
     if (r->ended)
@@ -250,18 +252,18 @@ alb_err ws_next(ws_reader *r, ws_event *ev, diag_t *d)
         return bad(r, d, at, "0x%08x is not a packet opcode (expected %s)", head,
                         !r->have_config ? "CONFIG" : r->in_frame ? "FACE or FRAME_END"
                                                                  : "TEXTURE, FRAME or END");
-    if (!r->have_config && op != WS_OP_CONFIG)
+    if (!r->have_config && op != ALB_WS_OP_CONFIG)
         return bad(r, d, at, "%s before CONFIG (a stream starts with CONFIG)", op_name(op));
-    if (r->in_frame && op != WS_OP_FACE && op != WS_OP_FRAME_END)
+    if (r->in_frame && op != ALB_WS_OP_FACE && op != ALB_WS_OP_FRAME_END)
         return bad(r, d, at, "%s inside a frame (expected FACE or FRAME_END)", op_name(op));
-    if (!r->in_frame && (op == WS_OP_FACE || op == WS_OP_FRAME_END))
+    if (!r->in_frame && (op == ALB_WS_OP_FACE || op == ALB_WS_OP_FRAME_END))
         return bad(r, d, at, "%s outside a frame (expected FRAME first)", op_name(op));
     switch (op) {
-    case WS_OP_CONFIG: {
+    case ALB_WS_OP_CONFIG: {
         if (r->have_config)
             return bad(r, d, at, "second CONFIG");
-        if ((head >> 16 & 0xFF) != WS_VERSION)
-            return bad(r, d, at, "CONFIG version %u, this decoder reads version %d", head >> 16 & 0xFF, WS_VERSION);
+        if ((head >> 16 & 0xFF) != ALB_WS_VERSION)
+            return bad(r, d, at, "CONFIG version %u, this decoder reads version %d", head >> 16 & 0xFF, ALB_WS_VERSION);
         if ((head & 0xFFFF) != 2)
             return bad(r, d, at, "CONFIG length %u, expected 2", head & 0xFFFF);
         if ((e = need(r, d, 3, "CONFIG")))
@@ -282,14 +284,14 @@ alb_err ws_next(ws_reader *r, ws_event *ev, diag_t *d)
         r->config = ev->u.config;
         r->have_config = true;
         r->pos += 3;
-        ev->kind = WS_EV_CONFIG;
+        ev->kind = ALB_WS_EV_CONFIG;
         break;
     }
-    case WS_OP_TEXTURE: {
+    case ALB_WS_OP_TEXTURE: {
         unsigned lg = head >> 8 & 0xFF;
-        if (lg > WS_TEX_LOG2_MAX)
+        if (lg > ALB_WS_TEX_LOG2_MAX)
             return bad(r, d, at, "TEXTURE header 0x%08x: size 2^%u, at most 2^%d", head, lg,
-                       WS_TEX_LOG2_MAX);
+                       ALB_WS_TEX_LOG2_MAX);
         if (head & 0xFF)
             return bad(r, d, at, "TEXTURE header 0x%08x has reserved bits 7..0 set", head);
         size_t count = (size_t)1 << (2 * lg);
@@ -303,10 +305,10 @@ alb_err ws_next(ws_reader *r, ws_event *ev, diag_t *d)
         ev->u.texture.log2size = (uint8_t)lg;
         ev->u.texture.texels = r->w + r->pos;
         r->pos += count;
-        ev->kind = WS_EV_TEXTURE;
+        ev->kind = ALB_WS_EV_TEXTURE;
         break;
     }
-    case WS_OP_FRAME: {
+    case ALB_WS_OP_FRAME: {
         if ((e = need(r, d, 5, "FRAME header")))
             return e;
         const uint32_t *w = r->w + at;
@@ -314,7 +316,7 @@ alb_err ws_next(ws_reader *r, ws_event *ev, diag_t *d)
             return bad(r, d, at + 1, "FRAME background has bits 31..24 set");
         if (w[2] >> 24 & 0x7F)
             return bad(r, d, at + 2, "FRAME fog word has bits 30..24 set");
-        ws_frame *f = &ev->u.frame;
+        alb_ws_frame *f = &ev->u.frame;
         f->number = head & 0xFFFFFF;
         f->background = w[1];
         f->fog = w[2] >> 31;
@@ -326,34 +328,34 @@ alb_err ws_next(ws_reader *r, ws_event *ev, diag_t *d)
         r->pos += 5;
         r->in_frame = true;
         r->faces_in_frame = 0;
-        ev->kind = WS_EV_FRAME;
+        ev->kind = ALB_WS_EV_FRAME;
         break;
     }
-    case WS_OP_FACE:
+    case ALB_WS_OP_FACE:
         if (r->in_frame && r->faces_in_frame >= r->max_faces)
             return bad(r, d, at, "frame has more than %u faces (frame_faces=%u, docs/limits.md)",
                        r->max_faces, r->max_faces);
         if ((e = read_face(r, d, &ev->u.face, head)))
             return e;
         r->faces_in_frame++;
-        ev->kind = WS_EV_FACE;
+        ev->kind = ALB_WS_EV_FACE;
         break;
-    case WS_OP_FRAME_END:
+    case ALB_WS_OP_FRAME_END:
         if ((head & 0xFFFFFF) != (r->faces_in_frame & 0xFFFFFF))
             return bad(r, d, at, "FRAME_END counts %u faces, the frame had %u", head & 0xFFFFFF, r->faces_in_frame);
         ev->u.faces = head & 0xFFFFFF;
         r->pos++;
         r->in_frame = false;
-        ev->kind = WS_EV_FRAME_END;
+        ev->kind = ALB_WS_EV_FRAME_END;
         break;
-    case WS_OP_END:
+    case ALB_WS_OP_END:
         if (head & 0xFFFFFF)
             return bad(r, d, at, "END has reserved bits 23..0 set");
         r->pos++;
         if (r->pos != r->n)
             return bad(r, d, r->pos, "%zu words after END", r->n - r->pos);
         r->ended = true;
-        ev->kind = WS_EV_END;
+        ev->kind = ALB_WS_EV_END;
         break;
     }
     ev->count = r->pos - at;
@@ -367,13 +369,13 @@ static double edge_value(uint32_t x, unsigned frac)
     return ldexp((double)x, -(int)frac) - EDGE_ORIGIN;
 }
 
-static void describe_face_word(const ws_face *f, const ws_config *cfg, size_t k,
+static void describe_face_word(const alb_ws_face *f, const alb_ws_config *cfg, size_t k,
                                char *buf, size_t len)
 {
     if (k == 0) {
         snprintf(buf, len, "FACE edges=%u flags=%s%s%s texture=%u", f->n_edges,
-                 f->flags & WS_FACE_SHADE ? "S" : "-", f->flags & WS_FACE_TEXTURE ? "T" : "-",
-                 f->flags & WS_FACE_FOG ? "F" : "-", f->texture);
+                 f->flags & ALB_WS_FACE_SHADE ? "S" : "-", f->flags & ALB_WS_FACE_TEXTURE ? "T" : "-",
+                 f->flags & ALB_WS_FACE_FOG ? "F" : "-", f->texture);
         return;
     }
     if (k == 1) {
@@ -384,19 +386,19 @@ static void describe_face_word(const ws_face *f, const ws_config *cfg, size_t k,
         snprintf(buf, len, "face.rgb=%u,%u,%u", f->rgb >> 16 & 0xFF, f->rgb >> 8 & 0xFF, f->rgb & 0xFF);
         return;
     }
-    const ws_form *forms[4];
+    const alb_ws_form *forms[4];
     const char *names[4];
     unsigned nf = 0;
     forms[nf] = &f->depth, names[nf++] = "depth";
-    if (f->flags & WS_FACE_SHADE)
+    if (f->flags & ALB_WS_FACE_SHADE)
         forms[nf] = &f->shade, names[nf++] = "shade";
-    if (f->flags & WS_FACE_TEXTURE) {
+    if (f->flags & ALB_WS_FACE_TEXTURE) {
         forms[nf] = &f->tex_u, names[nf++] = "tex_u";
         forms[nf] = &f->tex_v, names[nf++] = "tex_v";
     }
     size_t j = k - 3;
     if (j < 4u * nf) {
-        const ws_form *fm = forms[j / 4];
+        const alb_ws_form *fm = forms[j / 4];
         if (j % 4 == 0)
             snprintf(buf, len, "%s.exp=%d", names[j / 4], fm->exp);
         else
@@ -405,7 +407,7 @@ static void describe_face_word(const ws_face *f, const ws_config *cfg, size_t k,
         return;
     }
     j -= 4u * nf;
-    const ws_edge *e = &f->edge[j / 2];
+    const alb_ws_edge *e = &f->edge[j / 2];
     if (j % 2 == 0)
         snprintf(buf, len, "edge[%zu] U=%u R=%u X1=0x%x (%+.6f)", j / 2, e->u, e->r, e->x1,
                  edge_value(e->x1, cfg->edge_frac_bits));
@@ -414,19 +416,19 @@ static void describe_face_word(const ws_face *f, const ws_config *cfg, size_t k,
                  edge_value(e->x2, cfg->edge_frac_bits));
 }
 
-void ws_describe_word(const ws_event *ev, const ws_config *cfg, size_t k, char *buf, size_t len)
+void alb_ws_describe_word(const alb_ws_event *ev, const alb_ws_config *cfg, size_t k, char *buf, size_t len)
 {
     switch (ev->kind) {
-    case WS_EV_CONFIG:
+    case ALB_WS_EV_CONFIG:
         if (k == 0)
-            snprintf(buf, len, "CONFIG version=%d", WS_VERSION);
+            snprintf(buf, len, "CONFIG version=%d", ALB_WS_VERSION);
         else if (k == 1)
             snprintf(buf, len, "config edge_frac_bits=%u coef_bits=%u",
                      ev->u.config.edge_frac_bits, ev->u.config.coef_bits);
         else
             snprintf(buf, len, "config near=%.9g", (double)ev->u.config.near);
         break;
-    case WS_EV_TEXTURE:
+    case ALB_WS_EV_TEXTURE:
         if (k == 0)
             snprintf(buf, len, "TEXTURE id=%u size=%ux%u", ev->u.texture.id,
                      1u << ev->u.texture.log2size, 1u << ev->u.texture.log2size);
@@ -437,8 +439,8 @@ void ws_describe_word(const ws_event *ev, const ws_config *cfg, size_t k, char *
                      t >> 16 & 0xFF, t >> 8 & 0xFF, t & 0xFF);
         }
         break;
-    case WS_EV_FRAME: {
-        const ws_frame *f = &ev->u.frame;
+    case ALB_WS_EV_FRAME: {
+        const alb_ws_frame *f = &ev->u.frame;
         switch (k) {
         case 0: snprintf(buf, len, "FRAME number=%u", f->number); break;
         case 1: snprintf(buf, len, "frame.background=%u,%u,%u", f->background >> 16,
@@ -450,56 +452,56 @@ void ws_describe_word(const ws_event *ev, const ws_config *cfg, size_t k, char *
         }
         break;
     }
-    case WS_EV_FACE:
+    case ALB_WS_EV_FACE:
         describe_face_word(&ev->u.face, cfg, k, buf, len);
         break;
-    case WS_EV_FRAME_END:
+    case ALB_WS_EV_FRAME_END:
         snprintf(buf, len, "FRAME_END faces=%u", ev->u.faces);
         break;
-    case WS_EV_END:
+    case ALB_WS_EV_END:
         snprintf(buf, len, "END");
         break;
     }
 }
 
-void ws_describe_at(const uint32_t *w, size_t n, size_t idx, char *buf, size_t len)
+void alb_ws_describe_at(const uint32_t *w, size_t n, size_t idx, char *buf, size_t len)
 {
-    ws_reader r;
-    ws_event *ev = malloc(sizeof *ev);
-    diag_t d;
-    diag_init(&d, NULL);
+    alb_ws_reader r;
+    alb_ws_event *ev = malloc(sizeof *ev);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
     snprintf(buf, len, "beyond the end of the stream");
     if (!ev)
         return;
-    ws_reader_init(&r, w, n, "");
+    alb_ws_reader_init(&r, w, n, "");
     while (!r.ended && idx < n) {
-        if (ws_next(&r, ev, &d)) {
+        if (alb_ws_next(&r, ev, &d)) {
             snprintf(buf, len, "undecodable: %s", d.msg);
             break;
         }
         if (idx < ev->first + ev->count) {
-            ws_describe_word(ev, &r.config, idx - ev->first, buf, len);
+            alb_ws_describe_word(ev, &r.config, idx - ev->first, buf, len);
             break;
         }
     }
     free(ev);
 }
 
-alb_err ws_dump(FILE *out, const uint32_t *w, size_t n, const char *name, diag_t *d)
+alb_err alb_ws_dump(FILE *out, const uint32_t *w, size_t n, const char *name, alb_diag *d)
 {
-    ws_reader r;
-    ws_event *ev = malloc(sizeof *ev);
+    alb_ws_reader r;
+    alb_ws_event *ev = malloc(sizeof *ev);
     char desc[160];
     if (!ev)
         return ALB_ERR_NOMEM;
-    ws_reader_init(&r, w, n, name);
+    alb_ws_reader_init(&r, w, n, name);
     alb_err e = ALB_OK;
     while (!r.ended) {
-        if ((e = ws_next(&r, ev, d)))
+        if ((e = alb_ws_next(&r, ev, d)))
             break;
         for (size_t k = 0; k < ev->count; k++) {
             size_t at = ev->first + k;
-            ws_describe_word(ev, &r.config, k, desc, sizeof desc);
+            alb_ws_describe_word(ev, &r.config, k, desc, sizeof desc);
             fprintf(out, "%08zx  %08x  %s\n", at * 4, w[at], desc);
         }
     }
@@ -509,24 +511,51 @@ alb_err ws_dump(FILE *out, const uint32_t *w, size_t n, const char *name, diag_t
 
 /* ---- files ---- */
 
-alb_err ws_read_file(const char *path, uint32_t **w, size_t *n, diag_t *d)
+/* The words of a memh stream, into a growing array. */
+typedef struct {
+    uint32_t *w;
+    size_t n, cap;
+} memh_words;
+
+static int memh_word(void *ctx, const uint32_t *value, unsigned line, unsigned col)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
+    (void)line, (void)col;
+    memh_words *m = ctx;
+    if (m->n == m->cap) {
+        size_t cap = m->cap ? 2 * m->cap : 4096;
+        uint32_t *nw = realloc(m->w, cap * sizeof *nw);
+        if (!nw)
+            return -1;
+        m->w = nw;
+        m->cap = cap;
+    }
+    m->w[m->n++] = value[0];
+    return 0;
+}
+
+alb_err alb_ws_read_file(const char *path, uint32_t **w, size_t *n, alb_diag *d)
+{
     char *text;
     size_t len;
-    int rc = file_read_all(f, &text, &len);
-    int err = errno;
-    fclose(f);
-    if (rc == -2)
-        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "stream too large for memory");
-    if (rc)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
+    alb_err le = alb_file_load(path, &text, &len, d);
+    if (le)
+        return le;
+    if (memh_looks_like(text, len)) {
+        memh_words m = {NULL, 0, 0};
+        alb_err e = memh_scan(text, len, path, 32, memh_word, &m, d);
+        free(text);
+        if (e) {
+            free(m.w);
+            return e;
+        }
+        *w = m.w ? m.w : malloc(4);
+        *n = m.n;
+        return *w ? ALB_OK : alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory");
+    }
     const uint8_t *bytes = (const uint8_t *)text;
     if (len % 4) {
         free(text);
-        return diag_off(d, ALB_ERR_STREAM, path, (long long)(len - len % 4),
+        return alb_diag_off(d, ALB_ERR_STREAM, path, (long long)(len - len % 4),
                         "file length %zu is not a whole number of 32-bit words", len);
     }
     uint32_t *words = malloc(len ? len : 4);
@@ -543,11 +572,11 @@ alb_err ws_read_file(const char *path, uint32_t **w, size_t *n, diag_t *d)
     return ALB_OK;
 }
 
-alb_err ws_write_file(const char *path, const uint32_t *w, size_t n, diag_t *d)
+alb_err alb_ws_write_file(const char *path, const uint32_t *w, size_t n, alb_diag *d)
 {
     FILE *f = fopen(path, "wb");
     if (!f)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
     for (size_t i = 0; i < n; i++) {
         uint8_t b[4] = {(uint8_t)w[i], (uint8_t)(w[i] >> 8), (uint8_t)(w[i] >> 16),
                         (uint8_t)(w[i] >> 24)};
@@ -556,11 +585,26 @@ alb_err ws_write_file(const char *path, const uint32_t *w, size_t n, diag_t *d)
     }
     int failed = ferror(f);
     if (fclose(f) != 0 || failed)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "write error: %s", strerror(errno));
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "write error: %s", strerror(errno));
     return ALB_OK;
 }
 
-double ws_form_eval(const ws_form *f, double x, double y)
+alb_err alb_ws_write_memh(const char *path, const uint32_t *w, size_t n, alb_diag *d)
+{
+    FILE *f = strcmp(path, "-") == 0 ? stdout : fopen(path, "w");
+    if (!f)
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
+    fprintf(f, "// albatros GP -> VP word stream, %zu words, for $readmemh "
+               "(docs/word-format.md)\n", n);
+    for (size_t i = 0; i < n; i++)
+        fprintf(f, "%08x\n", w[i]);
+    int failed = ferror(f);
+    if ((f == stdout ? fflush(f) : fclose(f)) != 0 || failed)
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "write error: %s", strerror(errno));
+    return ALB_OK;
+}
+
+double alb_ws_form_eval(const alb_ws_form *f, double x, double y)
 {
     return ldexp((double)f->m[0] * x + (double)f->m[1] * y + (double)f->m[2], f->exp);
 }

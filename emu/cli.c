@@ -1,7 +1,11 @@
 /* cli.c — option parsing and set-up shared by the subcommands. */
+/* realpath (XSI) */
+#define _XOPEN_SOURCE 700
 #include "cli.h"
+#include "../common/vec3.h"
 
 #include <ctype.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,12 +20,16 @@ const char run_opts_help[] =
     "  --at X,Y,Z         look-at point (default 0,0,0)\n"
     "  --up X,Y,Z         up vector (default 0,1,0)\n"
     "  --fov DEG          vertical field of view (default 60)\n"
-    "  --size WxH         resolution (sets the profile's width and height)\n";
+    "  --size WxH         resolution (sets the profile's width and height)\n"
+    "Depth (docs/vp.md, section 4; every scene, OBJ or not):\n"
+    "  --near D           the depth scale: the depth store holds near/Z, saturating\n"
+    "                     nearer than D and resolving Z to about Z^2 / (D 2^depth_bits);\n"
+    "                     replaces the scene's `near` (default 0.1, OBJ files too)\n";
 
 void run_opts_init(run_opts *o)
 {
     memset(o, 0, sizeof *o);
-    profile_lookup("a512", &o->prof);
+    alb_profile_lookup("a512", &o->prof);
     o->cam.eye = v3(0, 0, 5);
     o->cam.at = v3(0, 0, 0);
     o->cam.up = v3(0, 1, 0);
@@ -57,7 +65,7 @@ static bool parse_side(const char **s, unsigned long *v)
     const char *p = *s;
     *v = 0;
     for (; *p >= '0' && *p <= '9'; p++)
-        if (*v <= PROFILE_MAX_SIDE)
+        if (*v <= ALB_PROFILE_MAX_SIDE)
             *v = *v * 10 + (unsigned long)(*p - '0');
     if (p == *s)
         return false;
@@ -78,13 +86,13 @@ static int parse_size(run_opts *o, const char *value, char *err, size_t len)
         snprintf(err, len, "--size %s: expected WIDTHxHEIGHT, e.g. 512x512", value);
         return -1;
     }
-    if (w > PROFILE_MAX_SIDE || h > PROFILE_MAX_SIDE) {   /* quoted as written */
-        if (w > PROFILE_MAX_SIDE)
+    if (w > ALB_PROFILE_MAX_SIDE || h > ALB_PROFILE_MAX_SIDE) {   /* quoted as written */
+        if (w > ALB_PROFILE_MAX_SIDE)
             snprintf(err, len, "--size %s: width %.*s is too large (at most %d)", value,
-                     (int)(hs - 1 - value), value, PROFILE_MAX_SIDE);
+                     (int)(hs - 1 - value), value, ALB_PROFILE_MAX_SIDE);
         else
             snprintf(err, len, "--size %s: height %s is too large (at most %d)", value, hs,
-                     PROFILE_MAX_SIDE);
+                     ALB_PROFILE_MAX_SIDE);
         return -1;
     }
     o->cam.width = o->prof.width = (unsigned)w;
@@ -97,8 +105,13 @@ static int apply_override(run_opts *o, bool is_size, const char *value, char *er
 {
     if (is_size)
         return parse_size(o, value, err, len);
+    if (!strncmp(value, "near=", 5)) {
+        snprintf(err, len, "--set %s: near is the scene's depth scale, not a profile field: use "
+                 "--near %s", value, value + 5);
+        return -1;
+    }
     char msg[300];
-    if (profile_set(&o->prof, value, msg, sizeof msg)) {
+    if (alb_profile_set(&o->prof, value, msg, sizeof msg)) {
         snprintf(err, len, "--set %s", msg);
         return -1;
     }
@@ -126,10 +139,10 @@ static int add_override(run_opts *o, bool is_size, const char *value, char *err,
  * (docs/profiles.md). */
 static int apply_profile(run_opts *o, const char *value, char *err, size_t len)
 {
-    profile_t p;
-    if (profile_lookup(value, &p)) {
+    alb_profile p;
+    if (alb_profile_lookup(value, &p)) {
         char list[200] = "";
-        for (const char *const *n = profile_names(); *n; n++)
+        for (const char *const *n = alb_profile_names(); *n; n++)
             snprintf(list + strlen(list), sizeof list - strlen(list), " %s", *n);
         snprintf(err, len, "--profile %s: unknown profile (known:%s)", value, list);
         return -1;
@@ -156,6 +169,19 @@ int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, 
         o->cam_given = true;
         return 1;
     }
+    if (strcmp(name, "near") == 0) {
+        char *end;
+        double v = strtod(value, &end);
+        /* the word stream stores near as IEEE-754 binary32 (docs/word-format.md §1) */
+        if (end == value || *end || !(v >= FLT_MIN && v <= FLT_MAX)) {
+            snprintf(err, len, "--near %s: expected a distance in %g .. %g (the word stream "
+                     "stores near as IEEE-754 binary32)", value, FLT_MIN, FLT_MAX);
+            return -1;
+        }
+        o->near = v;
+        o->near_given = true;
+        return 1;
+    }
     if (strcmp(name, "fov") == 0) {
         char *end;
         double v = strtod(value, &end);
@@ -171,7 +197,7 @@ int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, 
 }
 
 static const char *const common_spec[] = {"profile=", "set=", "eye=", "at=", "up=",
-                                           "fov=", "size=", NULL};
+                                           "fov=", "size=", "near=", NULL};
 
 /* Does spec contain name, and does it take a value? 0 = absent, 1 = flag, 2 = value. */
 static int spec_kind(const char *const *spec, const char *name, size_t nlen)
@@ -249,9 +275,9 @@ int cli_parse(const char *cmd, int argc, char **argv, const char *const *spec, o
     /* The camera as a whole (--up along --eye..--at, say) is an option error
      * like any other, reported here rather than when an OBJ is read. */
     if (o) {
-        diag_t d;
-        diag_init(&d, NULL);
-        if (scene_camera_check(&o->cam, &d)) {
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        if (alb_scene_camera_check(&o->cam, &d)) {
             fprintf(stderr, "albatros %s: %s\n", cmd, d.msg);
             return -1;
         }
@@ -270,48 +296,56 @@ static bool ends_with(const char *s, const char *suffix)
     return true;
 }
 
-int cli_load_scene(const char *path, const run_opts *o, scene_t *s)
+int cli_load_scene(const char *path, const run_opts *o, alb_scene *s)
 {
-    diag_t d;
-    diag_init(&d, stderr);
+    alb_diag d;
+    alb_diag_init(&d, stderr);
     alb_err e;
     if (!path) {
-        e = scene_load_builtin(s, &d);
+        e = alb_scene_load_builtin(s, &d);
     } else if (ends_with(path, ".obj")) {
-        scene_camera cam = o->cam;
+        alb_scene_camera cam = o->cam;
         cam.width = o->prof.width;
         cam.height = o->prof.height;
-        e = scene_load_obj(path, &cam, s, &d);
+        e = alb_scene_load_obj(path, &cam, s, &d);
     } else {
         if (o->cam_given)
             fprintf(stderr, "albatros: warning: --eye/--at/--up/--fov apply to OBJ scenes only; "
                             "%s has its own observer\n", path);
-        e = scene_load(path, s, &d);
+        e = alb_scene_load(path, s, &d);
     }
-    if (!e && (e = scene_resolve_screenspace(s, o->prof.width, o->prof.height, &d)))
-        scene_free(s);
+    if (!e && (e = alb_scene_resolve_screenspace(s, o->prof.width, o->prof.height, &d)))
+        alb_scene_free(s);
     if (e) {
-        diag_print(&d, stderr);
+        alb_diag_print(&d, stderr);
         return 1;
+    }
+    if (o->near_given) {
+        /* the depth scale alone: near/Z for every surface (a screen-space
+         * scene's near D/Dmax too), nothing else of the scene moves */
+        s->near = o->near;
+        s->near_line = s->near_col = 0;
     }
     return 0;
 }
 
-int cli_check_profile(const profile_t *p)
+bool cli_is_obj(const char *path) { return path && ends_with(path, ".obj"); }
+
+int cli_check_profile(const alb_profile *p)
 {
     char msg[300];
-    if (profile_check(p, msg, sizeof msg)) {
+    if (alb_profile_check(p, msg, sizeof msg)) {
         fprintf(stderr, "albatros: profile %s: %s\n", p->name, msg);
         return 1;
     }
     /* the screen spans 2 units of the intercept format: 2^(levels-1)
      * samples per unit, so F - levels + 1 bits fall below a sample */
-    int below = (int)p->edge_frac_bits - (int)profile_levels(p) + 1;
+    int below = (int)p->edge_frac_bits - (int)alb_profile_levels(p) + 1;
     if (below < 2)
         fprintf(stderr, "albatros: warning: edge_frac_bits=%u leaves %d bit%s below the sample "
                         "grid: edges snap to %s of a sample; use edge_frac_bits >= %u\n",
                 p->edge_frac_bits, below, below == 1 ? "" : "s",
-                below >= 1 ? "halves" : "multiples", profile_levels(p) + 1);
+                below >= 1 ? "halves" : "multiples", alb_profile_levels(p) + 1);
     return 0;
 }
 
@@ -352,4 +386,23 @@ void cli_frame_path(char *out, size_t len, const char *path, unsigned number, un
     if (!dot || (slash && dot < slash))
         dot = path + strlen(path);
     snprintf(out, len, "%.*s.%04u%s", (int)(dot - path), path, number, dot);
+}
+
+const char *cli_argv0 = "albatros";
+
+void cli_print_self(FILE *f)
+{
+    char *abs = strchr(cli_argv0, '/') ? realpath(cli_argv0, NULL) : NULL;
+    const char *self = abs ? abs : cli_argv0;
+    /* a shell word: quoted if it holds anything but safe characters */
+    if (strspn(self, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789/._-+") ==
+        strlen(self)) {
+        fputs(self, f);
+    } else {
+        fputc('\'', f);
+        for (const char *p = self; *p; p++)
+            *p == '\'' ? fputs("'\\''", f) : fputc(*p, f);
+        fputc('\'', f);
+    }
+    free(abs);
 }

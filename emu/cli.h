@@ -4,8 +4,8 @@
 #ifndef ALBATROS_CLI_H
 #define ALBATROS_CLI_H
 
-#include "../common/profile.h"
-#include "../gp/gp.h"
+#include "albatros/profile.h"
+#include "albatros/gp.h"
 
 #include <stdbool.h>
 #include <stdio.h>
@@ -18,9 +18,11 @@
 
 /* Options common to every subcommand that runs the GP. */
 typedef struct {
-    profile_t prof;
-    scene_camera cam;
+    alb_profile prof;
+    alb_scene_camera cam;
     bool cam_given;      /* any of --eye/--at/--up/--fov */
+    double near;         /* --near: the depth scale, replacing the scene's */
+    bool near_given;
     struct {
         bool is_size;     /* --size WxH, else --set KEY=VALUE */
         const char *value;
@@ -48,16 +50,26 @@ int cli_parse(const char *cmd, int argc, char **argv, const char *const *spec, o
               void *ctx, run_opts *o, const char **pos, int maxpos, int *npos);
 
 /* Load the scene named by path (NULL: the built-in scene; *.obj: OBJ with
- * the camera of o).  Prints the error and returns non-zero on failure. */
-int cli_load_scene(const char *path, const run_opts *o, scene_t *s);
+ * the camera of o), with o's --near if given.  Prints the error and returns
+ * non-zero on failure. */
+int cli_load_scene(const char *path, const run_opts *o, alb_scene *s);
+/* Is path an OBJ file (by its extension, as cli_load_scene decides)? */
+bool cli_is_obj(const char *path);
 /* Validate the profile; prints the error. */
-int cli_check_profile(const profile_t *p);
+int cli_check_profile(const alb_profile *p);
 
 /* Split a text of options ("--profile a256 --set bound=none ...") into argv;
  * returns the count, or -1 if there are more than max. */
 int cli_split_words(char *text, char **argv, int max);
 
 bool cli_isatty_stderr(void);
+
+/* How this program was started (main's argv[0]), and how a command line
+ * printed for others to run (stability --jobs) should call it: as typed if
+ * it was found on PATH, else by its absolute path, so the jobs of a build
+ * tree or an installed copy run the same program. */
+extern const char *cli_argv0;
+void cli_print_self(FILE *f);
 
 /* An output path for one frame of nframes: "dir/f.exr" itself for a single
  * frame, "dir/f.0003.exr" (the number before the extension) for more. */

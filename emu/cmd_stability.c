@@ -6,8 +6,8 @@
  * `albatros compare` reads (docs/methods.md). */
 #include "cli.h"
 #include "commands.h"
-#include "exr.h"
-#include "preview.h"
+#include "albatros/exr.h"
+#include "albatros/preview.h"
 #include "../tools/methods.h"
 #include "../tools/sweep.h"
 
@@ -125,7 +125,8 @@ static void print_word(const char *w)
  * (a256 unless given), the --set and --size options in their order, and -q. */
 static void print_job_head(const stab_args *a)
 {
-    fputs("albatros stability", stdout);
+    cli_print_self(stdout);
+    fputs(" stability", stdout);
     if (!a->profile_given)
         fputs(" --profile a256", stdout);
     for (unsigned i = 0; i < a->npass; i++) {
@@ -188,7 +189,7 @@ int cmd_stability(int argc, char **argv)
                                        "eye=", "at=", "up=", "fov=", NULL};
     run_opts o;
     run_opts_init(&o);
-    profile_lookup("a256", &o.prof);
+    alb_profile_lookup("a256", &o.prof);
     stab_args a = {.out = "stability-out", .seeds = 2, .o = &o};
     const char *pos[1];
     int npos;
@@ -258,7 +259,7 @@ int cmd_stability(int argc, char **argv)
 typedef struct {
     const char *output, *png;
     struct {
-        preview_view view;
+        alb_preview_view view;
         const char *path;
     } views[METHOD_MAX_VIEWS];
     unsigned nviews;
@@ -278,7 +279,7 @@ static int method_opt(void *ctx, const char *name, const char *value)
         if (colon && (size_t)(colon - value) < sizeof vname)
             snprintf(vname, sizeof vname, "%.*s", (int)(colon - value), value);
         if (!colon || (size_t)(colon - value) >= sizeof vname || a->nviews == METHOD_MAX_VIEWS ||
-            preview_view_parse(vname, &a->views[a->nviews].view)) {
+            alb_preview_view_parse(vname, &a->views[a->nviews].view)) {
             fprintf(stderr, "albatros method: --view %s: expected NAME:FILE.png, NAME one of "
                             "colour, depth, face, level, coverage (at most %d)\n", value,
                     METHOD_MAX_VIEWS);
@@ -313,29 +314,29 @@ static void method_usage(FILE *f)
     fputc('\n', f);
 }
 
-static int method_write(const method_args *a, const frame_t *f, unsigned nframes)
+static int method_write(const method_args *a, const alb_frame *f, unsigned nframes)
 {
     char path[1024];
-    diag_t d;
-    diag_init(&d, NULL);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
     if (a->output) {
         cli_frame_path(path, sizeof path, a->output, f->number, nframes);
-        if (exr_write_frame(path, f, &d))
+        if (alb_exr_write_frame(path, f, &d))
             goto fail;
     }
     if (a->png) {
         cli_frame_path(path, sizeof path, a->png, f->number, nframes);
-        if (preview_write(path, f, PREVIEW_COLOUR, &d))
+        if (alb_preview_write(path, f, ALB_PREVIEW_COLOUR, &d))
             goto fail;
     }
     for (unsigned i = 0; i < a->nviews; i++) {
         cli_frame_path(path, sizeof path, a->views[i].path, f->number, nframes);
-        if (preview_write(path, f, a->views[i].view, &d))
+        if (alb_preview_write(path, f, a->views[i].view, &d))
             goto fail;
     }
     return 0;
 fail:
-    diag_print(&d, stderr);
+    alb_diag_print(&d, stderr);
     return -1;
 }
 
@@ -375,12 +376,12 @@ int cmd_method(int argc, char **argv)
                         "profile with aa=0 (--set aa=0)\n");
         return 2;
     }
-    scene_t scene;
+    alb_scene scene;
     if (cli_load_scene(npos == 2 ? pos[1] : NULL, &o, &scene))
         return 1;
     int rc = 0;
     for (unsigned f = 0; f < scene.nframes && !rc; f++) {
-        frame_t fr;
+        alb_frame fr;
         if (m->render(&scene, &o.prof, f, &fr)) {
             fprintf(stderr, "albatros method: %s: out of memory\n", m->name);
             rc = 1;
@@ -389,8 +390,8 @@ int cmd_method(int argc, char **argv)
         rc = method_write(&a, &fr, scene.nframes) ? 1 : 0;
         if (!rc && !a.quiet)
             fprintf(stderr, "%s frame %u\n", m->name, f);
-        frame_free(&fr);
+        alb_frame_free(&fr);
     }
-    scene_free(&scene);
+    alb_scene_free(&scene);
     return rc;
 }

@@ -4,11 +4,12 @@
  * over HID (docs/usb-protocol.md).  Ctrl-C during a stream stops it with the
  * frames confirmed so far reported (exit 130). */
 #include "cli.h"
+#include "../firmware/proto.h"
 #include "commands.h"
-#include "sim.h"
-#include "bridge/link.h"
-#include "bridge/stream.h"
-#include "bridge/transport.h"
+#include "albatros/sim.h"
+#include "albatros/link.h"
+#include "albatros/stream.h"
+#include "albatros/transport.h"
 #include "../firmware/sim/board.h"
 
 #include <signal.h>
@@ -36,8 +37,10 @@ static void on_stop(int sig) { stream_stop = sig; }
 typedef struct {
     bool sim, json, quiet, help, no_readback, frames;
     unsigned vid, pid, wait_ms, timeout_ms, sim_payload;
+    unsigned usb_transfers;   /* 0: the transport's defaults */
+    size_t usb_buffer;
     const char *serial, *stream;
-    tr_faults faults;
+    alb_tr_faults faults;
     bool any_fault;
     long flip_frame;          /* sim: a faulty VP */
     const char *cmd;
@@ -73,7 +76,7 @@ static int parse_usb_id(const char *cmd, const char *name, const char *value, un
 }
 
 /* --fault KIND=N, for demonstrating and testing recovery.  Byte and packet
- * faults may be repeated (up to TR_FAULTS_EACH of a kind); silence,
+ * faults may be repeated (up to ALB_TR_FAULTS_EACH of a kind); silence,
  * disconnect and flip happen once. */
 static int fault_opt(link_args *a, const char *value)
 {
@@ -101,11 +104,11 @@ static int fault_opt(link_args *a, const char *value)
                         a->faults.corrupt_reply, a->faults.truncate_packet};
     if (k < SILENCE) {
         unsigned i = 0;
-        while (i < TR_FAULTS_EACH && each[k][i])
+        while (i < ALB_TR_FAULTS_EACH && each[k][i])
             i++;
-        if (i == TR_FAULTS_EACH) {
+        if (i == ALB_TR_FAULTS_EACH) {
             fprintf(stderr, "albatros %s: --fault %s: at most %u faults of one kind\n", a->cmd,
-                    value, TR_FAULTS_EACH);
+                    value, ALB_TR_FAULTS_EACH);
             return -1;
         }
         each[k][i] = v;
@@ -145,10 +148,18 @@ static int link_opt(void *ctx, const char *name, const char *value)
     else if (!strcmp(name, "vid")) return parse_usb_id(a->cmd, name, value, &a->vid);
     else if (!strcmp(name, "pid")) return parse_usb_id(a->cmd, name, value, &a->pid);
     else {
-        unsigned long long max = !strcmp(name, "sim-payload") ? PROTO_MAX_PAYLOAD : 600000;
+        unsigned long long max = !strcmp(name, "sim-payload") ? PROTO_MAX_PAYLOAD
+                               : !strcmp(name, "usb-transfers") ? ALB_TR_USB_MAX_TRANSFERS
+                               : !strcmp(name, "usb-buffer") ? ALB_TR_USB_MAX_BYTES : 600000;
         if (parse_num(a->cmd, name, value, max, &v))
             return -1;
+        if ((!strcmp(name, "usb-transfers") || !strcmp(name, "usb-buffer")) && v == 0) {
+            fprintf(stderr, "albatros %s: --%s 0: expected at least 1\n", a->cmd, name);
+            return -1;
+        }
         if (!strcmp(name, "sim-payload")) a->sim_payload = (unsigned)v;
+        else if (!strcmp(name, "usb-transfers")) a->usb_transfers = (unsigned)v;
+        else if (!strcmp(name, "usb-buffer")) a->usb_buffer = (size_t)v;
         else if (!strcmp(name, "wait")) a->wait_ms = (unsigned)v;
         else if (!strcmp(name, "timeout")) a->timeout_ms = (unsigned)v;
     }
@@ -158,26 +169,29 @@ static int link_opt(void *ctx, const char *name, const char *value)
 /* The link the options ask for; *board (if not NULL) is the simulated board
  * behind it with --sim, else NULL.  hid_only: control only (`board`), which
  * leaves the data interface to a stream that may be running. */
-static transport_t *open_link(const link_args *a, const profile_t *p, sim_board **board,
+static alb_transport *open_link(const link_args *a, const alb_profile *p, sim_board **board,
                               bool hid_only)
 {
     char err[600];
-    transport_t *t = a->sim ? transport_sim_open(p, a->sim_payload, err, sizeof err)
-                     : hid_only ? transport_hid_open((uint16_t)a->vid, (uint16_t)a->pid, a->serial,
+    /* the board may NAK as long as a RESULT may take (--timeout) */
+    alb_tr_usb_tuning tune = {a->usb_transfers, a->usb_buffer, a->timeout_ms};
+    alb_transport *t = a->sim ? sim_board_transport(p, a->sim_payload, err, sizeof err)
+                     : hid_only ? alb_transport_hid_open((uint16_t)a->vid, (uint16_t)a->pid, a->serial,
                                                      a->wait_ms, err, sizeof err)
-                                : transport_usb_open((uint16_t)a->vid, (uint16_t)a->pid, a->serial,
-                                                     a->wait_ms, err, sizeof err);
+                                : alb_transport_usb_open_tuned((uint16_t)a->vid, (uint16_t)a->pid,
+                                                           a->serial, a->wait_ms, &tune, err,
+                                                           sizeof err);
     if (!t) {
         fprintf(stderr, "albatros %s: %s\n", a->cmd, err);
         return NULL;
     }
     if (board)
-        *board = a->sim ? transport_sim_board(t) : NULL;
-    transport_usb_set_stop(t, &stream_stop);   /* before a fault wrapper hides it */
+        *board = a->sim ? sim_board_of(t) : NULL;
+    alb_transport_usb_set_stop(t, &stream_stop);   /* before a fault wrapper hides it */
     if (a->sim && a->flip_frame >= 0)
-        sim_board_flip(transport_sim_board(t), (uint32_t)a->flip_frame, 5, 7, 1, 0);
+        sim_board_flip(sim_board_of(t), (uint32_t)a->flip_frame, 5, 7, 1, 0);
     if (a->any_fault) {
-        transport_t *f = transport_faulty(t, &a->faults);
+        alb_transport *f = alb_transport_faulty(t, &a->faults);
         if (!f) {
             t->ops->close(t);
             return NULL;
@@ -187,21 +201,21 @@ static transport_t *open_link(const link_args *a, const profile_t *p, sim_board 
     return t;
 }
 
-/* After a disconnect (stream_opts.reattach, with --wait): the old link
+/* After a disconnect (alb_stream_opts.reattach, with --wait): the old link
  * closed, the board waited for up to --wait ms and opened as at the start —
  * a new device, so without the link faults of --fault. */
 typedef struct {
     const link_args *a;
-    const profile_t *p;
+    const alb_profile *p;
 } reattach_ctx;
 
-static transport_t *reattach_link(void *ctx, transport_t *old, char *err, size_t errlen)
+static alb_transport *reattach_link(void *ctx, alb_transport *old, char *err, size_t errlen)
 {
     const reattach_ctx *c = ctx;
     old->ops->close(old);
     link_args again = *c->a;
     again.any_fault = false;
-    transport_t *t = open_link(&again, c->p, NULL, false);
+    alb_transport *t = open_link(&again, c->p, NULL, false);
     if (!t)
         snprintf(err, errlen, "not back within --wait %u ms (the reason is above)", c->a->wait_ms);
     return t;
@@ -210,20 +224,20 @@ static transport_t *reattach_link(void *ctx, transport_t *old, char *err, size_t
 /* ---- the emulator's view of each frame ---- */
 
 typedef struct {
-    stream_frame *f;
+    alb_stream_frame *f;
     unsigned nf, k;
     uint16_t **keep;
 } expect_ctx;
 
-static int expect_frame(void *ctx, const frame_t *fr, const vp_stats *vs, const sim_counters *sc)
+static int expect_frame(void *ctx, const alb_frame *fr, const alb_vp_stats *vs, const alb_sim_counters *sc)
 {
     (void)vs;
     expect_ctx *e = ctx;
     if (e->k >= e->nf)
         return 0;
-    stream_frame *f = &e->f[e->k];
+    alb_stream_frame *f = &e->f[e->k];
     size_t npix = (size_t)fr->width * fr->height;
-    f->crc = link_frame_crc(fr->rgb, npix);
+    f->crc = alb_link_frame_crc(fr->rgb, npix);
     f->cycles = sc->cycles;
     f->width = fr->width;
     f->height = fr->height;
@@ -279,16 +293,16 @@ static void json_string(const char *key, const char *v)
 
 /* The link's losses as both sides counted them, every ERROR code; the same
  * numbers as link_json. */
-static void link_text(const stream_report *r)
+static void link_text(const alb_stream_report *r)
 {
-    uint64_t be = stream_board_errors(r);
+    uint64_t be = alb_stream_board_errors(r);
     if (be || r->rx_crc_errors || r->rx_garbage || r->rx_gaps || r->rx_duplicates) {
         fprintf(stderr, "  link: board reported %llu errors", (unsigned long long)be);
         const char *sep = " (";
-        for (unsigned k = 1; k <= STREAM_ERROR_CODES; k++) {   /* code 0 (unknown) last */
-            unsigned c = k % STREAM_ERROR_CODES;
+        for (unsigned k = 1; k <= ALB_STREAM_ERROR_CODES; k++) {   /* code 0 (unknown) last */
+            unsigned c = k % ALB_STREAM_ERROR_CODES;
             if (r->board_errors[c]) {
-                fprintf(stderr, "%s%s %llu", sep, link_error_name(c),
+                fprintf(stderr, "%s%s %llu", sep, alb_link_error_name(c),
                         (unsigned long long)r->board_errors[c]);
                 sep = ", ";
             }
@@ -302,13 +316,13 @@ static void link_text(const stream_report *r)
         fprintf(stderr, "  first link error: %s\n", r->first_link_error);
 }
 
-static void link_json(const stream_report *r)
+static void link_json(const alb_stream_report *r)
 {
     printf("\"max_payload\": %zu, \"board_errors\": %llu, \"board_error_codes\": {", r->max_payload,
-           (unsigned long long)stream_board_errors(r));
-    for (unsigned k = 1; k <= STREAM_ERROR_CODES; k++) {
-        unsigned c = k % STREAM_ERROR_CODES;
-        printf("%s\"%s\": %llu", k > 1 ? ", " : "", link_error_key(c),
+           (unsigned long long)alb_stream_board_errors(r));
+    for (unsigned k = 1; k <= ALB_STREAM_ERROR_CODES; k++) {
+        unsigned c = k % ALB_STREAM_ERROR_CODES;
+        printf("%s\"%s\": %llu", k > 1 ? ", " : "", alb_link_error_key(c),
                (unsigned long long)r->board_errors[c]);
     }
     printf("}, \"host_crc_errors\": %llu, \"host_garbage_bytes\": %llu, \"host_gaps\": %llu, "
@@ -320,13 +334,60 @@ static void link_json(const stream_report *r)
     json_string("first_problem", r->first_problem);
 }
 
+/* The USB link's line of the report: speed, packets, transfers, and what
+ * it recovered from. */
+static void usb_text(const alb_tr_usb_link *l)
+{
+    fprintf(stderr, "  USB: %s speed (%u Mbit/s), %u-byte bulk packets; %u transfers of %zu bytes in "
+                    "flight; %llu zero-length packets", l->speed, l->speed_mbps, l->out_packet,
+            l->out_transfers, l->out_bytes, (unsigned long long)l->zero_length_packets);
+    if (l->halts_cleared)
+        fprintf(stderr, "; %llu stall%s recovered", (unsigned long long)l->halts_cleared,
+                l->halts_cleared > 1 ? "s" : "");
+    if (l->out_timeouts)
+        fprintf(stderr, "; %llu OUT timeout%s", (unsigned long long)l->out_timeouts,
+                l->out_timeouts > 1 ? "s" : "");
+    if (l->resent_bytes)
+        fprintf(stderr, "; %llu bytes resent from where their transfers stopped",
+                (unsigned long long)l->resent_bytes);
+    if (l->in_partial)
+        fprintf(stderr, "; %llu IN transfer%s ended by timeout with data",
+                (unsigned long long)l->in_partial, l->in_partial > 1 ? "s" : "");
+    if (l->hid_by_libusb)
+        fprintf(stderr, "; HID through libusb (no hidraw node)");
+    fputc('\n', stderr);
+}
+
+static void usb_json(const alb_tr_usb_link *l)
+{
+    printf("\"usb\": {\"speed\": \"%s\", \"speed_mbps\": %u, \"out_packet\": %u, \"in_packet\": %u, "
+           "\"out_transfers\": %u, \"out_bytes\": %zu, \"zero_length_packets\": %llu, "
+           "\"halts_cleared\": %llu, \"out_timeouts\": %llu, \"resent_bytes\": %llu, "
+           "\"in_partial\": %llu, \"hid_by_libusb\": %s}, ", l->speed, l->speed_mbps,
+           l->out_packet, l->in_packet, l->out_transfers, l->out_bytes,
+           (unsigned long long)l->zero_length_packets, (unsigned long long)l->halts_cleared,
+           (unsigned long long)l->out_timeouts, (unsigned long long)l->resent_bytes,
+           (unsigned long long)l->in_partial, l->hid_by_libusb ? "true" : "false");
+}
+
+/* A slow link is worth a word before the stream starts. */
+static void usb_note(alb_transport *t, FILE *log)
+{
+    alb_tr_usb_link l;
+    if (log && !alb_transport_usb_link(t, &l) && l.speed_mbps < 480)
+        fprintf(log, "stream: the board is on a %s-speed link (%u Mbit/s, %u-byte packets): "
+                     "about %s MB/s at most\n", l.speed, l.speed_mbps, l.out_packet,
+                l.speed_mbps >= 12 ? "1" : "0.1");
+}
+
 static const char *result_name(int rc, const char *ok)
 {
     return rc == EXIT_AGREE ? ok : rc == EXIT_DIFFER ? "differs"
            : rc == EXIT_INTERRUPTED ? "interrupted" : "failed";
 }
 
-static void report_text(const stream_report *r, const stream_frame *f, unsigned nf, int rc)
+static void report_text(const alb_stream_report *r, const alb_stream_frame *f, unsigned nf, int rc,
+                        const alb_tr_usb_link *usb)
 {
     if (r->interrupted)
         fprintf(stderr, "stream: interrupted: %u of %u frames confirmed by the board\n", r->frames,
@@ -349,6 +410,8 @@ static void report_text(const stream_report *r, const stream_frame *f, unsigned 
     if (r->reattaches)
         fprintf(stderr, "  the board disconnected %u time%s and came back; the stream started "
                         "over each time\n", r->reattaches, r->reattaches > 1 ? "s" : "");
+    if (usb)
+        usb_text(usb);
     link_text(r);
     if (r->first_problem[0])
         fprintf(stderr, "  first problem: %s\n", r->first_problem);
@@ -356,7 +419,8 @@ static void report_text(const stream_report *r, const stream_frame *f, unsigned 
         fprintf(stderr, "  hardware agrees with the emulator\n");
 }
 
-static void report_json(const stream_report *r, const stream_frame *f, unsigned nf, int rc)
+static void report_json(const alb_stream_report *r, const alb_stream_frame *f, unsigned nf, int rc,
+                        const alb_tr_usb_link *usb)
 {
     printf("{\"result\": \"%s\", \"frames\": [", result_name(rc, "match"));
     for (unsigned i = 0; i < nf; i++)
@@ -369,11 +433,13 @@ static void report_json(const stream_report *r, const stream_frame *f, unsigned 
            r->matched, r->frames, (unsigned long long)r->packets, (unsigned long long)r->bytes,
            r->seconds, (unsigned long long)r->resumes, (unsigned long long)r->queries,
            r->reattaches);
+    if (usb)
+        usb_json(usb);
     link_json(r);
     printf("}\n");
 }
 
-/* The exit status of a stream_run / stream_tiles result. */
+/* The exit status of a alb_stream_run / alb_stream_tiles result. */
 static int exit_of(int rc)
 {
     return rc == -2 ? EXIT_INTERRUPTED : rc < 0 ? EXIT_LINK : rc ? EXIT_DIFFER : EXIT_AGREE;
@@ -381,11 +447,11 @@ static int exit_of(int rc)
 
 /* Frames mode: the emulator's frames, RGB888, as tiles to a display board;
  * with --sim the board's display is compared with the last frame. */
-static int stream_frames_mode(const link_args *a, const profile_t *p, const stream_frame *f,
+static int stream_frames_mode(const link_args *a, const alb_profile *p, const alb_stream_frame *f,
                               unsigned nf)
 {
     size_t npix = (size_t)p->width * p->height;
-    stream_tiles_frame *tf = calloc(nf ? nf : 1, sizeof *tf);
+    alb_stream_tiles_frame *tf = calloc(nf ? nf : 1, sizeof *tf);
     uint8_t *rgb = malloc(3 * npix * (nf ? nf : 1));
     int rc = EXIT_INPUT;   /* until the link is open */
     if (!tf || !rgb) {
@@ -397,16 +463,16 @@ static int stream_frames_mode(const link_args *a, const profile_t *p, const stre
             fprintf(stderr, "albatros stream: out of memory\n");
             goto out;
         }
-        link_rgb888(f[i].rgb, npix, p->colour_bits, rgb + 3 * npix * i);
-        tf[i] = (stream_tiles_frame){f[i].number, p->width, p->height, rgb + 3 * npix * i};
+        alb_link_rgb888(f[i].rgb, npix, p->colour_bits, rgb + 3 * npix * i);
+        tf[i] = (alb_stream_tiles_frame){f[i].number, p->width, p->height, rgb + 3 * npix * i};
     }
     sim_board *board;
     rc = EXIT_LINK;
-    transport_t *t = open_link(a, p, &board, false);
+    alb_transport *t = open_link(a, p, &board, false);
     if (!t)
         goto out;
-    stream_opts so;
-    stream_opts_default(&so);
+    alb_stream_opts so;
+    alb_stream_opts_default(&so);
     so.timeout_ms = a->timeout_ms;
     so.log = a->quiet || a->json ? NULL : stderr;
     so.progress = so.log && cli_isatty_stderr();
@@ -416,8 +482,11 @@ static int stream_frames_mode(const link_args *a, const profile_t *p, const stre
     if (so.log)
         fprintf(stderr, "frames: %u frames to send to %s\n", nf, a->sim ? "the simulated board" :
                 "the board");
-    stream_report r;
-    rc = exit_of(stream_tiles(t, tf, nf, &so, &r));
+    usb_note(t, so.log);
+    alb_stream_report r;
+    rc = exit_of(alb_stream_tiles(t, tf, nf, &so, &r));
+    alb_tr_usb_link usb;
+    bool have_usb = alb_transport_usb_link(t, &usb) == 0;
     const char *display = "";
     if (!rc && board && nf) {
         uint32_t shown;
@@ -434,6 +503,8 @@ static int stream_frames_mode(const link_args *a, const profile_t *p, const stre
                "\"bytes\": %llu, \"seconds\": %.3f, \"resends\": %llu, \"display\": \"%s\", ",
                result_name(rc, "shown"), nf, r.frames, (unsigned long long)r.packets,
                (unsigned long long)r.bytes, r.seconds, (unsigned long long)r.resumes, display);
+        if (have_usb)
+            usb_json(&usb);
         link_json(&r);
         printf("}\n");
     } else if (!a->quiet || rc) {
@@ -444,6 +515,8 @@ static int stream_frames_mode(const link_args *a, const profile_t *p, const stre
                         "%.2f MB in %.2f s (%.1f MB/s, %.1f frames/s); %llu resends\n", r.frames,
                 nf, (unsigned long long)r.packets, r.max_payload, (double)r.bytes / 1e6, r.seconds,
                 (double)r.bytes / 1e6 / secs, r.frames / secs, (unsigned long long)r.resumes);
+        if (have_usb)
+            usb_text(&usb);
         link_text(&r);
         if (r.first_problem[0])
             fprintf(stderr, "  first problem: %s\n", r.first_problem);
@@ -475,7 +548,11 @@ static const char stream_help[] =
     "  --wait MS          wait this long for the board to appear (hot-plug; default\n"
     "                     2000), and again after a disconnect: the stream then\n"
     "                     starts over (0: a disconnect ends it)\n"
-    "  --timeout MS       wait this long for a frame's result (default 2000)\n"
+    "  --timeout MS       wait this long for a frame's result, and for a board that\n"
+    "                     NAKs to take data (then the transfers in flight are\n"
+    "                     cancelled and their unsent bytes sent again; default 2000)\n"
+    "  --usb-transfers N  bulk OUT transfers in flight (default 16, at most 64)\n"
+    "  --usb-buffer BYTES each transfer's size (default 65536; whole packets)\n"
     "  --no-readback      do not fetch a differing frame to name its first wrong pixel\n"
     "  --frames           frames mode: the rendered frames, RGB888 tiles, to a display\n"
     "  --fault KIND=N     misbehave on purpose (N counts from 1); repeatable, up to\n"
@@ -504,7 +581,8 @@ int cmd_stream(int argc, char **argv)
 {
     static const char *const spec[] = {"sim", "json", "quiet", "q", "help", "no-readback", "vid=",
                                        "pid=", "serial=", "wait=", "timeout=", "stream=",
-                                       "fault=", "frames", "sim-payload=", NULL};
+                                       "fault=", "frames", "sim-payload=", "usb-transfers=",
+                                       "usb-buffer=", NULL};
     link_args a = {.vid = PROTO_VID, .pid = PROTO_PID, .wait_ms = 2000, .timeout_ms = 2000,
                    .flip_frame = -1, .cmd = "stream"};
     run_opts o;
@@ -520,48 +598,48 @@ int cmd_stream(int argc, char **argv)
     if (cli_check_profile(&o.prof))
         return EXIT_INPUT;
     /* the word stream */
-    ws_buf b;
-    ws_buf_init(&b);
-    diag_t d;
-    diag_init(&d, stderr);
+    alb_ws_buf b;
+    alb_ws_buf_init(&b);
+    alb_diag d;
+    alb_diag_init(&d, stderr);
     if (a.stream) {
-        if (ws_read_file(a.stream, &b.w, &b.n, &d)) {
-            diag_print(&d, stderr);
+        if (alb_ws_read_file(a.stream, &b.w, &b.n, &d)) {
+            alb_diag_print(&d, stderr);
             return EXIT_INPUT;
         }
     } else {
-        scene_t scene;
+        alb_scene scene;
         if (cli_load_scene(npos ? pos[0] : NULL, &o, &scene))
             return EXIT_INPUT;
-        gp_t *gp = NULL;
-        alb_err e = gp_create(&gp, &scene, &o.prof, &d);
+        alb_gp *gp = NULL;
+        alb_err e = alb_gp_create(&gp, &scene, &o.prof, &d);
         if (!e)
-            e = gp_run(gp, &b, NULL, &d);
-        gp_destroy(gp);
-        scene_free(&scene);
+            e = alb_gp_run(gp, &b, NULL, &d);
+        alb_gp_destroy(gp);
+        alb_scene_free(&scene);
         if (e) {
-            diag_print(&d, stderr);
-            ws_buf_free(&b);
+            alb_diag_print(&d, stderr);
+            alb_ws_buf_free(&b);
             return EXIT_INPUT;
         }
     }
-    stream_frame *frames = NULL;
+    alb_stream_frame *frames = NULL;
     unsigned nf = 0;
-    if (stream_frames(b.w, b.n, &frames, &nf)) {
+    if (alb_stream_frames(b.w, b.n, &frames, &nf)) {
         fprintf(stderr, "albatros stream: the word stream is malformed (albatros dump says where)\n");
-        ws_buf_free(&b);
+        alb_ws_buf_free(&b);
         return EXIT_INPUT;
     }
     /* what the emulator says */
     uint16_t **keep = calloc(nf ? nf : 1, sizeof *keep);
     expect_ctx ec = {frames, nf, 0, keep};
-    sim_options so = {.fid = FIDELITY_TIMED, .threads = 1};
+    alb_sim_options so = {.fid = ALB_FIDELITY_TIMED, .threads = 1};
     int rc = EXIT_INPUT;   /* the emulator's run fails on a stream made for another profile */
-    transport_t *t = NULL;
-    if (!keep || sim_run(&o.prof, b.w, b.n, "stream", &so, expect_frame, &ec, &d)) {
+    alb_transport *t = NULL;
+    if (!keep || alb_sim_run(&o.prof, b.w, b.n, "stream", &so, expect_frame, &ec, &d)) {
         if (!keep)
             fprintf(stderr, "albatros stream: out of memory\n");
-        diag_print(&d, stderr);
+        alb_diag_print(&d, stderr);
         goto out;
     }
     if (a.frames) {
@@ -571,8 +649,8 @@ int cmd_stream(int argc, char **argv)
     rc = EXIT_LINK;
     if (!(t = open_link(&a, &o.prof, NULL, false)))
         goto out;
-    stream_opts sopt;
-    stream_opts_default(&sopt);
+    alb_stream_opts sopt;
+    alb_stream_opts_default(&sopt);
     sopt.timeout_ms = a.timeout_ms;
     sopt.readback = !a.no_readback;
     sopt.log = a.quiet || a.json ? NULL : stderr;
@@ -588,16 +666,19 @@ int cmd_stream(int argc, char **argv)
     if (sopt.log)   /* also the sign, for a test, that Ctrl-C is now caught */
         fprintf(stderr, "stream: %u frames to send to %s\n", nf, a.sim ? "the simulated board" :
                 "the board");
-    stream_report r;
-    rc = exit_of(stream_run(t, b.w, b.n, frames, nf, &sopt, &r));
+    usb_note(t, sopt.log);
+    alb_stream_report r;
+    rc = exit_of(alb_stream_run(t, b.w, b.n, frames, nf, &sopt, &r));
     t = r.link;   /* another after a disconnect, or none if the board did not come back */
+    alb_tr_usb_link usb;
+    bool have_usb = t && alb_transport_usb_link(t, &usb) == 0;
     if (t)
         t->ops->close(t);   /* cancels the transfers in flight, before a long report */
     t = NULL;
     if (a.json)
-        report_json(&r, frames, nf, rc);
+        report_json(&r, frames, nf, rc, have_usb ? &usb : NULL);
     else if (!a.quiet || rc)
-        report_text(&r, frames, nf, rc);
+        report_text(&r, frames, nf, rc, have_usb ? &usb : NULL);
     release_stop(&h);
 out:
     if (t)
@@ -606,21 +687,21 @@ out:
         free(keep[i]);
     free(keep);
     free(frames);
-    ws_buf_free(&b);
+    alb_ws_buf_free(&b);
     return rc;
 }
 
 /* ---- albatros board ---- */
 
-static int board_info(transport_t *t, bool json)
+static int board_info(alb_transport *t, bool json)
 {
     uint8_t rep[PROTO_HID_REPORT + 1] = {PROTO_HID_INFO};
     if (t->ops->hid_get(t, rep, PROTO_HID_REPORT)) {
         fprintf(stderr, "albatros board info: %s\n", t->error);
         return 1;
     }
-    link_info in;
-    if (link_info_decode(rep, &in)) {
+    alb_link_info in;
+    if (alb_link_info_decode(rep, &in)) {
         fprintf(stderr, "albatros board info: the device's INFO report lacks the ALBI magic: "
                         "not an albatros board?\n");
         return 1;
@@ -644,12 +725,12 @@ static int board_info(transport_t *t, bool json)
 
 /* The boards with a's ids; with --wait, looked for every 100 ms (as
  * opening one does, transport_usb.c) until one is there or the time is up. */
-static int list_waiting(const link_args *a, tr_usb_device *d, char *err, size_t errlen)
+static int list_waiting(const link_args *a, alb_tr_usb_device *d, char *err, size_t errlen)
 {
     struct timespec start, now;
     clock_gettime(CLOCK_MONOTONIC, &start);
     for (;;) {
-        int n = transport_usb_list((uint16_t)a->vid, (uint16_t)a->pid, d, LIST_MAX, err, errlen);
+        int n = alb_transport_usb_list((uint16_t)a->vid, (uint16_t)a->pid, d, LIST_MAX, err, errlen);
         if (n != 0)
             return n;
         clock_gettime(CLOCK_MONOTONIC, &now);
@@ -662,7 +743,7 @@ static int list_waiting(const link_args *a, tr_usb_device *d, char *err, size_t 
     }
 }
 
-static int board_list(const link_args *a, const profile_t *p)
+static int board_list(const link_args *a, const alb_profile *p)
 {
     if (a->sim) {
         if (a->json)
@@ -672,7 +753,7 @@ static int board_list(const link_args *a, const profile_t *p)
             printf("sim:0  simulated board (profile %s)\n", p->name);
         return 0;
     }
-    tr_usb_device d[LIST_MAX];
+    alb_tr_usb_device d[LIST_MAX];
     char err[600];
     int n = list_waiting(a, d, err, sizeof err);
     if (n < 0) {
@@ -733,7 +814,7 @@ int cmd_board(int argc, char **argv)
     }
     if (!strcmp(pos[0], "list"))
         return board_list(&a, &o.prof);
-    transport_t *t = open_link(&a, &o.prof, NULL, true);
+    alb_transport *t = open_link(&a, &o.prof, NULL, true);
     if (!t)
         return 1;
     int rc;

@@ -2,8 +2,8 @@
 #ifndef ALBATROS_COMMANDS_H
 #define ALBATROS_COMMANDS_H
 
-#include "../gp/gp.h"
-#include "../vp/vp.h"
+#include "albatros/gp.h"
+#include "albatros/vp.h"
 
 #include <stdio.h>
 
@@ -25,7 +25,7 @@ int cmd_method(int argc, char **argv);
 
 
 /* GP statistics as a JSON object (no trailing newline) / a readable block. */
-void gp_stats_json(FILE *f, const gp_stats *s);
-void gp_stats_text(FILE *f, const gp_stats *s);
+void gp_stats_json(FILE *f, const alb_gp_stats *s);
+void gp_stats_text(FILE *f, const alb_gp_stats *s);
 
 #endif

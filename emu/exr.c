@@ -1,7 +1,7 @@
 /* exr.c — frames to and from OpenEXR files through OpenEXRCore's C API (the
  * channels and attributes are listed in exr.h).  We own the file descriptor
  * and do the I/O ourselves so that errors carry errno and nothing is printed. */
-#include "exr.h"
+#include "albatros/exr.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -147,42 +147,42 @@ static exr_context_initializer_t io_init(exr_io *io)
     init.read_fn = io_read;
     init.size_fn = io_size;
     init.write_fn = io_write;
-    init.max_image_width = init.max_image_height = (int)EXR_MAX_SIDE;
+    init.max_image_width = init.max_image_height = (int)ALB_EXR_MAX_SIDE;
     /* fixed rather than the process-wide default, so output never varies */
     init.zip_level = 6;
     return init;
 }
 
 /* An OpenEXRCore failure: errno if our I/O failed, else the library's text. */
-static alb_err exr_fail(diag_t *d, const char *path, const exr_io *io, exr_result_t rv,
+static alb_err exr_fail(alb_diag *d, const char *path, const exr_io *io, exr_result_t rv,
                         const char *what)
 {
     if (io->err != 0)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "%s: %s", what, strerror(io->err));
-    return diag_at(d, ALB_ERR_IO, path, 0, 0, "%s: %s (OpenEXR)", what,
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "%s: %s", what, strerror(io->err));
+    return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "%s: %s (OpenEXR)", what,
                    exr_get_default_error_message(rv));
 }
 
 /* ---- writing ------------------------------------------------------------- */
 
-static alb_err check_frame(const char *path, const frame_t *f, diag_t *d)
+static alb_err check_frame(const char *path, const alb_frame *f, alb_diag *d)
 {
-    if (f->width < 1 || f->height < 1 || f->width > EXR_MAX_SIDE || f->height > EXR_MAX_SIDE)
-        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
+    if (f->width < 1 || f->height < 1 || f->width > ALB_EXR_MAX_SIDE || f->height > ALB_EXR_MAX_SIDE)
+        return alb_diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
                        "cannot write a %ux%u frame: sides must be 1..%u", f->width,
-                       f->height, EXR_MAX_SIDE);
+                       f->height, ALB_EXR_MAX_SIDE);
     if (f->colour_bits < 1 || f->colour_bits > 16 || f->depth_bits < 1 ||
         f->depth_bits > 32 || f->aa_levels > 7)
-        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
+        return alb_diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
                        "cannot write a frame with colour_bits=%u depth_bits=%u aa=%u "
                        "(need 1..16, 1..32, 0..7)",
                        f->colour_bits, f->depth_bits, f->aa_levels);
     if (!f->rgb || !f->depth || !f->face || !f->level || !f->coverage)
-        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0, "cannot write a frame without planes");
+        return alb_diag_at(d, ALB_ERR_CONFIG, path, 0, 0, "cannot write a frame without planes");
     return ALB_OK;
 }
 
-static void channels_of(const frame_t *f, bool present[CH_COUNT])
+static void channels_of(const alb_frame *f, bool present[CH_COUNT])
 {
     for (int k = 0; k < CH_COUNT; k++)
         present[k] = true;
@@ -190,7 +190,7 @@ static void channels_of(const frame_t *f, bool present[CH_COUNT])
     present[CH_CYCLES] = f->cycles != NULL;
 }
 
-static exr_result_t define_attrs(exr_context_t c, const frame_t *f)
+static exr_result_t define_attrs(exr_context_t c, const alb_frame *f)
 {
     int32_t number;
     /* an int attribute carries the uint32 frame number's bits unchanged */
@@ -207,7 +207,7 @@ static exr_result_t define_attrs(exr_context_t c, const frame_t *f)
     return rv;
 }
 
-static exr_result_t define_header(exr_context_t c, const frame_t *f, const bool *present)
+static exr_result_t define_header(exr_context_t c, const alb_frame *f, const bool *present)
 {
     int part;
     /* no part name: a single unnamed part is written as a plain
@@ -239,12 +239,12 @@ static uint16_t to_half(double v)
 /* What every chunk's rows are made from: the frame and its HALF values,
  * converted once per frame rather than once per pixel. */
 typedef struct {
-    const frame_t *f;
+    const alb_frame *f;
     uint16_t *colour_half;     /* frame store value -> HALF, 2^colour_bits entries */
     uint16_t *coverage_half;   /* covered samples -> HALF, 4^aa + 1 entries */
 } row_src;
 
-static int row_src_init(row_src *r, const frame_t *f)
+static int row_src_init(row_src *r, const alb_frame *f)
 {
     size_t ncol = (size_t)1 << f->colour_bits, ncov = ((size_t)1 << (2 * f->aa_levels)) + 1;
     double cmax = (double)(ncol - 1), samples = (double)(ncov - 1);
@@ -269,7 +269,7 @@ static void row_src_free(row_src *r)
 /* Row y of channel k in its file type (HALF: 2 bytes, else 4) into dst. */
 static void fill_row(const row_src *src, int k, unsigned y, unsigned char *dst)
 {
-    const frame_t *f = src->f;
+    const alb_frame *f = src->f;
     const size_t w = f->width, row = (size_t)y * w;
     uint16_t *h = (uint16_t *)(void *)dst;
     uint32_t *u = (uint32_t *)(void *)dst;
@@ -291,7 +291,7 @@ static void fill_row(const row_src *src, int k, unsigned y, unsigned char *dst)
         break;
     case CH_Z:
         for (size_t x = 0; x < w; x++)
-            z[x] = frame_z(f, f->depth[row + x]);
+            z[x] = alb_frame_z(f, f->depth[row + x]);
         break;
     case CH_FACE: memcpy(u, f->face + row, w * 4); break;
     case CH_LEVEL:
@@ -377,7 +377,7 @@ static exr_result_t write_in_turn(exr_encode_pipeline_t *enc)
 static exr_result_t encode_chunk(chunk_writer *w, chunk_job *job, unsigned char *buf,
                                  exr_encode_pipeline_t *enc, bool *started)
 {
-    const frame_t *f = w->src.f;
+    const alb_frame *f = w->src.f;
     exr_chunk_info_t ci;
     exr_result_t rv = exr_write_scanline_chunk_info(w->c, PART, (int)job->chunk * w->lines, &ci);
     if (rv == EXR_ERR_SUCCESS)
@@ -439,8 +439,8 @@ static void *chunk_worker(void *arg)
     return NULL;
 }
 
-static alb_err write_chunks(exr_context_t c, const frame_t *f, unsigned threads,
-                            const char *path, const exr_io *io, diag_t *d)
+static alb_err write_chunks(exr_context_t c, const alb_frame *f, unsigned threads,
+                            const char *path, const exr_io *io, alb_diag *d)
 {
     chunk_writer w = {.c = c};
     exr_result_t rv = exr_get_scanlines_per_chunk(c, PART, &w.lines);
@@ -450,14 +450,14 @@ static alb_err write_chunks(exr_context_t c, const frame_t *f, unsigned threads,
     w.slot = (size_t)f->width * (size_t)w.lines * 4;
     if (row_src_init(&w.src, f)) {
         row_src_free(&w.src);
-        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory writing OpenEXR");
+        return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory writing OpenEXR");
     }
     pthread_mutex_init(&w.mu, NULL);
     pthread_cond_init(&w.turn, NULL);
     threads = threads < 1 ? 1 : threads > w.chunks ? w.chunks : threads;
-    pthread_t tid[EXR_MAX_THREADS];
+    pthread_t tid[ALB_EXR_MAX_THREADS];
     unsigned started = 0;
-    while (started + 1 < threads && started < EXR_MAX_THREADS &&
+    while (started + 1 < threads && started < ALB_EXR_MAX_THREADS &&
            pthread_create(&tid[started], NULL, chunk_worker, &w) == 0)
         started++;
     chunk_worker(&w);   /* this thread works too: one thread is no thread */
@@ -469,7 +469,7 @@ static alb_err write_chunks(exr_context_t c, const frame_t *f, unsigned threads,
     if (!w.failed)
         return ALB_OK;
     if (w.rv == EXR_ERR_OUT_OF_MEMORY)
-        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory writing OpenEXR");
+        return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory writing OpenEXR");
     if (w.failed_chunk >= w.chunks)
         return exr_fail(d, path, io, w.rv, "cannot finish encoding");
     char what[64];
@@ -477,8 +477,8 @@ static alb_err write_chunks(exr_context_t c, const frame_t *f, unsigned threads,
     return exr_fail(d, path, io, w.rv, what);
 }
 
-static alb_err write_ctx(exr_context_t c, const frame_t *f, unsigned threads, const char *path,
-                         const exr_io *io, diag_t *d)
+static alb_err write_ctx(exr_context_t c, const alb_frame *f, unsigned threads, const char *path,
+                         const exr_io *io, alb_diag *d)
 {
     bool present[CH_COUNT];
     channels_of(f, present);
@@ -491,19 +491,19 @@ static alb_err write_ctx(exr_context_t c, const frame_t *f, unsigned threads, co
     return write_chunks(c, f, threads, path, io, d);
 }
 
-alb_err exr_write_frame(const char *path, const frame_t *f, diag_t *d)
+alb_err alb_exr_write_frame(const char *path, const alb_frame *f, alb_diag *d)
 {
-    return exr_write_frame_threads(path, f, 1, d);
+    return alb_exr_write_frame_threads(path, f, 1, d);
 }
 
-alb_err exr_write_frame_threads(const char *path, const frame_t *f, unsigned threads, diag_t *d)
+alb_err alb_exr_write_frame_threads(const char *path, const alb_frame *f, unsigned threads, alb_diag *d)
 {
     alb_err e = check_frame(path, f, d);
     if (e != ALB_OK)
         return e;
     exr_io io = {open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666), 0};
     if (io.fd < 0)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
     exr_context_initializer_t init = io_init(&io);
     exr_context_t c = NULL;
     exr_result_t rv = exr_start_write(&c, path, EXR_WRITE_FILE_DIRECTLY, &init);
@@ -516,7 +516,7 @@ alb_err exr_write_frame_threads(const char *path, const frame_t *f, unsigned thr
     if (rv != EXR_ERR_SUCCESS && e == ALB_OK)
         e = exr_fail(d, path, &io, rv, "cannot finish the OpenEXR file");
     if (close(io.fd) != 0 && e == ALB_OK)
-        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot close: %s", strerror(errno));
+        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot close: %s", strerror(errno));
     if (e != ALB_OK)
         unlink(path);   /* never leave a half-written frame behind */
     return e;
@@ -525,7 +525,7 @@ alb_err exr_write_frame_threads(const char *path, const frame_t *f, unsigned thr
 /* ---- reading ------------------------------------------------------------- */
 
 static alb_err read_layout(exr_const_context_t c, const char *path, const exr_io *io,
-                           exr_attr_box2i_t *dw, diag_t *d)
+                           exr_attr_box2i_t *dw, alb_diag *d)
 {
     int parts = 0;
     exr_storage_t st;
@@ -539,13 +539,13 @@ static alb_err read_layout(exr_const_context_t c, const char *path, const exr_io
     if (rv != EXR_ERR_SUCCESS)
         return exr_fail(d, path, io, rv, "cannot read the OpenEXR header");
     if (st != EXR_STORAGE_SCANLINE)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0,
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0,
                        "holds a tiled or deep image; frames are scanline images");
     int64_t w = (int64_t)dw->max.x - dw->min.x + 1, h = (int64_t)dw->max.y - dw->min.y + 1;
-    if (w < 1 || h < 1 || w > EXR_MAX_SIDE || h > EXR_MAX_SIDE)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0,
+    if (w < 1 || h < 1 || w > ALB_EXR_MAX_SIDE || h > ALB_EXR_MAX_SIDE)
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0,
                        "data window is %lldx%lld; frames are 1..%u pixels a side",
-                       (long long)w, (long long)h, EXR_MAX_SIDE);
+                       (long long)w, (long long)h, ALB_EXR_MAX_SIDE);
     return ALB_OK;
 }
 
@@ -565,7 +565,7 @@ static bool type_ok(int k, exr_pixel_type_t t)
 }
 
 static alb_err read_channels(exr_const_context_t c, const char *path, const exr_io *io,
-                             bool present[CH_COUNT], diag_t *d)
+                             bool present[CH_COUNT], alb_diag *d)
 {
     const exr_attr_chlist_t *cl = NULL;
     exr_result_t rv = exr_get_channels(c, PART, &cl);
@@ -579,23 +579,23 @@ static alb_err read_channels(exr_const_context_t c, const char *path, const exr_
         if (k < 0)
             continue;   /* another tool's channel: not ours to judge */
         if (e->x_sampling != 1 || e->y_sampling != 1)
-            return diag_at(d, ALB_ERR_IO, path, 0, 0,
+            return alb_diag_at(d, ALB_ERR_IO, path, 0, 0,
                            "channel %s is subsampled (%d x %d); frames have one sample "
                            "per pixel", chans[k].name, (int)e->x_sampling, (int)e->y_sampling);
         if (!type_ok(k, e->pixel_type))
-            return diag_at(d, ALB_ERR_IO, path, 0, 0, "channel %s holds %s; expected %s",
+            return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "channel %s holds %s; expected %s",
                            chans[k].name, type_name(e->pixel_type), type_name(chans[k].type));
         present[k] = true;
     }
     if (!present[CH_R] || !present[CH_G] || !present[CH_B])
-        return diag_at(d, ALB_ERR_IO, path, 0, 0,
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0,
                        "not a frame: it lacks channel %s",
                        !present[CH_R] ? "R" : !present[CH_G] ? "G" : "B");
     return ALB_OK;
 }
 
 static alb_err get_int(exr_const_context_t c, const char *path, const char *name,
-                       int64_t lo, int64_t hi, int32_t def, int32_t *out, diag_t *d)
+                       int64_t lo, int64_t hi, int32_t def, int32_t *out, alb_diag *d)
 {
     int32_t v;
     exr_result_t rv = exr_attr_get_int(c, PART, name, &v);
@@ -604,17 +604,17 @@ static alb_err get_int(exr_const_context_t c, const char *path, const char *name
         return ALB_OK;
     }
     if (rv != EXR_ERR_SUCCESS)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "attribute %s: %s (OpenEXR)", name,
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "attribute %s: %s (OpenEXR)", name,
                        exr_get_default_error_message(rv));
     if (v < lo || v > hi)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "attribute %s = %d is outside %lld..%lld",
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "attribute %s = %d is outside %lld..%lld",
                        name, (int)v, (long long)lo, (long long)hi);
     *out = v;
     return ALB_OK;
 }
 
 /* The frame's parameters from our attributes (defaults for other files). */
-static alb_err read_params(exr_const_context_t c, const char *path, frame_t *p, diag_t *d)
+static alb_err read_params(exr_const_context_t c, const char *path, alb_frame *p, alb_diag *d)
 {
     int32_t cb, db, aa, number;
     alb_err e = get_int(c, path, ATTR_COLOUR, 1, 16, 8, &cb, d);
@@ -630,7 +630,7 @@ static alb_err read_params(exr_const_context_t c, const char *path, frame_t *p, 
     if (rv == EXR_ERR_NO_ATTR_BY_NAME)
         p->near = 1.0f;
     else if (rv != EXR_ERR_SUCCESS)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "attribute %s: %s (OpenEXR)", ATTR_NEAR,
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "attribute %s: %s (OpenEXR)", ATTR_NEAR,
                        exr_get_default_error_message(rv));
     p->colour_bits = (unsigned)cb;
     p->depth_bits = (unsigned)db;
@@ -685,7 +685,7 @@ static exr_result_t decode_chunk(exr_const_context_t c, int y, int32_t lines,
 }
 
 /* Store one decoded value of channel k at pixel i; -1 if out of range. */
-static int store_value(frame_t *f, int k, size_t i, const unsigned char *src)
+static int store_value(alb_frame *f, int k, size_t i, const unsigned char *src)
 {
     uint32_t u;
     float v;
@@ -723,8 +723,8 @@ static int store_value(frame_t *f, int k, size_t i, const unsigned char *src)
     }
 }
 
-static alb_err store_rows(const char *path, frame_t *f, const unsigned char *buf, size_t slot,
-                          const bool *want, unsigned y0, unsigned rows, diag_t *d)
+static alb_err store_rows(const char *path, alb_frame *f, const unsigned char *buf, size_t slot,
+                          const bool *want, unsigned y0, unsigned rows, alb_diag *d)
 {
     for (int k = 0; k < CH_COUNT; k++) {
         if (!want[k])
@@ -734,7 +734,7 @@ static alb_err store_rows(const char *path, frame_t *f, const unsigned char *buf
             for (unsigned x = 0; x < f->width; x++) {
                 size_t j = (size_t)r * f->width + x;
                 if (store_value(f, k, (size_t)(y0 + r) * f->width + x, src + 4 * j) != 0)
-                    return diag_at(d, ALB_ERR_IO, path, 0, 0,
+                    return alb_diag_at(d, ALB_ERR_IO, path, 0, 0,
                                    "channel %s at pixel (%u, %u) is out of range for this "
                                    "frame (colour_bits %u, aa %u)",
                                    chans[k].name, x, y0 + r, f->colour_bits, f->aa_levels);
@@ -744,8 +744,8 @@ static alb_err store_rows(const char *path, frame_t *f, const unsigned char *buf
 }
 
 static alb_err read_chunks(exr_const_context_t c, const char *path, const exr_io *io,
-                           const exr_attr_box2i_t *dw, const bool *want, frame_t *f,
-                           diag_t *d)
+                           const exr_attr_box2i_t *dw, const bool *want, alb_frame *f,
+                           alb_diag *d)
 {
     int32_t lines = 0;
     exr_result_t rv = exr_get_scanlines_per_chunk(c, PART, &lines);
@@ -755,7 +755,7 @@ static alb_err read_chunks(exr_const_context_t c, const char *path, const exr_io
     size_t slot = (size_t)f->width * (size_t)lines * 4;
     unsigned char *buf = malloc(slot * CH_COUNT);
     if (!buf)
-        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory reading OpenEXR");
+        return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory reading OpenEXR");
     exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
     bool started = false;
     alb_err e = ALB_OK;
@@ -778,12 +778,12 @@ static alb_err read_chunks(exr_const_context_t c, const char *path, const exr_io
     return e;
 }
 
-static alb_err read_ctx(exr_const_context_t c, const char *path, const exr_io *io, frame_t *f,
-                        diag_t *d)
+static alb_err read_ctx(exr_const_context_t c, const char *path, const exr_io *io, alb_frame *f,
+                        alb_diag *d)
 {
     exr_attr_box2i_t dw;
     bool present[CH_COUNT], want[CH_COUNT];
-    frame_t p;
+    alb_frame p;
     memset(&p, 0, sizeof p);
     alb_err e = read_layout(c, path, io, &dw, d);
     if (e == ALB_OK)
@@ -793,8 +793,8 @@ static alb_err read_ctx(exr_const_context_t c, const char *path, const exr_io *i
     if (e != ALB_OK)
         return e;
     unsigned w = (unsigned)(dw.max.x - dw.min.x + 1), h = (unsigned)(dw.max.y - dw.min.y + 1);
-    if (frame_alloc(f, w, h, present[CH_CYCLES]) != 0)
-        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory for a %ux%u frame", w, h);
+    if (alb_frame_alloc(f, w, h, present[CH_CYCLES]) != 0)
+        return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory for a %ux%u frame", w, h);
     f->colour_bits = p.colour_bits;
     f->depth_bits = p.depth_bits;
     f->aa_levels = p.aa_levels;
@@ -802,8 +802,8 @@ static alb_err read_ctx(exr_const_context_t c, const char *path, const exr_io *i
     f->number = p.number;
     /* what an absent channel means: no face anywhere */
     for (size_t i = 0; i < (size_t)w * h; i++) {
-        f->face[i] = FRAME_NO_FACE;
-        f->level[i] = FRAME_NO_LEVEL;
+        f->face[i] = ALB_FRAME_NO_FACE;
+        f->level[i] = ALB_FRAME_NO_LEVEL;
     }
     for (int k = 0; k < CH_COUNT; k++)
         want[k] = present[k] && chans[k].type == EXR_PIXEL_UINT;
@@ -812,12 +812,12 @@ static alb_err read_ctx(exr_const_context_t c, const char *path, const exr_io *i
     return read_chunks(c, path, io, &dw, want, f, d);
 }
 
-alb_err exr_read_frame(const char *path, frame_t *f, diag_t *d)
+alb_err alb_exr_read_frame(const char *path, alb_frame *f, alb_diag *d)
 {
     memset(f, 0, sizeof *f);
     exr_io io = {open(path, O_RDONLY | O_CLOEXEC), 0};
     if (io.fd < 0)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
     exr_context_initializer_t init = io_init(&io);
     /* a truncated file must fail, not be patched up by guessing chunk offsets */
     init.flags = EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
@@ -831,6 +831,6 @@ alb_err exr_read_frame(const char *path, frame_t *f, diag_t *d)
     exr_finish(&c);   /* a read context has nothing to flush */
     close(io.fd);     /* read-only: nothing can be lost */
     if (e != ALB_OK)
-        frame_free(f);
+        alb_frame_free(f);
     return e;
 }

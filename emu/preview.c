@@ -1,7 +1,7 @@
 /* png.c — PNG previews of a frame's planes and diff images of two frames.
  * Each view maps a plane to 8-bit RGB pixels; libpng's simplified writer
  * stores them (it writes no tIME chunk, so equal frames give equal files). */
-#include "preview.h"
+#include "albatros/preview.h"
 
 #include <errno.h>
 #include <math.h>
@@ -14,18 +14,18 @@
 
 static const char *const view_names[] = {"colour", "depth", "face", "level", "cycles", "coverage"};
 
-int preview_view_parse(const char *name, preview_view *view)
+int alb_preview_view_parse(const char *name, alb_preview_view *view)
 {
     for (size_t i = 0; i < sizeof view_names / sizeof view_names[0]; i++) {
         if (strcmp(name, view_names[i]) == 0) {
-            *view = (preview_view)i;
+            *view = (alb_preview_view)i;
             return 0;
         }
     }
     return -1;
 }
 
-const char *preview_view_name(preview_view view)
+const char *alb_preview_view_name(alb_preview_view view)
 {
     if ((unsigned)view < sizeof view_names / sizeof view_names[0])
         return view_names[view];
@@ -95,7 +95,7 @@ static void face_colour(uint32_t id, uint8_t *px)
 
 /* ---- views ------------------------------------------------------------- */
 
-static void view_colour(const frame_t *f, size_t i, uint8_t *px)
+static void view_colour(const alb_frame *f, size_t i, uint8_t *px)
 {
     const uint16_t *c = &f->rgb[3 * i];
     put(px, to8(c[0], f->colour_bits), to8(c[1], f->colour_bits), to8(c[2], f->colour_bits));
@@ -107,7 +107,7 @@ typedef struct {
     unsigned levels;     /* last subdivision level */
 } view_scale;
 
-static unsigned last_level(const frame_t *f)
+static unsigned last_level(const alb_frame *f)
 {
     unsigned side = f->width > f->height ? f->width : f->height, n = 0;
     while ((1u << n) < side && n < 31)   /* ceil(log2) for any size */
@@ -115,7 +115,7 @@ static unsigned last_level(const frame_t *f)
     return n + f->aa_levels;
 }
 
-static view_scale scale_of(const frame_t *f)
+static view_scale scale_of(const alb_frame *f)
 {
     view_scale s = {0, 0, 0, last_level(f)};
     uint32_t dmin = UINT32_MAX, dmax = 0;
@@ -135,7 +135,7 @@ static view_scale scale_of(const frame_t *f)
     return s;
 }
 
-static void view_depth(const frame_t *f, const view_scale *s, size_t i, uint8_t *px)
+static void view_depth(const alb_frame *f, const view_scale *s, size_t i, uint8_t *px)
 {
     uint32_t dv = f->depth[i];
     if (dv == 0) {
@@ -147,11 +147,11 @@ static void view_depth(const frame_t *f, const view_scale *s, size_t i, uint8_t 
     put(px, g, g, g);
 }
 
-static void view_level(const frame_t *f, const view_scale *s, size_t i, uint8_t *px)
+static void view_level(const alb_frame *f, const view_scale *s, size_t i, uint8_t *px)
 {
     static const uint8_t stops[][3] = {
         {0, 0, 255}, {0, 255, 255}, {0, 255, 0}, {255, 255, 0}, {255, 0, 0}};
-    if (f->level[i] == FRAME_NO_LEVEL || f->face[i] == FRAME_NO_FACE) {
+    if (f->level[i] == ALB_FRAME_NO_LEVEL || f->face[i] == ALB_FRAME_NO_FACE) {
         put(px, 0, 0, 0);
         return;
     }
@@ -159,29 +159,29 @@ static void view_level(const frame_t *f, const view_scale *s, size_t i, uint8_t 
     ramp(stops, sizeof stops / sizeof stops[0], t, px);
 }
 
-static void view_cycles(const frame_t *f, const view_scale *s, size_t i, uint8_t *px)
+static void view_cycles(const alb_frame *f, const view_scale *s, size_t i, uint8_t *px)
 {
     static const uint8_t stops[][3] = {{0, 0, 0}, {255, 0, 0}, {255, 255, 0}, {255, 255, 255}};
     double t = s->max > 0 ? (double)f->cycles[i] / s->max : 0.0;
     ramp(stops, sizeof stops / sizeof stops[0], t, px);
 }
 
-static void view_pixel(const frame_t *f, preview_view view, const view_scale *s, size_t i,
+static void view_pixel(const alb_frame *f, alb_preview_view view, const view_scale *s, size_t i,
                        uint8_t *px)
 {
     unsigned g;
     switch (view) {
-    case PREVIEW_COLOUR: view_colour(f, i, px); break;
-    case PREVIEW_DEPTH: view_depth(f, s, i, px); break;
-    case PREVIEW_LEVEL: view_level(f, s, i, px); break;
-    case PREVIEW_CYCLES: view_cycles(f, s, i, px); break;
-    case PREVIEW_FACE:
-        if (f->face[i] == FRAME_NO_FACE)
+    case ALB_PREVIEW_COLOUR: view_colour(f, i, px); break;
+    case ALB_PREVIEW_DEPTH: view_depth(f, s, i, px); break;
+    case ALB_PREVIEW_LEVEL: view_level(f, s, i, px); break;
+    case ALB_PREVIEW_CYCLES: view_cycles(f, s, i, px); break;
+    case ALB_PREVIEW_FACE:
+        if (f->face[i] == ALB_FRAME_NO_FACE)
             put(px, 0, 0, 0);
         else
             face_colour(f->face[i], px);
         break;
-    case PREVIEW_COVERAGE:
+    case ALB_PREVIEW_COVERAGE:
         g = round_unit(ldexp((double)f->coverage[i], -2 * (int)f->aa_levels), 255);
         put(px, g, g, g);
         break;
@@ -190,37 +190,37 @@ static void view_pixel(const frame_t *f, preview_view view, const view_scale *s,
 
 /* ---- writing ------------------------------------------------------------- */
 
-static alb_err check_frame(const char *path, const frame_t *f, diag_t *d)
+static alb_err check_frame(const char *path, const alb_frame *f, alb_diag *d)
 {
     if (f->width < 1 || f->height < 1 || f->width > 65535 || f->height > 65535)
-        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
+        return alb_diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
                        "cannot draw a %ux%u frame: sides must be 1..65535", f->width, f->height);
     if (f->colour_bits < 1 || f->colour_bits > 16 || f->aa_levels > 7)
-        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
+        return alb_diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
                        "cannot draw a frame with colour_bits=%u aa=%u (need 1..16, 0..7)",
                        f->colour_bits, f->aa_levels);
     if (!f->rgb || !f->depth || !f->face || !f->level || !f->coverage)
-        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0, "cannot draw a frame without planes");
+        return alb_diag_at(d, ALB_ERR_CONFIG, path, 0, 0, "cannot draw a frame without planes");
     return ALB_OK;
 }
 
-static uint8_t *alloc_rgb(unsigned w, unsigned h, const char *path, diag_t *d)
+static uint8_t *alloc_rgb(unsigned w, unsigned h, const char *path, alb_diag *d)
 {
     uint8_t *px = malloc((size_t)w * h * 3);
     if (!px)
-        diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory for a %ux%u image", w, h);
+        alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory for a %ux%u image", w, h);
     return px;
 }
 
 /* Store w x h RGB pixels, top row first, as an 8-bit RGB PNG. */
 static alb_err write_rgb(const char *path, unsigned w, unsigned h, const uint8_t *px,
-                         diag_t *d)
+                         alb_diag *d)
 {
     /* we open the file ourselves so that a failure to create it never
      * removes someone else's file, and a failure after it does */
     FILE *fp = fopen(path, "wb");
     if (!fp)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
     png_image img;
     memset(&img, 0, sizeof img);
     img.version = PNG_IMAGE_VERSION;
@@ -229,24 +229,24 @@ static alb_err write_rgb(const char *path, unsigned w, unsigned h, const uint8_t
     img.format = PNG_FORMAT_RGB;
     alb_err e = ALB_OK;
     if (!png_image_write_to_stdio(&img, fp, 0, px, 0, NULL))
-        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot write PNG: %s (libpng)", img.message);
+        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot write PNG: %s (libpng)", img.message);
     png_image_free(&img);
     if (fclose(fp) != 0 && e == ALB_OK)
-        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot write: %s", strerror(errno));
+        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot write: %s", strerror(errno));
     if (e != ALB_OK)
         remove(path);
     return e;
 }
 
-alb_err preview_write(const char *path, const frame_t *f, preview_view view, diag_t *d)
+alb_err alb_preview_write(const char *path, const alb_frame *f, alb_preview_view view, alb_diag *d)
 {
     alb_err e = check_frame(path, f, d);
     if (e != ALB_OK)
         return e;
-    if ((unsigned)view > PREVIEW_COVERAGE)
-        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0, "unknown PNG view %d", (int)view);
-    if (view == PREVIEW_CYCLES && !f->cycles)
-        return diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
+    if ((unsigned)view > ALB_PREVIEW_COVERAGE)
+        return alb_diag_at(d, ALB_ERR_CONFIG, path, 0, 0, "unknown PNG view %d", (int)view);
+    if (view == ALB_PREVIEW_CYCLES && !f->cycles)
+        return alb_diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
                        "this frame has no cycle counts (render with --fidelity cycle or timed)");
     uint8_t *px = alloc_rgb(f->width, f->height, path, d);
     if (!px)
@@ -261,7 +261,7 @@ alb_err preview_write(const char *path, const frame_t *f, preview_view view, dia
 
 /* Pixel i has the same colour in a and b, each channel compared as a
  * fraction of its frame's full scale (exact: cross-multiplied). */
-static int same_colour(const frame_t *a, const frame_t *b, size_t i)
+static int same_colour(const alb_frame *a, const alb_frame *b, size_t i)
 {
     uint64_t amax = (UINT64_C(1) << a->colour_bits) - 1;
     uint64_t bmax = (UINT64_C(1) << b->colour_bits) - 1;
@@ -272,7 +272,7 @@ static int same_colour(const frame_t *a, const frame_t *b, size_t i)
 }
 
 /* Colour of one diff pixel; counts what it found. */
-static void diff_pixel(const frame_t *a, const frame_t *b, size_t i, uint8_t *px,
+static void diff_pixel(const alb_frame *a, const alb_frame *b, size_t i, uint8_t *px,
                        unsigned *faces, unsigned *colours)
 {
     int face_same = a->face[i] == b->face[i];
@@ -293,8 +293,8 @@ static void diff_pixel(const frame_t *a, const frame_t *b, size_t i, uint8_t *px
     }
 }
 
-alb_err preview_write_diff(const char *path, const frame_t *a, const frame_t *b,
-                       unsigned *face_diff, unsigned *colour_diff, diag_t *d)
+alb_err alb_preview_write_diff(const char *path, const alb_frame *a, const alb_frame *b,
+                       unsigned *face_diff, unsigned *colour_diff, alb_diag *d)
 {
     alb_err e = check_frame(path, a, d);
     if (e == ALB_OK)
@@ -302,7 +302,7 @@ alb_err preview_write_diff(const char *path, const frame_t *a, const frame_t *b,
     if (e != ALB_OK)
         return e;
     if (a->width != b->width || a->height != b->height)
-        return diag_at(d, ALB_ERR_MISMATCH, path, 0, 0,
+        return alb_diag_at(d, ALB_ERR_MISMATCH, path, 0, 0,
                        "cannot diff a %ux%u frame with a %ux%u one", a->width, a->height,
                        b->width, b->height);
     uint8_t *px = alloc_rgb(a->width, a->height, path, d);

@@ -6,19 +6,57 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *fidelity_name(fidelity f)
+const char *alb_fidelity_name(alb_fidelity f)
 {
-    return f == FIDELITY_CYCLE ? "cycle" : f == FIDELITY_TIMED ? "timed" : "functional";
+    return f == ALB_FIDELITY_CYCLE ? "cycle" : f == ALB_FIDELITY_TIMED ? "timed" : "functional";
 }
 
-int fidelity_parse(const char *s, fidelity *f)
+int alb_fidelity_parse(const char *s, alb_fidelity *f)
 {
-    for (int i = FIDELITY_FUNCTIONAL; i <= FIDELITY_CYCLE; i++)
-        if (strcmp(s, fidelity_name((fidelity)i)) == 0) {
-            *f = (fidelity)i;
+    for (int i = ALB_FIDELITY_FUNCTIONAL; i <= ALB_FIDELITY_CYCLE; i++)
+        if (strcmp(s, alb_fidelity_name((alb_fidelity)i)) == 0) {
+            *f = (alb_fidelity)i;
             return 0;
         }
     return -1;
+}
+
+/* ---- queues ---- */
+
+void *queue_push(item_queue *q)
+{
+    if (q->head + q->n == q->cap) {
+        if (q->head) {   /* reuse what the reader took */
+            memmove(q->a, queue_front(q), q->n * q->size);
+            q->head = 0;
+        } else {
+            size_t cap = q->cap ? 2 * q->cap : 256;
+            void *na = realloc(q->a, cap * q->size);
+            if (!na)
+                return NULL;
+            q->a = na;
+            q->cap = cap;
+        }
+    }
+    void *item = (char *)q->a + (q->head + q->n++) * q->size;
+    return memset(item, 0, q->size);
+}
+
+void queue_drop(item_queue *q, size_t k)
+{
+    if (k > q->n)
+        k = q->n;
+    q->head += k;
+    q->n -= k;
+    if (!q->n)
+        q->head = 0;
+}
+
+void queue_free(item_queue *q)
+{
+    free(q->a);
+    q->a = NULL;
+    q->head = q->n = q->cap = 0;
 }
 
 /* ---- bins ---- */
@@ -53,7 +91,7 @@ static unsigned bin_index(const sim_bins *b, int64_t t)
     return lo;
 }
 
-sim_counters *bins_at(sim_bins *b, int64_t t) { return &b->bin[bin_index(b, t)]; }
+alb_sim_counters *bins_at(sim_bins *b, int64_t t) { return &b->bin[bin_index(b, t)]; }
 
 void bins_add(sim_bins *b, size_t offset, int64_t a, int64_t e)
 {
@@ -68,7 +106,7 @@ int bins_retire(sim_bins *b, int64_t r)
 {
     if (b->nretired == b->cap) {
         unsigned cap = b->cap * 2;
-        sim_counters *nb = realloc(b->bin, (cap + 1) * sizeof *nb);
+        alb_sim_counters *nb = realloc(b->bin, (cap + 1) * sizeof *nb);
         if (!nb)
             return -1;
         b->bin = nb;
@@ -79,7 +117,7 @@ int bins_retire(sim_bins *b, int64_t r)
         memset(b->bin + b->cap + 1, 0, (cap - b->cap) * sizeof *nb);
         b->cap = cap;
     }
-    sim_counters *c = &b->bin[b->nretired];
+    alb_sim_counters *c = &b->bin[b->nretired];
     int64_t prev = b->nretired ? b->retire[b->nretired - 1] : -1;
     c->retire = (uint64_t)r;
     c->cycles = (uint64_t)(r - prev);
@@ -90,10 +128,10 @@ int bins_retire(sim_bins *b, int64_t r)
 /* ---- the per-pixel cycle map ---- */
 
 /* Cells of level l are (S_W >> l) x (S_H >> l), one sample at least. */
-static unsigned lvl_wl(const vp_t *vp, unsigned l) { return vp->lw > l ? vp->lw - l : 0; }
-static unsigned lvl_hl(const vp_t *vp, unsigned l) { return vp->lh > l ? vp->lh - l : 0; }
+static unsigned lvl_wl(const alb_vp *vp, unsigned l) { return vp->lw > l ? vp->lw - l : 0; }
+static unsigned lvl_hl(const alb_vp *vp, unsigned l) { return vp->lh > l ? vp->lh - l : 0; }
 
-int cycle_map_init(cycle_map *m, const vp_t *vp)
+int cycle_map_init(cycle_map *m, const alb_vp *vp)
 {
     memset(m, 0, sizeof *m);
     m->levels = vp->p + 1;
@@ -110,19 +148,19 @@ int cycle_map_init(cycle_map *m, const vp_t *vp)
 
 void cycle_map_free(cycle_map *m)
 {
-    for (unsigned l = 0; l < VP_MAX_LEVELS; l++)
+    for (unsigned l = 0; l < ALB_VP_MAX_LEVELS; l++)
         free(m->lvl[l]);
     memset(m, 0, sizeof *m);
 }
 
-void cycle_map_charge(cycle_map *m, const vp_t *vp, const vp_cell *k, uint64_t cycles)
+void cycle_map_charge(cycle_map *m, const alb_vp *vp, const vp_cell *k, uint64_t cycles)
 {
     unsigned l = k->level;
     size_t per_row = (size_t)1 << (vp->lw - k->wl);
     m->lvl[l][(size_t)(k->r0 >> k->hl) * per_row + (k->c0 >> k->wl)] += cycles;
 }
 
-void cycle_map_resolve(cycle_map *m, const vp_t *vp, frame_t *out)
+void cycle_map_resolve(cycle_map *m, const alb_vp *vp, alb_frame *out)
 {
     /* Each sample's share is the sum over the cells containing it of
      * cycles * 65536 / (samples of the cell), truncated per cell: pushed down
@@ -152,11 +190,11 @@ void cycle_map_resolve(cycle_map *m, const vp_t *vp, frame_t *out)
     }
 }
 
-uint64_t gp_header_cycles(const profile_t *p, uint32_t header)
+uint64_t gp_header_cycles(const alb_profile *p, uint32_t header)
 {
-    if (header >> 24 == WS_OP_FACE)
+    if (header >> 24 == ALB_WS_OP_FACE)
         return p->gp_face_cycles + (uint64_t)p->gp_edge_cycles * (header >> 16 & 0xFF);
-    if (header >> 24 == WS_OP_FRAME)
+    if (header >> 24 == ALB_WS_OP_FRAME)
         return p->gp_frame_cycles;
     return 0;
 }
@@ -164,51 +202,51 @@ uint64_t gp_header_cycles(const profile_t *p, uint32_t header)
 /* ---- entry and output ---- */
 
 typedef struct {
-    sim_sink sink;
+    alb_sim_sink sink;
     void *ctx;
 } functional_ctx;
 
-static int functional_sink(void *ctx, const frame_t *f, const vp_stats *st)
+static int functional_sink(void *ctx, const alb_frame *f, const alb_vp_stats *st)
 {
     functional_ctx *c = ctx;
     return c->sink ? c->sink(c->ctx, f, st, NULL) : 0;
 }
 
-alb_err sim_run(const profile_t *p, const uint32_t *w, size_t n, const char *name,
-                const sim_options *opt, sim_sink sink, void *ctx, diag_t *d)
+alb_err alb_sim_run(const alb_profile *p, const uint32_t *w, size_t n, const char *name,
+                const alb_sim_options *opt, alb_sim_sink sink, void *ctx, alb_diag *d)
 {
-    if (opt->fid == FIDELITY_TIMED)
+    if (opt->fid == ALB_FIDELITY_TIMED)
         return sim_run_timed(p, w, n, name, sink, ctx, d);
-    if (opt->fid == FIDELITY_CYCLE)
+    if (opt->fid == ALB_FIDELITY_CYCLE)
         return sim_run_cycle(p, w, n, name, opt, sink, ctx, d);
-    vp_t *vp = NULL;
-    alb_err e = vp_create(&vp, p, d);
+    alb_vp *vp = NULL;
+    alb_err e = alb_vp_create(&vp, p, d);
     functional_ctx fc = {sink, ctx};
-    if (!e && opt->threads > 1 && vp_set_threads(vp, opt->threads))
-        e = diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory for %u threads", opt->threads);
+    if (!e && opt->threads > 1 && alb_vp_set_threads(vp, opt->threads))
+        e = alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory for %u threads", opt->threads);
     if (!e)
-        e = vp_run_stream(vp, w, n, name, functional_sink, &fc, d);
-    vp_destroy(vp);
+        e = alb_vp_run_stream(vp, w, n, name, functional_sink, &fc, d);
+    alb_vp_destroy(vp);
     return e;
 }
 
-static double fps(const sim_counters *c, const profile_t *p)
+static double fps(const alb_sim_counters *c, const alb_profile *p)
 {
     return c->cycles ? 1000.0 * p->clock_khz / (double)c->cycles : 0;
 }
 
-void sim_counters_json(FILE *f, const sim_counters *c, const profile_t *p)
+void alb_sim_counters_json(FILE *f, const alb_sim_counters *c, const alb_profile *p)
 {
     fputc('{', f);
 #define J(field) fprintf(f, "\"" #field "\": %llu, ", (unsigned long long)c->field);
-    SIM_COUNTER_FIELDS(J)
+    ALB_SIM_COUNTER_FIELDS(J)
 #undef J
     fprintf(f, "\"fifo_mean\": %.3f, \"fps\": %.3f, \"realtime_50hz\": %s}",
             c->cycles ? (double)c->fifo_sum / (double)c->cycles : 0.0, fps(c, p),
             c->cycles * 50 <= (uint64_t)p->clock_khz * 1000 ? "true" : "false");
 }
 
-void sim_counters_text(FILE *f, const sim_counters *c, const profile_t *p)
+void alb_sim_counters_text(FILE *f, const alb_sim_counters *c, const alb_profile *p)
 {
     double cyc = (double)(c->cycles ? c->cycles : 1);
     fprintf(f, "  %llu cycles = %.3f ms at %.3f MHz: %.1f fps, %s the 50 Hz budget\n",

@@ -9,8 +9,8 @@
  * an RTL and compare the events of every cycle (docs/cosim.md); sim_run_cycle
  * gives it a whole stream and runs it to the end. */
 #include "sim_internal.h"
-#include "vcd.h"
-#include "bridge/link.h"
+#include "albatros/vcd.h"
+#include "albatros/link.h"
 
 #include <signal.h>
 #include <stdlib.h>
@@ -41,7 +41,7 @@ typedef struct {
 typedef struct {                 /* VP input parser */
     size_t pos;                  /* index of the next word to take */
     size_t pkt_start, pkt_end;   /* the packet it is in (pkt_end = pkt_start: none yet) */
-    ws_event_kind kind;          /* that packet's kind, from its header word */
+    alb_ws_event_kind kind;          /* that packet's kind, from its header word */
     uint8_t state;               /* trace: 0 idle 1 pop 2 starve 3 blocked */
 } parser_unit;
 
@@ -94,10 +94,10 @@ typedef struct {
 } pending_write;
 
 struct sim_cycle {
-    profile_t prof;
-    const profile_t *p;          /* &prof */
-    sim_producer producer;
-    vp_t *vp;
+    alb_profile prof;
+    const alb_profile *p;          /* &prof */
+    alb_producer producer;
+    alb_vp *vp;
     /* the stream as received: words [0, n) */
     uint32_t *w;
     size_t n, cap;
@@ -105,8 +105,8 @@ struct sim_cycle {
     bool recv_end;               /* the packet recv_pkt ends is END */
     bool end_received;           /* the END packet's last word is among them */
     bool ext_push;               /* an external producer's word for the next cycle */
-    ws_reader rd;                /* the parser's grammar state, packet by packet */
-    ws_event *ev;
+    alb_ws_reader rd;                /* the parser's grammar state, packet by packet */
+    alb_ws_event *ev;
     const char *name;
     gp_unit gp;
     fifo_unit fifo;
@@ -122,54 +122,40 @@ struct sim_cycle {
     unsigned frames_taken;       /* FRAME packets taken */
     unsigned ends_taken;         /* FRAME_END packets taken */
     unsigned frame_open;
-    ws_frame *frames;            /* FRAME packets taken and not begun: [frame_open + 1, frames_taken) */
+    alb_ws_frame *frames;            /* FRAME packets taken and not begun: [frame_open + 1, frames_taken) */
     unsigned frames_cap;
     int64_t prev_retire;
     bool ended;
     sim_bins bins;
     cycle_map map;
-    frame_t frame;
-    vp_stats last_stats;         /* of the last frame retired */
+    alb_frame frame;
+    alb_vp_stats last_stats;         /* of the last frame retired */
     unsigned latency;
-    sim_sink sink;
+    alb_sim_sink sink;
     void *ctx;
     /* events (docs/cosim.md): kinds recorded, the queue, writes in flight */
     uint32_t record;
     uint32_t happened;           /* kinds that happened in the last cycle */
-    sim_event *evq;
-    size_t ev_head, ev_n, ev_cap;
-    pending_write *wq;
-    size_t wq_head, wq_n, wq_cap;
+    item_queue evq;              /* alb_event */
+    item_queue wq;               /* pending_write, in write order */
     /* the trace */
-    vcd_t *vcd;
+    alb_vcd *vcd;
     uint64_t vcd_from, vcd_to;
     unsigned units;              /* units traced */
     int64_t t;                   /* the next cycle to run */
     alb_err err;
-    diag_t *d, dd;
+    alb_diag *d, dd;
 };
 
 /* ---- events ---- */
 
-static sim_event *event_new(sim_cycle *m, uint32_t kind, int64_t t)
+static alb_event *event_new(sim_cycle *m, uint32_t kind, int64_t t)
 {
-    if (m->ev_head + m->ev_n == m->ev_cap) {
-        if (m->ev_head) {   /* reuse what the reader took */
-            memmove(m->evq, m->evq + m->ev_head, m->ev_n * sizeof *m->evq);
-            m->ev_head = 0;
-        } else {
-            size_t cap = m->ev_cap ? 2 * m->ev_cap : 256;
-            sim_event *nq = realloc(m->evq, cap * sizeof *nq);
-            if (!nq) {
-                m->err = diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory for events");
-                return NULL;
-            }
-            m->evq = nq;
-            m->ev_cap = cap;
-        }
+    alb_event *e = queue_push(&m->evq);
+    if (!e) {
+        m->err = alb_diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory for events");
+        return NULL;
     }
-    sim_event *e = &m->evq[m->ev_head + m->ev_n++];
-    memset(e, 0, sizeof *e);
     e->cycle = (uint64_t)t;
     e->kind = kind;
     return e;
@@ -177,7 +163,7 @@ static sim_event *event_new(sim_cycle *m, uint32_t kind, int64_t t)
 
 /* An event of `kind` in cycle t: noted always (sim_cycle_happened), queued
  * only if recorded.  NULL when not recorded. */
-static inline sim_event *event(sim_cycle *m, uint32_t kind, int64_t t)
+static inline alb_event *event(sim_cycle *m, uint32_t kind, int64_t t)
 {
     m->happened |= kind;
     return m->record & kind ? event_new(m, kind, t) : NULL;
@@ -185,7 +171,7 @@ static inline sim_event *event(sim_cycle *m, uint32_t kind, int64_t t)
 
 static void event_word(sim_cycle *m, uint32_t kind, int64_t t, size_t index)
 {
-    sim_event *e = event(m, kind, t);
+    alb_event *e = event(m, kind, t);
     if (e) {
         e->index = index;
         e->word = m->w[index];
@@ -194,7 +180,7 @@ static void event_word(sim_cycle *m, uint32_t kind, int64_t t, size_t index)
 
 static void event_face(sim_cycle *m, uint32_t kind, int64_t t, const slot *s, size_t slot_index)
 {
-    sim_event *e = event(m, kind, t);
+    alb_event *e = event(m, kind, t);
     if (e) {
         e->face = s->face.fs.id;
         e->slot = (uint32_t)slot_index;
@@ -205,7 +191,7 @@ static void event_face(sim_cycle *m, uint32_t kind, int64_t t, const slot *s, si
 static void event_cell(sim_cycle *m, uint32_t kind, int64_t t, uint32_t face, const vp_cell *k,
                        const vp_step *st)
 {
-    sim_event *e = event(m, kind, t);
+    alb_event *e = event(m, kind, t);
     if (e) {
         e->face = face;
         e->x = k->c0;
@@ -231,15 +217,15 @@ static bool drained(const sim_cycle *m, int64_t t)
            m->ends_taken == m->frame_open;
 }
 
-static ws_event_kind kind_of(uint32_t header)
+static alb_ws_event_kind kind_of(uint32_t header)
 {
     switch (header >> 24) {
-    case WS_OP_CONFIG: return WS_EV_CONFIG;
-    case WS_OP_TEXTURE: return WS_EV_TEXTURE;
-    case WS_OP_FRAME: return WS_EV_FRAME;
-    case WS_OP_FACE: return WS_EV_FACE;
-    case WS_OP_FRAME_END: return WS_EV_FRAME_END;
-    default: return WS_EV_END;   /* END, or a header the decoder will refuse */
+    case ALB_WS_OP_CONFIG: return ALB_WS_EV_CONFIG;
+    case ALB_WS_OP_TEXTURE: return ALB_WS_EV_TEXTURE;
+    case ALB_WS_OP_FRAME: return ALB_WS_EV_FRAME;
+    case ALB_WS_OP_FACE: return ALB_WS_EV_FACE;
+    case ALB_WS_OP_FRAME_END: return ALB_WS_EV_FRAME_END;
+    default: return ALB_WS_EV_END;   /* END, or a header the decoder will refuse */
     }
 }
 
@@ -247,39 +233,39 @@ static ws_event_kind kind_of(uint32_t header)
  * opcode counts as one word, which the parser's decoder then refuses). */
 static size_t packet_end(const sim_cycle *m, size_t i)
 {
-    size_t len = ws_packet_words(m->w[i]);
+    size_t len = alb_ws_packet_words(m->w[i]);
     return i + (len ? len : 1);
 }
 
 /* ---- the parser ---- */
 
-static bool has_room(const sim_cycle *m, ws_event_kind kind, int64_t t)
+static bool has_room(const sim_cycle *m, alb_ws_event_kind kind, int64_t t)
 {
     switch (kind) {
-    case WS_EV_FACE:
+    case ALB_WS_EV_FACE:
         return m->slots[m->faces_loaded % m->p->face_slots].loaded_at < 0;
-    case WS_EV_TEXTURE:
-    case WS_EV_END:
+    case ALB_WS_EV_TEXTURE:
+    case ALB_WS_EV_END:
         return drained(m, t);
     default:
         return true;
     }
 }
 
-static void begin_frame(sim_cycle *m, const ws_frame *f)
+static void begin_frame(sim_cycle *m, const alb_ws_frame *f)
 {
-    vp_frame_begin(m->vp, f);
+    alb_vp_frame_begin(m->vp, f);
 }
 
 /* A FRAME taken while an earlier frame drains: its registers wait. */
-static void frame_wait(sim_cycle *m, const ws_frame *f)
+static void frame_wait(sim_cycle *m, const alb_ws_frame *f)
 {
     unsigned k = m->frames_taken - m->frame_open - 2;   /* frames_taken counts it */
     if (k >= m->frames_cap) {
         unsigned cap = m->frames_cap ? 2 * m->frames_cap : 4;
-        ws_frame *nf = realloc(m->frames, cap * sizeof *nf);
+        alb_ws_frame *nf = realloc(m->frames, cap * sizeof *nf);
         if (!nf) {
-            m->err = diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory");
+            m->err = alb_diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory");
             return;
         }
         m->frames = nf;
@@ -293,20 +279,20 @@ static void frame_wait(sim_cycle *m, const ws_frame *f)
 static void packet_taken(sim_cycle *m, int64_t t)
 {
     parser_unit *pa = &m->parser;
-    ws_event *ev = m->ev;
+    alb_ws_event *ev = m->ev;
     m->rd.w = m->w;
     m->rd.n = pa->pkt_end;
-    if (m->err || (m->err = ws_next(&m->rd, ev, m->d)))
+    if (m->err || (m->err = alb_ws_next(&m->rd, ev, m->d)))
         return;
     switch (ev->kind) {
-    case WS_EV_CONFIG:
-        if (!(m->err = vp_config(m->vp, &ev->u.config, m->d)))
+    case ALB_WS_EV_CONFIG:
+        if (!(m->err = alb_vp_config(m->vp, &ev->u.config, m->d)))
             m->frame.near = ev->u.config.near;
         break;
-    case WS_EV_TEXTURE:
-        m->err = vp_texture(m->vp, &ev->u.texture, m->d);
+    case ALB_WS_EV_TEXTURE:
+        m->err = alb_vp_texture(m->vp, &ev->u.texture, m->d);
         break;
-    case WS_EV_FRAME:
+    case ALB_WS_EV_FRAME:
         /* the next frame's registers; it begins now if every earlier frame
          * has retired, else when its predecessor retires */
         if (m->frames_taken++ == m->frame_open)
@@ -314,20 +300,20 @@ static void packet_taken(sim_cycle *m, int64_t t)
         else
             frame_wait(m, &ev->u.frame);
         break;
-    case WS_EV_FACE: {
+    case ALB_WS_EV_FACE: {
         size_t k = m->faces_loaded % m->p->face_slots;
         slot *s = &m->slots[k];
         m->err = vp_load_face(m->vp, &ev->u.face, &s->face, m->d);
         s->loaded_at = t;
         s->frame = m->frames_taken - 1;
         m->faces_loaded++;
-        event_face(m, SIM_EV_LOAD, t, s, k);
+        event_face(m, ALB_EV_LOAD, t, s, k);
         break;
     }
-    case WS_EV_FRAME_END:
+    case ALB_WS_EV_FRAME_END:
         m->ends_taken++;
         break;
-    case WS_EV_END:
+    case ALB_WS_EV_END:
         m->ended = true;
         break;
     }
@@ -335,7 +321,7 @@ static void packet_taken(sim_cycle *m, int64_t t)
         /* a packet the decoder accepted but this VP cannot take: say where */
         char msg[sizeof m->d->msg];
         memcpy(msg, m->d->msg, sizeof msg);
-        diag_off(m->d, m->err, m->name, (long long)ev->first * 4, "word %zu: %s", ev->first, msg);
+        alb_diag_off(m->d, m->err, m->name, (long long)ev->first * 4, "word %zu: %s", ev->first, msg);
     }
 }
 
@@ -367,7 +353,7 @@ static void parser_tick(sim_cycle *m, int64_t t, uint64_t fifo_start)
     m->fifo.pop = true;
     pa->state = 1;
     bins_add(&m->bins, CNT(parser_busy), t, t + 1);
-    event_word(m, SIM_EV_POP, t, pa->pos);
+    event_word(m, ALB_EV_POP, t, pa->pos);
     if (++pa->pos == pa->pkt_end)
         packet_taken(m, t);
 }
@@ -379,13 +365,13 @@ static void push_word(sim_cycle *m, int64_t t)
     m->fifo.count++;
     m->fifo.push = true;
     bins_add(&m->bins, CNT(gp_busy), t, t + 1);
-    event_word(m, SIM_EV_PUSH, t, m->fifo.pushed++);
+    event_word(m, ALB_EV_PUSH, t, m->fifo.pushed++);
 }
 
 static void gp_tick(sim_cycle *m, int64_t t, uint64_t fifo_start)
 {
     gp_unit *g = &m->gp;
-    if (m->producer == SIM_PRODUCER_EXTERNAL) {
+    if (m->producer == ALB_PRODUCER_EXTERNAL) {
         g->state = m->ext_push ? 2 : 0;
         if (m->ext_push)
             push_word(m, t);
@@ -442,7 +428,7 @@ static void engine_next(sim_cycle *m, int64_t t)
         return;
     }
     e->busy = false;
-    event_face(m, SIM_EV_END, t, s, e->slot);
+    event_face(m, ALB_EV_END, t, s, e->slot);
     s->loaded_at = -1;          /* the slot is free from the next cycle */
     m->faces_started++;
 }
@@ -472,7 +458,7 @@ static void engine_tick(sim_cycle *m, int64_t t, uint64_t queue_start)
         e->slot = m->faces_started % m->p->face_slots;
         vp_count_face(m->vp, &s->face);
         vp_walk_begin(&e->walk, m->vp, &s->face);
-        event_face(m, SIM_EV_START, t, s, e->slot);
+        event_face(m, ALB_EV_START, t, s, e->slot);
         engine_next(m, t);   /* the first step starts this cycle */
     }
     e->did = e->stalled ? 2 : 1;
@@ -487,7 +473,7 @@ static void engine_tick(sim_cycle *m, int64_t t, uint64_t queue_start)
     bins_add(&m->bins, CNT(engine_busy), t, t + 1);
     if (--e->left)
         return;
-    event_cell(m, SIM_EV_CELL, t, e->did_face, &e->step.cell, &e->step);
+    event_cell(m, ALB_EV_CELL, t, e->did_face, &e->step.cell, &e->step);
     if (step_fills(&e->step) && !enqueue(m, queue_start)) {
         e->stalled = true;
         return;
@@ -499,22 +485,10 @@ static void engine_tick(sim_cycle *m, int64_t t, uint64_t queue_start)
 
 static pending_write *write_new(sim_cycle *m)
 {
-    if (m->wq_head + m->wq_n == m->wq_cap) {
-        if (m->wq_head) {
-            memmove(m->wq, m->wq + m->wq_head, m->wq_n * sizeof *m->wq);
-            m->wq_head = 0;
-        } else {
-            size_t cap = m->wq_cap ? 2 * m->wq_cap : 1024;
-            pending_write *nq = realloc(m->wq, cap * sizeof *nq);
-            if (!nq) {
-                m->err = diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory for events");
-                return NULL;
-            }
-            m->wq = nq;
-            m->wq_cap = cap;
-        }
-    }
-    return &m->wq[m->wq_head + m->wq_n++];
+    pending_write *pw = queue_push(&m->wq);
+    if (!pw)
+        m->err = alb_diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory for events");
+    return pw;
 }
 
 /* vp_fill of the cell the fill unit takes in cycle t, noting which of its
@@ -530,19 +504,19 @@ static void fill_noted(sim_cycle *m, const queued_cell *qc, int64_t t)
     if (n > pt->cap) {
         uint32_t *nw = realloc(pt->won, (size_t)n * sizeof *nw);
         if (!nw) {
-            m->err = diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory for the trace");
+            m->err = alb_diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory for the trace");
             return;
         }
         pt->won = nw;
         pt->cap = n;
     }
-    const vp_t *vp = m->vp;
+    const alb_vp *vp = m->vp;
     const uint32_t *depth = vp->s_depth;
     const size_t sw = vp->sw;
     for (uint32_t i = 0; i < n; i++)
         pt->won[i] = depth[(size_t)(k->r0 + i / cw) * sw + k->c0 + i % cw];
     vp_fill(m->vp, &qc->fs, k);
-    const bool writes = m->record & SIM_EV_WRITE;
+    const bool writes = m->record & ALB_EV_WRITE;
     for (uint32_t i = 0; i < n; i++) {
         size_t idx = (size_t)(k->r0 + i / cw) * sw + k->c0 + i % cw;
         pt->won[i] = depth[idx] != pt->won[i];
@@ -574,8 +548,8 @@ static void fill_tick(sim_cycle *m, int64_t t, uint64_t queue_start)
         f->samples = vp_cell_samples(&qc->cell);
         f->next = 0;
         cycle_map_charge(&m->map, m->vp, &qc->cell, f->left);
-        event_cell(m, SIM_EV_FILL, t, qc->fs.id, &qc->cell, NULL);
-        if (m->pipe_traced || (m->record & SIM_EV_WRITE))
+        event_cell(m, ALB_EV_FILL, t, qc->fs.id, &qc->cell, NULL);
+        if (m->pipe_traced || (m->record & ALB_EV_WRITE))
             fill_noted(m, qc, t);
         else
             vp_fill(m->vp, &qc->fs, &qc->cell);
@@ -592,9 +566,9 @@ static void fill_tick(sim_cycle *m, int64_t t, uint64_t queue_start)
 /* The pipeline's last stage in cycle t: the writes due at its end. */
 static void writes_due(sim_cycle *m, int64_t t)
 {
-    while (m->wq_n && m->wq[m->wq_head].at == t) {
-        const pending_write *pw = &m->wq[m->wq_head];
-        sim_event *e = event(m, SIM_EV_WRITE, t);
+    while (m->wq.n && ((const pending_write *)queue_front(&m->wq))->at == t) {
+        const pending_write *pw = queue_front(&m->wq);
+        alb_event *e = event(m, ALB_EV_WRITE, t);
         if (!e)
             return;
         e->x = pw->x;
@@ -603,11 +577,8 @@ static void writes_due(sim_cycle *m, int64_t t)
         e->face = pw->face;
         e->level = pw->level;
         memcpy(e->rgb, pw->rgb, sizeof e->rgb);
-        m->wq_head++;
-        m->wq_n--;
+        queue_drop(&m->wq, 1);
     }
-    if (!m->wq_n)
-        m->wq_head = 0;
 }
 
 /* ---- frames ---- */
@@ -622,19 +593,19 @@ static void retire_check(sim_cycle *m, int64_t t)
         m->slots[m->faces_started % m->p->face_slots].frame == m->frame_open)
         return;
     if (bins_retire(&m->bins, t)) {
-        m->err = diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory");
+        m->err = alb_diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory");
         return;
     }
-    vp_frame_end(m->vp, &m->frame);
+    alb_vp_frame_end(m->vp, &m->frame);
     cycle_map_resolve(&m->map, m->vp, &m->frame);
-    m->last_stats = *vp_stats_get(m->vp);
-    const sim_counters *c = &m->bins.bin[m->bins.nretired - 1];
-    sim_event *e = event(m, SIM_EV_FRAME, t);
+    m->last_stats = *alb_vp_stats_get(m->vp);
+    const alb_sim_counters *c = &m->bins.bin[m->bins.nretired - 1];
+    alb_event *e = event(m, ALB_EV_FRAME, t);
     if (e) {
         e->index = m->frame_open;
         e->number = m->frame.number;
         e->cycles = c->cycles;
-        e->crc = link_frame_crc(m->frame.rgb, (size_t)m->frame.width * m->frame.height);
+        e->crc = alb_link_frame_crc(m->frame.rgb, (size_t)m->frame.width * m->frame.height);
     }
     if (m->sink && m->sink(m->ctx, &m->frame, &m->last_stats, c))
         m->err = ALB_ERR_IO;   /* the sink says why */
@@ -654,57 +625,57 @@ enum { SIG_CLK, SIG_FIFO_LEVEL, SIG_FIFO_PUSH, SIG_FIFO_POP, SIG_FIFO_FULL, SIG_
        SIG_CELL_X, SIG_CELL_Y, SIG_RESULT, SIG_ACTIVE, SIG_FILL_BUSY, SIG_QUEUE, SIG_FRAME,
        SIG_FILL_ISSUED, SIG_PIPE_SAMPLES, SIG_PIPE_WRITE, SIG_PIPE_WRITTEN, SIG_COUNT };
 
-static void trace_gp(const sim_cycle *m, vcd_t *v)
+static void trace_gp(const sim_cycle *m, alb_vcd *v)
 {
-    vcd_set(v, SIG_GP_STATE, m->gp.state);
+    alb_vcd_set(v, SIG_GP_STATE, m->gp.state);
 }
 
-static void trace_fifo(const sim_cycle *m, vcd_t *v)
+static void trace_fifo(const sim_cycle *m, alb_vcd *v)
 {
-    vcd_set(v, SIG_FIFO_LEVEL, m->fifo.count);
-    vcd_set(v, SIG_FIFO_PUSH, m->fifo.push);
-    vcd_set(v, SIG_FIFO_POP, m->fifo.pop);
-    vcd_set(v, SIG_FIFO_FULL, m->fifo.count >= m->p->fifo_depth);
-    vcd_set(v, SIG_FIFO_EMPTY, m->fifo.count == 0);
+    alb_vcd_set(v, SIG_FIFO_LEVEL, m->fifo.count);
+    alb_vcd_set(v, SIG_FIFO_PUSH, m->fifo.push);
+    alb_vcd_set(v, SIG_FIFO_POP, m->fifo.pop);
+    alb_vcd_set(v, SIG_FIFO_FULL, m->fifo.count >= m->p->fifo_depth);
+    alb_vcd_set(v, SIG_FIFO_EMPTY, m->fifo.count == 0);
 }
 
-static void trace_parser(const sim_cycle *m, vcd_t *v)
+static void trace_parser(const sim_cycle *m, alb_vcd *v)
 {
-    vcd_set(v, SIG_PARSER_STATE, m->parser.state);
-    vcd_set(v, SIG_SLOTS, m->faces_loaded - m->faces_started);
+    alb_vcd_set(v, SIG_PARSER_STATE, m->parser.state);
+    alb_vcd_set(v, SIG_SLOTS, m->faces_loaded - m->faces_started);
 }
 
-static void trace_engine(const sim_cycle *m, vcd_t *v)
+static void trace_engine(const sim_cycle *m, alb_vcd *v)
 {
     const engine_unit *e = &m->engine;
     /* what happened during the cycle, like the strobes: a face of a single
      * one-cycle step still shows */
-    vcd_set(v, SIG_ENGINE_STATE, e->did);
+    alb_vcd_set(v, SIG_ENGINE_STATE, e->did);
     if (e->did) {
-        vcd_set(v, SIG_FACE, e->did_face);
-        vcd_set(v, SIG_LEVEL, e->did_step.cell.level);
-        vcd_set(v, SIG_CELL_X, e->did_step.cell.c0);
-        vcd_set(v, SIG_CELL_Y, e->did_step.cell.r0);
-        vcd_set(v, SIG_RESULT, (uint64_t)e->did_step.kind + 1);
-        vcd_set(v, SIG_ACTIVE, e->did_step.edges);
+        alb_vcd_set(v, SIG_FACE, e->did_face);
+        alb_vcd_set(v, SIG_LEVEL, e->did_step.cell.level);
+        alb_vcd_set(v, SIG_CELL_X, e->did_step.cell.c0);
+        alb_vcd_set(v, SIG_CELL_Y, e->did_step.cell.r0);
+        alb_vcd_set(v, SIG_RESULT, (uint64_t)e->did_step.kind + 1);
+        alb_vcd_set(v, SIG_ACTIVE, e->did_step.edges);
     } else {
-        vcd_set(v, SIG_RESULT, 0);
+        alb_vcd_set(v, SIG_RESULT, 0);
     }
 }
 
-static void trace_fill(const sim_cycle *m, vcd_t *v)
+static void trace_fill(const sim_cycle *m, alb_vcd *v)
 {
     /* not fill.left, which is 0 after a cell's last cycle */
-    vcd_set(v, SIG_FILL_BUSY, m->fill.issued > 0);
-    vcd_set(v, SIG_QUEUE, m->fill.count);
-    vcd_set(v, SIG_FILL_ISSUED, m->fill.issued);
+    alb_vcd_set(v, SIG_FILL_BUSY, m->fill.issued > 0);
+    alb_vcd_set(v, SIG_QUEUE, m->fill.count);
+    alb_vcd_set(v, SIG_FILL_ISSUED, m->fill.issued);
 }
 
-static void trace_pipe(const sim_cycle *m, vcd_t *v)
+static void trace_pipe(const sim_cycle *m, alb_vcd *v)
 {
-    vcd_set(v, SIG_PIPE_SAMPLES, m->pipe.out);
-    vcd_set(v, SIG_PIPE_WRITE, m->pipe.written > 0);
-    vcd_set(v, SIG_PIPE_WRITTEN, m->pipe.written);
+    alb_vcd_set(v, SIG_PIPE_SAMPLES, m->pipe.out);
+    alb_vcd_set(v, SIG_PIPE_WRITE, m->pipe.written > 0);
+    alb_vcd_set(v, SIG_PIPE_WRITTEN, m->pipe.written);
 }
 
 /* The units below the top scope, in trace order (--vcd-units picks
@@ -718,11 +689,11 @@ typedef struct {
 } trace_signal;
 
 enum { UNIT_GP, UNIT_FIFO, UNIT_PARSER, UNIT_ENGINE, UNIT_FILL, UNIT_PIPE, TRACE_UNITS };
-_Static_assert(SIM_TRACE_ALL == (1u << TRACE_UNITS) - 1, "SIM_TRACE_ALL: one bit a unit");
+_Static_assert(ALB_SIM_TRACE_ALL == (1u << TRACE_UNITS) - 1, "SIM_TRACE_ALL: one bit a unit");
 
 static const struct {
     const char *scope;
-    void (*record)(const sim_cycle *m, vcd_t *v);
+    void (*record)(const sim_cycle *m, alb_vcd *v);
     trace_signal sig[8];         /* up to the first without a name */
 } trace_units[TRACE_UNITS] = {
     [UNIT_GP] = {"gp", trace_gp, {{SIG_GP_STATE, "state", 2}}},
@@ -744,19 +715,19 @@ static const struct {
                                         {SIG_PIPE_WRITTEN, "written", 9}}},
 };
 
-const char *sim_trace_unit_name(unsigned i)
+const char *alb_sim_trace_unit_name(unsigned i)
 {
     return i < TRACE_UNITS ? trace_units[i].scope : NULL;
 }
 
-int sim_trace_units_parse(const char *list, unsigned *mask, const char **bad, size_t *badlen)
+int alb_sim_trace_units_parse(const char *list, unsigned *mask, const char **bad, size_t *badlen)
 {
     *mask = 0;
     for (const char *p = list;; p++) {
         size_t n = strcspn(p, ",");
         unsigned bit = 0;
         if (n == 3 && !strncmp(p, "all", 3))
-            bit = SIM_TRACE_ALL;
+            bit = ALB_SIM_TRACE_ALL;
         for (unsigned u = 0; u < TRACE_UNITS && !bit; u++)
             if (strlen(trace_units[u].scope) == n && !strncmp(p, trace_units[u].scope, n))
                 bit = 1u << u;
@@ -774,22 +745,22 @@ int sim_trace_units_parse(const char *list, unsigned *mask, const char **bad, si
 
 /* Every signal: the clock and the open frame at the top, each unit in its
  * scope.  The writer drops the scopes it was not asked to keep
- * (vcd_keep_scope); the units it kept, a mask, are the ones recorded. */
-static unsigned trace_declare(vcd_t *v)
+ * (alb_vcd_keep_scope); the units it kept, a mask, are the ones recorded. */
+static unsigned trace_declare(alb_vcd *v)
 {
     unsigned units = 0;
-    vcd_scope(v, "albatros");
-    vcd_var(v, SIG_CLK, "clk", 1);
-    vcd_var(v, SIG_FRAME, "frame_open", 24);
+    alb_vcd_scope(v, "albatros");
+    alb_vcd_var(v, SIG_CLK, "clk", 1);
+    alb_vcd_var(v, SIG_FRAME, "frame_open", 24);
     for (unsigned u = 0; u < TRACE_UNITS; u++) {
-        vcd_scope(v, trace_units[u].scope);
+        alb_vcd_scope(v, trace_units[u].scope);
         for (const trace_signal *sg = trace_units[u].sig; sg->name; sg++)
-            vcd_var(v, sg->id, sg->name, sg->width);
-        vcd_upscope(v);
-        if (vcd_declared(v, trace_units[u].sig[0].id))
+            alb_vcd_var(v, sg->id, sg->name, sg->width);
+        alb_vcd_upscope(v);
+        if (alb_vcd_declared(v, trace_units[u].sig[0].id))
             units |= 1u << u;
     }
-    vcd_upscope(v);
+    alb_vcd_upscope(v);
     return units;
 }
 
@@ -812,16 +783,16 @@ static void pipe_record(sim_cycle *m, int64_t t)
     pt->written = last[1];
 }
 
-static void trace_cycle(const sim_cycle *m, vcd_t *v, int64_t t, unsigned units)
+static void trace_cycle(const sim_cycle *m, alb_vcd *v, int64_t t, unsigned units)
 {
-    vcd_time(v, (uint64_t)t, 0);
-    vcd_set(v, SIG_CLK, 1);
-    vcd_set(v, SIG_FRAME, m->frame_open);
+    alb_vcd_time(v, (uint64_t)t, 0);
+    alb_vcd_set(v, SIG_CLK, 1);
+    alb_vcd_set(v, SIG_FRAME, m->frame_open);
     for (unsigned u = 0; u < TRACE_UNITS; u++)
         if (units >> u & 1)
             trace_units[u].record(m, v);
-    vcd_time(v, (uint64_t)t, 1);
-    vcd_set(v, SIG_CLK, 0);
+    alb_vcd_time(v, (uint64_t)t, 1);
+    alb_vcd_set(v, SIG_CLK, 0);
 }
 
 /* ---- the clock ---- */
@@ -836,39 +807,41 @@ static void tick(sim_cycle *m, int64_t t)
     parser_tick(m, t, fifo_start);
     engine_tick(m, t, queue_start);
     fill_tick(m, t, queue_start);
-    if (m->wq_n)
+    if (m->wq.n)
         writes_due(m, t);
     if (m->fifo.push) {
-        sim_counters *c = bins_at(&m->bins, t);
+        alb_sim_counters *c = bins_at(&m->bins, t);
         if (m->fifo.count > c->fifo_peak)
             c->fifo_peak = m->fifo.count;
     }
     retire_check(m, t);
 }
 
-alb_err sim_cycle_open(sim_cycle **out, const profile_t *p, const sim_cycle_config *cfg,
-                       diag_t *d)
+alb_err sim_cycle_open(sim_cycle **out, const alb_profile *p, const sim_cycle_config *cfg,
+                       alb_diag *d)
 {
     *out = NULL;
     sim_cycle *m = calloc(1, sizeof *m);
     if (!m)
-        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the cycle model");
+        return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the cycle model");
     m->prof = *p;
     m->p = &m->prof;
     m->d = d ? d : &m->dd;
     if (!d)
-        diag_init(&m->dd, NULL);
+        alb_diag_init(&m->dd, NULL);
     m->name = cfg && cfg->name ? cfg->name : "<stream>";
-    m->producer = cfg ? cfg->producer : SIM_PRODUCER_GP;
-    m->record = cfg ? cfg->events & SIM_EV_ALL : 0;
+    m->producer = cfg ? cfg->producer : ALB_PRODUCER_GP;
+    m->record = cfg ? cfg->events & ALB_EV_ALL : 0;
     m->sink = cfg ? cfg->sink : NULL;
     m->ctx = cfg ? cfg->ctx : NULL;
     m->prev_retire = -1;
     m->fill.last_write = -1;
     m->latency = 1 + p->divider_latency + p->shade_latency;
-    ws_reader_init(&m->rd, NULL, 0, m->name);
+    m->evq = ITEM_QUEUE(alb_event);
+    m->wq = ITEM_QUEUE(pending_write);
+    alb_ws_reader_init(&m->rd, NULL, 0, m->name);
     m->rd.max_faces = p->frame_faces;
-    alb_err e = vp_create(&m->vp, p, m->d);
+    alb_err e = alb_vp_create(&m->vp, p, m->d);
     if (e) {
         free(m);
         return e;
@@ -878,7 +851,7 @@ alb_err sim_cycle_open(sim_cycle **out, const profile_t *p, const sim_cycle_conf
         m->vcd_from = cfg->vcd_from;
         m->vcd_to = cfg->vcd_to;
         m->units = trace_declare(m->vcd);
-        vcd_begin(m->vcd, 1000000000ull / p->clock_khz);
+        alb_vcd_begin(m->vcd, 1000000000ull / p->clock_khz);
     }
     /* the pipeline's record (which samples win) only for the pipe's signals */
     m->pipe_traced = m->units >> UNIT_PIPE & 1;
@@ -889,9 +862,9 @@ alb_err sim_cycle_open(sim_cycle **out, const profile_t *p, const sim_cycle_conf
         m->pipe.stage = calloc(m->latency, sizeof *m->pipe.stage);
     if (!m->slots || !m->fill.q || !m->ev || (m->pipe_traced && !m->pipe.stage) ||
         bins_init(&m->bins) || cycle_map_init(&m->map, m->vp) ||
-        vp_frame_alloc(m->vp, &m->frame, true)) {
+        alb_vp_frame_alloc(m->vp, &m->frame, true)) {
         sim_cycle_close(m);
-        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the cycle model");
+        return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the cycle model");
     }
     for (unsigned i = 0; i < p->face_slots; i++)
         m->slots[i].loaded_at = -1;
@@ -903,7 +876,7 @@ void sim_cycle_close(sim_cycle *m)
 {
     if (!m)
         return;
-    vp_destroy(m->vp);
+    alb_vp_destroy(m->vp);
     free(m->w);
     free(m->slots);
     free(m->fill.q);
@@ -911,11 +884,11 @@ void sim_cycle_close(sim_cycle *m)
     free(m->pipe.stage);
     free(m->ev);
     free(m->frames);
-    free(m->evq);
-    free(m->wq);
+    queue_free(&m->evq);
+    queue_free(&m->wq);
     bins_free(&m->bins);
     cycle_map_free(&m->map);
-    frame_free(&m->frame);
+    alb_frame_free(&m->frame);
     free(m);
 }
 
@@ -925,7 +898,7 @@ static size_t receive(sim_cycle *m, const uint32_t *w, size_t n)
     size_t i = 0;
     for (; i < n; i++) {
         if (m->end_received) {
-            m->err = diag_off(m->d, ALB_ERR_STREAM, m->name, (long long)m->n * 4,
+            m->err = alb_diag_off(m->d, ALB_ERR_STREAM, m->name, (long long)m->n * 4,
                               "word %zu: a word after END", m->n);
             break;
         }
@@ -933,7 +906,7 @@ static size_t receive(sim_cycle *m, const uint32_t *w, size_t n)
             size_t cap = m->cap ? 2 * m->cap : 4096;
             uint32_t *nw = realloc(m->w, cap * sizeof *nw);
             if (!nw) {
-                m->err = diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory for the stream");
+                m->err = alb_diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory for the stream");
                 break;
             }
             m->w = nw;
@@ -942,7 +915,7 @@ static size_t receive(sim_cycle *m, const uint32_t *w, size_t n)
         m->w[m->n] = w[i];
         if (m->n == m->recv_pkt) {
             m->recv_pkt = packet_end(m, m->n);
-            m->recv_end = w[i] >> 24 == WS_OP_END;
+            m->recv_end = w[i] >> 24 == ALB_WS_OP_END;
         }
         if (++m->n == m->recv_pkt && m->recv_end)
             m->end_received = true;
@@ -954,7 +927,7 @@ size_t sim_cycle_push(sim_cycle *m, const uint32_t *w, size_t n)
 {
     if (m->err || !n)
         return 0;
-    if (m->producer == SIM_PRODUCER_GP)
+    if (m->producer == ALB_PRODUCER_GP)
         return receive(m, w, n);
     /* the testbench is the producer: one word into the FIFO in the next
      * cycle, if the FIFO holds fewer than fifo_depth words at its start */
@@ -994,23 +967,18 @@ alb_err sim_cycle_step(sim_cycle *m, uint64_t cycles, uint32_t until, uint64_t *
 
 uint64_t sim_cycle_now(const sim_cycle *m) { return (uint64_t)m->t; }
 
-size_t sim_cycle_events(const sim_cycle *m, const sim_event **ev)
+size_t sim_cycle_events(const sim_cycle *m, const alb_event **ev)
 {
-    *ev = m->evq + m->ev_head;
-    return m->ev_n;
+    *ev = queue_front(&m->evq);
+    return m->evq.n;
 }
 
 void sim_cycle_consume(sim_cycle *m, size_t k)
 {
-    if (k > m->ev_n)
-        k = m->ev_n;
-    m->ev_head += k;
-    m->ev_n -= k;
-    if (!m->ev_n)
-        m->ev_head = 0;
+    queue_drop(&m->evq, k);
 }
 
-const frame_t *sim_cycle_frame(const sim_cycle *m, const vp_stats **st, const sim_counters **c)
+const alb_frame *sim_cycle_frame(const sim_cycle *m, const alb_vp_stats **st, const alb_sim_counters **c)
 {
     if (!m->bins.nretired)
         return NULL;
@@ -1021,14 +989,18 @@ const frame_t *sim_cycle_frame(const sim_cycle *m, const vp_stats **st, const si
     return &m->frame;
 }
 
-const sim_counters *sim_cycle_counters(const sim_cycle *m, unsigned k)
+const alb_sim_counters *sim_cycle_counters(const sim_cycle *m, unsigned k)
 {
     return k < m->bins.nretired ? &m->bins.bin[k] : NULL;
 }
 
 uint64_t sim_cycle_fifo_level(const sim_cycle *m) { return m->fifo.count; }
 
-const diag_t *sim_cycle_diag(const sim_cycle *m) { return m->d; }
+const alb_diag *sim_cycle_diag(const sim_cycle *m) { return m->d; }
+
+alb_err sim_cycle_status(const sim_cycle *m) { return m->err; }
+
+uint32_t sim_cycle_happened(const sim_cycle *m) { return m->happened; }
 
 /* ---- a whole stream ---- */
 
@@ -1052,23 +1024,23 @@ static void catch_signal(int sig, void (*fn)(int), struct sigaction *old)
 /* The whole stream, decoded once before the first clock: a malformed one
  * is refused with the decoder's message before any cycle runs. */
 static alb_err check_stream(const uint32_t *w, size_t n, const char *name, uint32_t max_faces,
-                            diag_t *d)
+                            alb_diag *d)
 {
-    ws_reader r;
-    ws_event *ev = malloc(sizeof *ev);
+    alb_ws_reader r;
+    alb_ws_event *ev = malloc(sizeof *ev);
     if (!ev)
-        return diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory decoding the stream");
-    ws_reader_init(&r, w, n, name);
+        return alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory decoding the stream");
+    alb_ws_reader_init(&r, w, n, name);
     r.max_faces = max_faces;
     alb_err e = ALB_OK;
     while (!e && !r.ended)
-        e = ws_next(&r, ev, d);
+        e = alb_ws_next(&r, ev, d);
     free(ev);
     return e;
 }
 
-alb_err sim_run_cycle(const profile_t *p, const uint32_t *w, size_t n, const char *name,
-                      const sim_options *opt, sim_sink sink, void *ctx, diag_t *d)
+alb_err sim_run_cycle(const alb_profile *p, const uint32_t *w, size_t n, const char *name,
+                      const alb_sim_options *opt, alb_sim_sink sink, void *ctx, alb_diag *d)
 {
     /* caught from the start: a Ctrl-C while the machine is set up (large
      * screens take a while) still ends with a complete trace */
@@ -1076,7 +1048,7 @@ alb_err sim_run_cycle(const profile_t *p, const uint32_t *w, size_t n, const cha
     struct sigaction old_int, old_term;
     catch_signal(SIGINT, on_interrupt, &old_int);
     catch_signal(SIGTERM, on_interrupt, &old_term);
-    sim_cycle_config cfg = {.producer = SIM_PRODUCER_GP, .events = opt->events,
+    sim_cycle_config cfg = {.producer = ALB_PRODUCER_GP, .events = opt->events,
                             .sink = sink, .ctx = ctx, .name = name, .vcd = opt->vcd,
                             .vcd_from = opt->vcd_from, .vcd_to = opt->vcd_to};
     sim_cycle *m = NULL;
@@ -1087,17 +1059,17 @@ alb_err sim_run_cycle(const profile_t *p, const uint32_t *w, size_t n, const cha
         e = m->err;
     while (!e && !sim_cycle_done(m)) {
         e = sim_cycle_step(m, 4096, 0, NULL);
-        if (!e && m->ev_n && opt->on_events) {
-            if (opt->on_events(opt->events_ctx, m->evq + m->ev_head, m->ev_n))
+        if (!e && m->evq.n && opt->on_events) {
+            if (opt->on_events(opt->events_ctx, queue_front(&m->evq), m->evq.n))
                 e = ALB_ERR_IO;
-            sim_cycle_consume(m, m->ev_n);
+            sim_cycle_consume(m, m->evq.n);
         }
         if (!e && interrupted)
-            e = diag_at(d, ALB_ERR_INTERRUPTED, name, 0, 0, "interrupted at cycle %lld; the trace "
+            e = alb_diag_at(d, ALB_ERR_INTERRUPTED, name, 0, 0, "interrupted at cycle %lld; the trace "
                         "is complete up to it", (long long)m->t);
     }
-    if (!e && m->ev_n && opt->on_events &&
-        opt->on_events(opt->events_ctx, m->evq + m->ev_head, m->ev_n))
+    if (!e && m->evq.n && opt->on_events &&
+        opt->on_events(opt->events_ctx, queue_front(&m->evq), m->evq.n))
         e = ALB_ERR_IO;
     /* once interrupted, the process is on its way out: a second signal must
      * not cut the trace short */
@@ -1109,7 +1081,7 @@ alb_err sim_run_cycle(const profile_t *p, const uint32_t *w, size_t n, const cha
         sigaction(SIGTERM, &old_term, NULL);
     }
     if (m && m->vcd)
-        vcd_end(m->vcd, (uint64_t)m->t);
+        alb_vcd_end(m->vcd, (uint64_t)m->t);
     sim_cycle_close(m);
     return e;
 }
@@ -1119,7 +1091,9 @@ alb_err sim_run_cycle(const profile_t *p, const uint32_t *w, size_t n, const cha
 static const char *const event_names[] = {"push", "pop", "load", "start", "cell",
                                           "end",  "fill", "write", "frame"};
 
-const char *sim_event_name(uint32_t kind)
+size_t alb_event_size(void) { return sizeof(alb_event); }
+
+const char *alb_sim_event_name(uint32_t kind)
 {
     for (unsigned i = 0; i < sizeof event_names / sizeof *event_names; i++)
         if (kind == 1u << i)
@@ -1127,14 +1101,14 @@ const char *sim_event_name(uint32_t kind)
     return NULL;
 }
 
-int sim_events_parse(const char *list, uint32_t *mask, const char **bad, size_t *badlen)
+int alb_sim_events_parse(const char *list, uint32_t *mask, const char **bad, size_t *badlen)
 {
     *mask = 0;
     for (const char *p = list;; p++) {
         size_t n = strcspn(p, ",");
         uint32_t bit = 0;
         if (n == 3 && !strncmp(p, "all", 3))
-            bit = SIM_EV_ALL;
+            bit = ALB_EV_ALL;
         for (unsigned i = 0; i < sizeof event_names / sizeof *event_names && !bit; i++)
             if (strlen(event_names[i]) == n && !strncmp(p, event_names[i], n))
                 bit = 1u << i;
@@ -1150,30 +1124,30 @@ int sim_events_parse(const char *list, uint32_t *mask, const char **bad, size_t 
     }
 }
 
-int sim_event_format(const sim_event *e, char *buf, size_t len)
+int alb_sim_event_format(const alb_event *e, char *buf, size_t len)
 {
     unsigned long long t = (unsigned long long)e->cycle;
-    const char *k = sim_event_name(e->kind);
+    const char *k = alb_sim_event_name(e->kind);
     switch (e->kind) {
-    case SIM_EV_PUSH:
-    case SIM_EV_POP:
+    case ALB_EV_PUSH:
+    case ALB_EV_POP:
         return snprintf(buf, len, "%llu %s %llu 0x%08x\n", t, k, (unsigned long long)e->index,
                         e->word);
-    case SIM_EV_LOAD:
+    case ALB_EV_LOAD:
         return snprintf(buf, len, "%llu %s %u %u %u\n", t, k, e->face, e->slot, e->edges);
-    case SIM_EV_START:
-    case SIM_EV_END:
+    case ALB_EV_START:
+    case ALB_EV_END:
         return snprintf(buf, len, "%llu %s %u %u\n", t, k, e->face, e->slot);
-    case SIM_EV_CELL:
+    case ALB_EV_CELL:
         return snprintf(buf, len, "%llu %s %u %u %u %u %u %u %u %u\n", t, k, e->face, e->x, e->y,
                         e->wl, e->hl, e->level, e->result, e->edges);
-    case SIM_EV_FILL:
+    case ALB_EV_FILL:
         return snprintf(buf, len, "%llu %s %u %u %u %u %u %u\n", t, k, e->face, e->x, e->y, e->wl,
                         e->hl, e->level);
-    case SIM_EV_WRITE:
+    case ALB_EV_WRITE:
         return snprintf(buf, len, "%llu %s %u %u %u %u %u %u %u %u\n", t, k, e->x, e->y, e->depth,
                         e->rgb[0], e->rgb[1], e->rgb[2], e->face, e->level);
-    case SIM_EV_FRAME:
+    case ALB_EV_FRAME:
         return snprintf(buf, len, "%llu %s %u %llu 0x%08x\n", t, k, e->number,
                         (unsigned long long)e->cycles, e->crc);
     }

@@ -9,11 +9,11 @@
 #include <string.h>
 
 typedef struct {
-    const profile_t *p;
-    vp_t *vp;
+    const alb_profile *p;
+    alb_vp *vp;
     sim_bins bins;
     cycle_map map;
-    frame_t frame;
+    alb_frame frame;
     /* words: the pop times of the last fifo_depth + 1 words, by index */
     int64_t *pop_ring;
     uint64_t words;           /* words pushed so far */
@@ -35,24 +35,24 @@ typedef struct {
     /* retired frames whose counters may still grow: words of later frames
      * pushed or popped before their retirement are met later in the stream */
     struct pending {
-        frame_t frame;
-        vp_stats st;
+        alb_frame frame;
+        alb_vp_stats st;
         unsigned bin;
     } *pending;
     unsigned npending, cap_pending;
-    frame_t spare;            /* a flushed frame's planes, reused (no copies) */
+    alb_frame spare;            /* a flushed frame's planes, reused (no copies) */
 } timed;
 
 static int64_t max64(int64_t a, int64_t b) { return a > b ? a : b; }
 
 /* When the parser can take a word of this packet (room in the VP). */
-static int64_t room(timed *t, const ws_event *ev)
+static int64_t room(timed *t, const alb_ws_event *ev)
 {
     switch (ev->kind) {
-    case WS_EV_FACE:
+    case ALB_WS_EV_FACE:
         return t->slot_free[t->faces % t->p->face_slots];
-    case WS_EV_TEXTURE:
-    case WS_EV_END:
+    case ALB_WS_EV_TEXTURE:
+    case ALB_WS_EV_END:
         return t->drain + 1;   /* wait until every earlier face retired */
     default:
         return 0;
@@ -90,7 +90,7 @@ static void word_times(timed *t, int64_t compute, int64_t ready)
     bins_add(&t->bins, CNT(fifo_sum), push + 1, pop + 1);
     while (t->popped < i && t->pop_ring[t->popped % (depth + 1)] <= push)
         t->popped++;
-    sim_counters *at = bins_at(&t->bins, push);
+    alb_sim_counters *at = bins_at(&t->bins, push);
     uint64_t level = i + 1 - t->popped;
     if (level > at->fifo_peak)
         at->fifo_peak = level;
@@ -103,7 +103,7 @@ static void word_times(timed *t, int64_t compute, int64_t ready)
 /* The engine and fill unit on one loaded face, from cycle `start`. */
 static void run_face(timed *t, const vp_loaded_face *lf, int64_t loaded)
 {
-    const profile_t *p = t->p;
+    const alb_profile *p = t->p;
     int64_t now = max64(max64(loaded + 1, t->engine_free), t->first_face_of_frame ? t->frame_start : 0);
     t->first_face_of_frame = false;
     vp_walk w;
@@ -147,7 +147,7 @@ static void run_face(timed *t, const vp_loaded_face *lf, int64_t loaded)
 /* Hand retired frames to the sink once no later word can add to their
  * counters: every later push and pop comes after the GP's and the parser's
  * last ones, so a frame retired before both is final (all: at the end). */
-static alb_err flush_frames(timed *t, bool all, sim_sink sink, void *ctx)
+static alb_err flush_frames(timed *t, bool all, alb_sim_sink sink, void *ctx)
 {
     int64_t safe = t->last_push < t->last_pop ? t->last_push : t->last_pop;
     unsigned done = 0;
@@ -161,7 +161,7 @@ static alb_err flush_frames(timed *t, bool all, sim_sink sink, void *ctx)
         if (!t->spare.rgb)
             t->spare = pf->frame;
         else
-            frame_free(&pf->frame);
+            alb_frame_free(&pf->frame);
         done++;
     }
     if (done && done < t->npending)
@@ -170,12 +170,12 @@ static alb_err flush_frames(timed *t, bool all, sim_sink sink, void *ctx)
     return e;
 }
 
-static alb_err frame_end(timed *t, int64_t popped, diag_t *d)
+static alb_err frame_end(timed *t, int64_t popped, alb_diag *d)
 {
     int64_t r = max64(max64(popped, t->frame_last), t->prev_retire + 1);
     if (bins_retire(&t->bins, r))
-        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
-    vp_frame_end(t->vp, &t->frame);
+        return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
+    alb_vp_frame_end(t->vp, &t->frame);
     cycle_map_resolve(&t->map, t->vp, &t->frame);
     t->prev_retire = r;
     t->drain = max64(t->drain, r);
@@ -183,7 +183,7 @@ static alb_err frame_end(timed *t, int64_t popped, diag_t *d)
         unsigned cap = t->cap_pending ? 2 * t->cap_pending : 4;
         struct pending *np = realloc(t->pending, cap * sizeof *np);
         if (!np)
-            return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
+            return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
         t->pending = np;
         t->cap_pending = cap;
     }
@@ -194,17 +194,17 @@ static alb_err frame_end(timed *t, int64_t popped, diag_t *d)
     if (t->spare.rgb) {
         t->frame = t->spare;
         memset(&t->spare, 0, sizeof t->spare);
-    } else if (vp_frame_alloc(t->vp, &t->frame, true)) {
-        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
+    } else if (alb_vp_frame_alloc(t->vp, &t->frame, true)) {
+        return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
     }
     t->frame.near = pf->frame.near;
-    pf->st = *vp_stats_get(t->vp);
+    pf->st = *alb_vp_stats_get(t->vp);
     pf->bin = t->bins.nretired - 1;
     t->npending++;
     return ALB_OK;
 }
 
-static alb_err timed_init(timed *t, const profile_t *p, diag_t *d)
+static alb_err timed_init(timed *t, const alb_profile *p, alb_diag *d)
 {
     memset(t, 0, sizeof *t);
     t->p = p;
@@ -213,90 +213,90 @@ static alb_err timed_init(timed *t, const profile_t *p, diag_t *d)
     t->prev_retire = -1;
     t->drain = -1;
     t->frame_last = -1;
-    alb_err e = vp_create(&t->vp, p, d);
+    alb_err e = alb_vp_create(&t->vp, p, d);
     if (e)
         return e;
     t->pop_ring = calloc(p->fifo_depth + 1, sizeof *t->pop_ring);
     t->slot_free = calloc(p->face_slots, sizeof *t->slot_free);
     t->take_ring = calloc(p->fill_queue, sizeof *t->take_ring);
     if (!t->pop_ring || !t->slot_free || !t->take_ring || bins_init(&t->bins) ||
-        cycle_map_init(&t->map, t->vp) || vp_frame_alloc(t->vp, &t->frame, true))
-        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the timed model");
+        cycle_map_init(&t->map, t->vp) || alb_vp_frame_alloc(t->vp, &t->frame, true))
+        return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the timed model");
     return ALB_OK;
 }
 
 static void timed_free(timed *t)
 {
     for (unsigned i = 0; i < t->npending; i++)
-        frame_free(&t->pending[i].frame);
+        alb_frame_free(&t->pending[i].frame);
     free(t->pending);
-    frame_free(&t->spare);
-    vp_destroy(t->vp);
+    alb_frame_free(&t->spare);
+    alb_vp_destroy(t->vp);
     free(t->pop_ring);
     free(t->slot_free);
     free(t->take_ring);
     bins_free(&t->bins);
     cycle_map_free(&t->map);
-    frame_free(&t->frame);
+    alb_frame_free(&t->frame);
 }
 
 /* The GP's compute time before a packet (gp_header_cycles of its header). */
-static uint64_t gp_packet_cycles(const profile_t *p, const ws_event *ev)
+static uint64_t gp_packet_cycles(const alb_profile *p, const alb_ws_event *ev)
 {
-    if (ev->kind == WS_EV_FACE)
+    if (ev->kind == ALB_WS_EV_FACE)
         return p->gp_face_cycles + (uint64_t)p->gp_edge_cycles * ev->u.face.n_edges;
-    return ev->kind == WS_EV_FRAME ? p->gp_frame_cycles : 0;
+    return ev->kind == ALB_WS_EV_FRAME ? p->gp_frame_cycles : 0;
 }
 
 /* One packet of the stream through the model. */
-static alb_err timed_event(timed *t, const ws_event *ev, vp_loaded_face *lf, diag_t *d)
+static alb_err timed_event(timed *t, const alb_ws_event *ev, vp_loaded_face *lf, alb_diag *d)
 {
-    const profile_t *p = t->p;
+    const alb_profile *p = t->p;
     int64_t ready = room(t, ev);
     for (size_t k = 0; k < ev->count; k++)
         word_times(t, k == 0 ? (int64_t)gp_packet_cycles(p, ev) : -1, ready);
     alb_err e = ALB_OK;
     switch (ev->kind) {
-    case WS_EV_CONFIG:
-        if (!(e = vp_config(t->vp, &ev->u.config, d)))
+    case ALB_WS_EV_CONFIG:
+        if (!(e = alb_vp_config(t->vp, &ev->u.config, d)))
             t->frame.near = ev->u.config.near;
         break;
-    case WS_EV_TEXTURE:
-        e = vp_texture(t->vp, &ev->u.texture, d);
+    case ALB_WS_EV_TEXTURE:
+        e = alb_vp_texture(t->vp, &ev->u.texture, d);
         break;
-    case WS_EV_FRAME:
-        vp_frame_begin(t->vp, &ev->u.frame);
+    case ALB_WS_EV_FRAME:
+        alb_vp_frame_begin(t->vp, &ev->u.frame);
         t->frame_start = t->prev_retire + 1;
         t->frame_last = -1;
         t->first_face_of_frame = true;
         break;
-    case WS_EV_FACE:
+    case ALB_WS_EV_FACE:
         if (!(e = vp_load_face(t->vp, &ev->u.face, lf, d)))
             run_face(t, lf, t->last_pop);
         break;
-    case WS_EV_FRAME_END:
+    case ALB_WS_EV_FRAME_END:
         e = frame_end(t, t->last_pop, d);
         break;
-    case WS_EV_END:
+    case ALB_WS_EV_END:
         break;
     }
     return e;
 }
 
-alb_err sim_run_timed(const profile_t *p, const uint32_t *w, size_t n, const char *name,
-                      sim_sink sink, void *ctx, diag_t *d)
+alb_err sim_run_timed(const alb_profile *p, const uint32_t *w, size_t n, const char *name,
+                      alb_sim_sink sink, void *ctx, alb_diag *d)
 {
     timed t;
     alb_err e = timed_init(&t, p, d);
-    ws_reader r;
-    ws_event *ev = malloc(sizeof *ev);
+    alb_ws_reader r;
+    alb_ws_event *ev = malloc(sizeof *ev);
     vp_loaded_face *lf = malloc(sizeof *lf);
     if (!e && (!ev || !lf))
-        e = diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
-    ws_reader_init(&r, w, n, name);
+        e = alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
+    alb_ws_reader_init(&r, w, n, name);
     r.max_faces = p->frame_faces;
     while (!e && !r.ended) {
-        if ((e = ws_next(&r, ev, d)))
+        if ((e = alb_ws_next(&r, ev, d)))
             break;
         e = timed_event(&t, ev, lf, d);
         if (!e)
@@ -310,35 +310,35 @@ alb_err sim_run_timed(const profile_t *p, const uint32_t *w, size_t n, const cha
 
 /* ---- the same model fed a stream as it arrives (the simulated board) ---- */
 
-struct sim_feed {
+struct alb_sim_feed {
     timed t;
-    ws_reader r;              /* after the last whole packet */
-    ws_event *ev;
+    alb_ws_reader r;              /* after the last whole packet */
+    alb_ws_event *ev;
     vp_loaded_face *lf;
-    sim_sink on_frame;
+    alb_sim_sink on_frame;
     void *ctx;
     size_t frame_start;
     bool ok;                  /* timed_init succeeded */
 };
 
-alb_err sim_feed_open(sim_feed **out, const profile_t *p, const char *name, sim_sink on_frame,
-                      void *ctx, diag_t *d)
+alb_err alb_sim_feed_open(alb_sim_feed **out, const alb_profile *p, const char *name, alb_sim_sink on_frame,
+                      void *ctx, alb_diag *d)
 {
-    sim_feed *f = calloc(1, sizeof *f);
+    alb_sim_feed *f = calloc(1, sizeof *f);
     *out = NULL;
     if (!f)
-        return diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
+        return alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
     alb_err e = timed_init(&f->t, p, d);
     f->ok = true;
     f->ev = malloc(sizeof *f->ev);
     f->lf = malloc(sizeof *f->lf);
     if (!e && (!f->ev || !f->lf))
-        e = diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
+        e = alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
     if (e) {
-        sim_feed_close(f);
+        alb_sim_feed_close(f);
         return e;
     }
-    ws_reader_init(&f->r, NULL, 0, name);
+    alb_ws_reader_init(&f->r, NULL, 0, name);
     f->r.max_faces = p->frame_faces;
     f->on_frame = on_frame;
     f->ctx = ctx;
@@ -346,15 +346,15 @@ alb_err sim_feed_open(sim_feed **out, const profile_t *p, const char *name, sim_
     return ALB_OK;
 }
 
-alb_err sim_feed_words(sim_feed *f, const uint32_t *w, size_t n, diag_t *d)
+alb_err alb_sim_feed_words(alb_sim_feed *f, const uint32_t *w, size_t n, alb_diag *d)
 {
     while (!f->r.ended && f->r.pos < n) {
-        ws_reader r = f->r;
+        alb_ws_reader r = f->r;
         r.w = w;
         r.n = n;
-        diag_t dd;
-        diag_init(&dd, NULL);
-        alb_err e = ws_next(&r, f->ev, &dd);
+        alb_diag dd;
+        alb_diag_init(&dd, NULL);
+        alb_err e = alb_ws_next(&r, f->ev, &dd);
         if (e) {
             if (dd.offset == (long long)n * 4)
                 return ALB_OK;   /* a packet still arriving */
@@ -365,16 +365,16 @@ alb_err sim_feed_words(sim_feed *f, const uint32_t *w, size_t n, diag_t *d)
         e = timed_event(&f->t, f->ev, f->lf, d);
         if (e)
             return e;
-        if (f->ev->kind == WS_EV_FRAME)
+        if (f->ev->kind == ALB_WS_EV_FRAME)
             f->frame_start = f->ev->first;
         else if (!r.in_frame)
             f->frame_start = r.pos;
-        if (f->ev->kind == WS_EV_FRAME_END && f->on_frame) {
+        if (f->ev->kind == ALB_WS_EV_FRAME_END && f->on_frame) {
             /* its pixels and cycle count are final now; its other counters
              * may still grow with later words (flush_frames) */
             const struct pending *pf = &f->t.pending[f->t.npending - 1];
             if (f->on_frame(f->ctx, &pf->frame, &pf->st, &f->t.bins.bin[pf->bin]))
-                return diag_at(d, ALB_ERR_IO, f->r.name, 0, 0, "the frame's sink failed");
+                return alb_diag_at(d, ALB_ERR_IO, f->r.name, 0, 0, "the frame's sink failed");
         }
         if ((e = flush_frames(&f->t, f->r.ended, NULL, NULL)))
             return e;
@@ -382,9 +382,22 @@ alb_err sim_feed_words(sim_feed *f, const uint32_t *w, size_t n, diag_t *d)
     return ALB_OK;
 }
 
-size_t sim_feed_frame_start(const sim_feed *f) { return f->frame_start; }
+size_t alb_sim_feed_frame_start(const alb_sim_feed *f) { return f->frame_start; }
 
-void sim_feed_close(sim_feed *f)
+const alb_sim_counters *sim_feed_counters(const alb_sim_feed *f, unsigned k)
+{
+    return k < f->t.bins.nretired ? &f->t.bins.bin[k] : NULL;
+}
+
+uint64_t sim_feed_next_cycle(const alb_sim_feed *f) { return (uint64_t)(f->t.prev_retire + 1); }
+
+size_t sim_feed_taken(const alb_sim_feed *f, bool *ended)
+{
+    *ended = f->r.ended;
+    return f->r.pos;
+}
+
+void alb_sim_feed_close(alb_sim_feed *f)
 {
     if (!f)
         return;

@@ -1,11 +1,11 @@
 /* vcd.c — the VCD writer (IEEE 1364 §18): a $timescale of 1 ps with times at
  * the modelled clock's edges, one $scope module per unit (or per unit kept:
- * vcd_keep_scope drops the others' declarations and values), identifiers of
+ * alb_vcd_keep_scope drops the others' declarations and values), identifiers of
  * printable characters, $dumpvars with initial values, no $date — two runs
  * give byte-identical files.  Its buffer is written with write(2), which a
  * signal handler may call, so SIGINT, SIGTERM, SIGABRT and SIGSEGV still
  * leave a complete trace. */
-#include "vcd.h"
+#include "albatros/vcd.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -18,13 +18,13 @@
 #define BUF 65536
 #define MAX_KEEP 16
 
-struct vcd {
+struct alb_vcd {
     int fd;
     int failed;
     size_t len;
     char buf[BUF];
-    uint64_t value[VCD_MAX_VARS];
-    unsigned width[VCD_MAX_VARS];
+    uint64_t value[ALB_VCD_MAX_VARS];
+    unsigned width[ALB_VCD_MAX_VARS];
     unsigned nvars;
     uint64_t period;          /* ps */
     uint64_t now, written;    /* current time; last "#t" written (+1, 0 = none) */
@@ -36,9 +36,9 @@ struct vcd {
 };
 
 /* The trace a fatal signal must complete: one per process. */
-static vcd_t *active;
+static alb_vcd *active;
 
-static void flush(vcd_t *v)
+static void flush(alb_vcd *v)
 {
     size_t off = 0;
     while (off < v->len) {
@@ -54,7 +54,7 @@ static void flush(vcd_t *v)
     v->len = 0;
 }
 
-static void put(vcd_t *v, const char *s, size_t n)
+static void put(alb_vcd *v, const char *s, size_t n)
 {
     if (v->len + n > BUF)
         flush(v);
@@ -62,7 +62,7 @@ static void put(vcd_t *v, const char *s, size_t n)
     v->len += n;
 }
 
-static void puts_(vcd_t *v, const char *s) { put(v, s, strlen(s)); }
+static void puts_(alb_vcd *v, const char *s) { put(v, s, strlen(s)); }
 
 /* Async-signal-safe: a final timestamp, the buffer, then the default action. */
 static void on_fatal(int sig)
@@ -91,16 +91,16 @@ static void on_fatal(int sig)
     raise(sig);
 }
 
-vcd_t *vcd_open(const char *path, diag_t *d)
+alb_vcd *alb_vcd_open(const char *path, alb_diag *d)
 {
-    vcd_t *v = calloc(1, sizeof *v);
+    alb_vcd *v = calloc(1, sizeof *v);
     if (!v) {
-        diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory");
+        alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory");
         return NULL;
     }
     v->fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0666);
     if (v->fd < 0) {
-        diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create trace: %s", strerror(errno));
+        alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create trace: %s", strerror(errno));
         free(v);
         return NULL;
     }
@@ -111,7 +111,7 @@ vcd_t *vcd_open(const char *path, diag_t *d)
     return v;
 }
 
-int vcd_keep_scope(vcd_t *v, const char *module)
+int alb_vcd_keep_scope(alb_vcd *v, const char *module)
 {
     if (v->nkeep == MAX_KEEP || strlen(module) >= sizeof v->keep[0])
         return -1;
@@ -119,7 +119,7 @@ int vcd_keep_scope(vcd_t *v, const char *module)
     return 0;
 }
 
-static int kept(const vcd_t *v, const char *module)
+static int kept(const alb_vcd *v, const char *module)
 {
     for (unsigned i = 0; i < v->nkeep; i++)
         if (!strcmp(v->keep[i], module))
@@ -127,7 +127,7 @@ static int kept(const vcd_t *v, const char *module)
     return !v->nkeep;
 }
 
-void vcd_scope(vcd_t *v, const char *module)
+void alb_vcd_scope(alb_vcd *v, const char *module)
 {
     char line[128];
     v->depth++;
@@ -139,7 +139,7 @@ void vcd_scope(vcd_t *v, const char *module)
     puts_(v, line);
 }
 
-void vcd_upscope(vcd_t *v)
+void alb_vcd_upscope(alb_vcd *v)
 {
     if (v->dropped) {
         if (v->depth-- == v->dropped)
@@ -162,10 +162,10 @@ static int ident(unsigned id, char *out)
     return n;
 }
 
-void vcd_var(vcd_t *v, unsigned id, const char *name, unsigned width)
+void alb_vcd_var(alb_vcd *v, unsigned id, const char *name, unsigned width)
 {
     char line[160], code[8];
-    if (id >= VCD_MAX_VARS || v->dropped)
+    if (id >= ALB_VCD_MAX_VARS || v->dropped)
         return;
     ident(id, code);
     snprintf(line, sizeof line, "$var wire %u %s %s $end\n", width, code, name);
@@ -175,12 +175,12 @@ void vcd_var(vcd_t *v, unsigned id, const char *name, unsigned width)
         v->nvars = id + 1;
 }
 
-int vcd_declared(const vcd_t *v, unsigned id)
+int alb_vcd_declared(const alb_vcd *v, unsigned id)
 {
     return id < v->nvars && v->width[id];
 }
 
-static void value_line(vcd_t *v, unsigned id, uint64_t value)
+static void value_line(alb_vcd *v, unsigned id, uint64_t value)
 {
     char line[96], code[8];
     int n = 0;
@@ -202,7 +202,7 @@ static void value_line(vcd_t *v, unsigned id, uint64_t value)
     put(v, line, (size_t)n);
 }
 
-void vcd_begin(vcd_t *v, uint64_t period_ps)
+void alb_vcd_begin(alb_vcd *v, uint64_t period_ps)
 {
     v->period = period_ps ? period_ps : 1;
     puts_(v, "$enddefinitions $end\n#0\n$dumpvars\n");
@@ -213,13 +213,13 @@ void vcd_begin(vcd_t *v, uint64_t period_ps)
     v->written = 1;   /* "#0" */
 }
 
-void vcd_time(vcd_t *v, uint64_t cycle, int half)
+void alb_vcd_time(alb_vcd *v, uint64_t cycle, int half)
 {
     v->now = cycle * v->period + (half ? v->period / 2 : 0);
     v->last_cycle = cycle;
 }
 
-void vcd_set(vcd_t *v, unsigned id, uint64_t value)
+void alb_vcd_set(alb_vcd *v, unsigned id, uint64_t value)
 {
     /* a variable not declared or in a dropped scope has width 0 */
     if (id >= v->nvars || v->value[id] == value || !v->width[id])
@@ -234,7 +234,7 @@ void vcd_set(vcd_t *v, unsigned id, uint64_t value)
     value_line(v, id, value);
 }
 
-void vcd_end(vcd_t *v, uint64_t cycle)
+void alb_vcd_end(alb_vcd *v, uint64_t cycle)
 {
     char t[32];
     uint64_t end = cycle * v->period;
@@ -245,7 +245,7 @@ void vcd_end(vcd_t *v, uint64_t cycle)
     }
 }
 
-int vcd_close(vcd_t *v)
+int alb_vcd_close(alb_vcd *v)
 {
     if (!v)
         return 0;

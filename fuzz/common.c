@@ -3,9 +3,9 @@
  * fixed file names, emptied and removed at exit: the only state outside the
  * harnesses) and the GP run every accepted scene gets. */
 #include "fuzz.h"
-#include "../common/profile.h"
-#include "../common/words.h"
-#include "../gp/gp.h"
+#include "albatros/profile.h"
+#include "albatros/words.h"
+#include "albatros/gp.h"
 
 #include <dirent.h>
 #include <png.h>
@@ -94,17 +94,17 @@ int fuzz_write_png(const char *name, unsigned w, unsigned h)
 
 /* The GP's stream decodes to its END: a GP that emits words its own decoder
  * rejects is a bug, reported as a crash. */
-static void check_stream(const ws_buf *b)
+static void check_stream(const alb_ws_buf *b)
 {
-    ws_reader r;
-    ws_event *ev = malloc(sizeof *ev);
-    diag_t d;
-    diag_init(&d, NULL);
+    alb_ws_reader r;
+    alb_ws_event *ev = malloc(sizeof *ev);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
     if (!ev)
         return;
-    ws_reader_init(&r, b->w, b->n, "<gp>");
+    alb_ws_reader_init(&r, b->w, b->n, "<gp>");
     while (!r.ended) {
-        if (ws_next(&r, ev, &d)) {
+        if (alb_ws_next(&r, ev, &d)) {
             fprintf(stderr, "fuzz: the GP emitted a stream its decoder rejects: offset %lld: "
                             "%s\n", d.offset, d.msg);
             abort();
@@ -113,7 +113,7 @@ static void check_stream(const ws_buf *b)
     free(ev);
 }
 
-static unsigned face_count(const scene_t *s)
+static unsigned face_count(const alb_scene *s)
 {
     unsigned n = 0;
     for (unsigned i = 0; i < s->nobj; i++)
@@ -121,24 +121,24 @@ static unsigned face_count(const scene_t *s)
     return n;
 }
 
-int fuzz_run_gp(const scene_t *s, const profile_t *prof, ws_buf *out)
+int fuzz_run_gp(const alb_scene *s, const alb_profile *prof, alb_ws_buf *out)
 {
     if ((unsigned long long)s->nframes * (face_count(s) + 1) > FUZZ_GP_WORK_MAX)
         return -1;
-    diag_t d;
-    diag_init(&d, NULL);
-    gp_t *gp = NULL;
-    ws_buf b;
-    ws_buf_init(&b);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_gp *gp = NULL;
+    alb_ws_buf b;
+    alb_ws_buf_init(&b);
     int rc = -1;
-    if (gp_create(&gp, s, prof, &d) == ALB_OK && gp_run(gp, &b, NULL, &d) == ALB_OK) {
+    if (alb_gp_create(&gp, s, prof, &d) == ALB_OK && alb_gp_run(gp, &b, NULL, &d) == ALB_OK) {
         check_stream(&b);
         rc = 0;
     }
-    gp_destroy(gp);
+    alb_gp_destroy(gp);
     if (!rc && out)
         *out = b;
     else
-        ws_buf_free(&b);
+        alb_ws_buf_free(&b);
     return rc;
 }

@@ -5,9 +5,9 @@
 #ifndef ALBATROS_FUZZ_H
 #define ALBATROS_FUZZ_H
 
-#include "../common/profile.h"
-#include "../common/words.h"
-#include "../gp/gp.h"
+#include "albatros/profile.h"
+#include "albatros/words.h"
+#include "albatros/gp.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -35,6 +35,6 @@ int fuzz_write_png(const char *name, unsigned w, unsigned h);
  * its stream decodes; abort()s, naming the word, if it does not.  0 with the
  * stream in *out (if out is not NULL; the caller frees it), -1 if the GP did
  * not run or failed. */
-int fuzz_run_gp(const scene_t *s, const profile_t *prof, ws_buf *out);
+int fuzz_run_gp(const alb_scene *s, const alb_profile *prof, alb_ws_buf *out);
 
 #endif

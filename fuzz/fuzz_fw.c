@@ -8,7 +8,7 @@
  * back — ERROR, STATUS, RESULT, PIXELS — is well formed, numbered without
  * gap or repeat, as the host's decoder (emu/bridge/link.c) checks it. */
 #include "fuzz.h"
-#include "../emu/bridge/link.h"
+#include "albatros/link.h"
 #include "../firmware/core.h"
 
 #include <stdlib.h>
@@ -19,7 +19,7 @@
 typedef struct {
     fw_core core;
     uint8_t buf[PROTO_HEADER + MAX_PAYLOAD + PROTO_TRAILER];
-    link_rx back;             /* what the board sent, decoded by the host */
+    alb_link_rx back;             /* what the board sent, decoded by the host */
     unsigned got;             /* packets decoded */
 } board;
 
@@ -54,9 +54,9 @@ static void on_send(void *ctx, const uint8_t *data, uint16_t len)
     board *b = ctx;
     if (len >= PROTO_HEADER && data[0] == PROTO_MAGIC0 && PROTO_GET32(data + PROTO_OFF_SEQ) == 0)
         b->back.have_seq = false;
-    check(link_rx_feed(&b->back, data, len) == 0);
-    link_packet p;
-    while (link_rx_next(&b->back, &p) == 1) {
+    check(alb_link_rx_feed(&b->back, data, len) == 0);
+    alb_link_packet p;
+    while (alb_link_rx_next(&b->back, &p) == 1) {
         check(p.type & 0x80);
         b->got++;
     }
@@ -110,7 +110,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fw_init(&b.core, &h, b.buf, MAX_PAYLOAD);
     b.core.width = 64;
     b.core.height = 64;
-    link_rx_init(&b.back);
+    alb_link_rx_init(&b.back);
     uint32_t s = 0x9E3779B9u ^ data[0];
     uint32_t frame = 0;
     data++, size--;
@@ -149,6 +149,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     /* everything the board said decoded cleanly, in order */
     check(b.back.crc_errors == 0 && b.back.garbage == 0 && b.back.seq_gaps == 0 &&
           b.back.duplicates == 0 && b.back.start == b.back.len && (b.got > 0) == (b.back.len > 0));
-    link_rx_free(&b.back);
+    alb_link_rx_free(&b.back);
     return 0;
 }

@@ -54,16 +54,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     } else if (fuzz_write("f.mtl", "", 0, mtl_path, sizeof mtl_path) || unlink(mtl_path)) {
         return 0;   /* no stale library from an earlier input */
     }
-    profile_t prof;
-    if (profile_lookup("a256", &prof))
+    alb_profile prof;
+    if (alb_profile_lookup("a256", &prof))
         return 0;
-    scene_camera cam = {{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 60, prof.width, prof.height};
-    diag_t d;
-    diag_init(&d, NULL);
-    scene_t s;
-    if (scene_load_obj(obj_path, &cam, &s, &d) != ALB_OK)
+    alb_scene_camera cam = {{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 60, prof.width, prof.height};
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_scene s;
+    if (alb_scene_load_obj(obj_path, &cam, &s, &d) != ALB_OK)
         return 0;
     fuzz_run_gp(&s, &prof, NULL);
-    scene_free(&s);
+    alb_scene_free(&s);
     return 0;
 }

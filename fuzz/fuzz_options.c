@@ -2,14 +2,14 @@
  * emu/cli.c): the options-file tokenizer on the whole input, then records
  * separated by NUL or newline, each "NAME=VALUE" given to run_opts_apply
  * (profile, set, eye, at, up, fov, size) or, for any other name, the whole
- * record to profile_set; then profile_check.  A profile it accepts must
- * survive profile_describe -> profile_set unchanged, and must run: the GP on
+ * record to alb_profile_set; then alb_profile_check.  A profile it accepts must
+ * survive alb_profile_describe -> alb_profile_set unchanged, and must run: the GP on
  * a cube imported with the fuzzed camera, and on small screens the VP at all
  * three fidelities on the GP's stream. */
 #include "fuzz.h"
 #include "../emu/cli.h"
-#include "../emu/sim.h"
-#include "../gp/gp.h"
+#include "albatros/sim.h"
+#include "albatros/gp.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -50,36 +50,36 @@ static void apply_records(char *text, size_t size, run_opts *o)
             *eq = '=';
         }
         if (!taken && *rec)
-            profile_set(&o->prof, rec, err, sizeof err);
+            alb_profile_set(&o->prof, rec, err, sizeof err);
     }
 }
 
-/* profile_describe's lines, given back to profile_set on another profile,
+/* alb_profile_describe's lines, given back to alb_profile_set on another profile,
  * rebuild this one. */
-static void check_describe(const profile_t *p)
+static void check_describe(const alb_profile *p)
 {
     char want[2048], got[2048], err[400];
-    profile_t q;
-    if (profile_lookup(p->cull_backfaces ? "t32" : "a1024", &q))
+    alb_profile q;
+    if (alb_profile_lookup(p->cull_backfaces ? "t32" : "a1024", &q))
         abort();
     q.cull_backfaces = !p->cull_backfaces;
-    q.bound = p->bound == BOUND_NONE ? BOUND_BOX : BOUND_NONE;
+    q.bound = p->bound == ALB_BOUND_NONE ? ALB_BOUND_BOX : ALB_BOUND_NONE;
     memcpy(q.name, p->name, sizeof q.name);
-    profile_describe(p, want, sizeof want);
+    alb_profile_describe(p, want, sizeof want);
     memcpy(got, want, sizeof got);
     char *line = strchr(got, '\n');   /* past "profile=NAME" */
     while (line && *++line) {
         char *end = strchr(line, '\n');
         if (end)
             *end = 0;
-        if (profile_set(&q, line, err, sizeof err)) {
+        if (alb_profile_set(&q, line, err, sizeof err)) {
             fprintf(stderr, "fuzz_options: profile_set rejects profile_describe's '%s': %s\n",
                     line, err);
             abort();
         }
         line = end;
     }
-    profile_describe(&q, got, sizeof got);
+    alb_profile_describe(&q, got, sizeof got);
     if (strcmp(got, want)) {
         fprintf(stderr, "fuzz_options: profile_describe -> profile_set changed the profile:\n"
                         "%s---\n%s", want, got);
@@ -87,7 +87,7 @@ static void check_describe(const profile_t *p)
     }
 }
 
-static unsigned frame_sum(const frame_t *f)
+static unsigned frame_sum(const alb_frame *f)
 {
     unsigned sum = 0;
     for (size_t i = 0; i < (size_t)f->width * f->height; i++)
@@ -96,13 +96,13 @@ static unsigned frame_sum(const frame_t *f)
     return sum;
 }
 
-static int sink(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
+static int sink(void *ctx, const alb_frame *f, const alb_vp_stats *vs, const alb_sim_counters *sc)
 {
     *(unsigned *)ctx += frame_sum(f) + (unsigned)vs->faces + (unsigned)(sc ? sc->cycles : 0);
     return 0;
 }
 
-static void run_vp(const profile_t *p, const ws_buf *b)
+static void run_vp(const alb_profile *p, const alb_ws_buf *b)
 {
     uint64_t samples = ((uint64_t)p->width * p->height) << (2 * p->aa_levels);
     if (samples > VP_SAMPLES_MAX)
@@ -110,11 +110,11 @@ static void run_vp(const profile_t *p, const ws_buf *b)
     bool cycle = p->gp_face_cycles + 64ull * p->gp_edge_cycles + p->gp_frame_cycles +
                  p->divider_latency + p->shade_latency <= CYCLE_GP_MAX;
     unsigned sum = 0;
-    for (int fid = FIDELITY_FUNCTIONAL; fid <= (cycle ? FIDELITY_CYCLE : FIDELITY_TIMED); fid++) {
-        sim_options opt = {.fid = (fidelity)fid, .vcd_to = UINT64_MAX, .threads = 1};
-        diag_t d;
-        diag_init(&d, NULL);
-        sim_run(p, b->w, b->n, "<gp>", &opt, sink, &sum, &d);
+    for (int fid = ALB_FIDELITY_FUNCTIONAL; fid <= (cycle ? ALB_FIDELITY_CYCLE : ALB_FIDELITY_TIMED); fid++) {
+        alb_sim_options opt = {.fid = (alb_fidelity)fid, .vcd_to = UINT64_MAX, .threads = 1};
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        alb_sim_run(p, b->w, b->n, "<gp>", &opt, sink, &sum, &d);
     }
     volatile unsigned keep = sum;
     (void)keep;
@@ -141,23 +141,23 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     apply_records(text, size, &o);
     free(text);
     char msg[300];
-    if (profile_check(&o.prof, msg, sizeof msg))
+    if (alb_profile_check(&o.prof, msg, sizeof msg))
         return 0;
     check_describe(&o.prof);
 
-    scene_camera cam = o.cam;   /* as cli_load_scene gives it to the importer */
+    alb_scene_camera cam = o.cam;   /* as cli_load_scene gives it to the importer */
     cam.width = o.prof.width;
     cam.height = o.prof.height;
-    diag_t d;
-    diag_init(&d, NULL);
-    scene_t s;
-    if (scene_load_obj(cube, &cam, &s, &d) != ALB_OK)
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_scene s;
+    if (alb_scene_load_obj(cube, &cam, &s, &d) != ALB_OK)
         return 0;
-    ws_buf b;
+    alb_ws_buf b;
     if (fuzz_run_gp(&s, &o.prof, &b) == 0) {
         run_vp(&o.prof, &b);
-        ws_buf_free(&b);
+        alb_ws_buf_free(&b);
     }
-    scene_free(&s);
+    alb_scene_free(&s);
     return 0;
 }

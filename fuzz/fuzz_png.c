@@ -10,10 +10,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     char path[512];
     if (fuzz_write("fuzz.png", data, size, path, sizeof path))
         return 0;
-    scene_texture t = {0};
-    diag_t d;
-    diag_init(&d, NULL);
-    if (scene_texture_png(&t, path, &d) == ALB_OK)
+    alb_scene_texture t = {0};
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    if (alb_scene_texture_png(&t, path, &d) == ALB_OK)
         free(t.texels);
     return 0;
 }

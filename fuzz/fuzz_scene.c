@@ -33,19 +33,19 @@ static bool names_a_file(const uint8_t *data, size_t size)
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     const char *name = scene_name();
-    profile_t prof;
+    alb_profile prof;
     /* Texture paths stay inside the scratch directory: a fuzzed "/dev/stdin"
      * would block the run. */
     if (!name || (memchr(data, '/', size) && names_a_file(data, size)) ||
-        profile_lookup("a256", &prof))
+        alb_profile_lookup("a256", &prof))
         return 0;
-    diag_t d;
-    diag_init(&d, NULL);
-    scene_t s;
-    if (scene_parse((const char *)data, size, name, &s, &d) != ALB_OK)
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_scene s;
+    if (alb_scene_parse((const char *)data, size, name, &s, &d) != ALB_OK)
         return 0;
-    if (scene_resolve_screenspace(&s, prof.width, prof.height, &d) == ALB_OK)
+    if (alb_scene_resolve_screenspace(&s, prof.width, prof.height, &d) == ALB_OK)
         fuzz_run_gp(&s, &prof, NULL);
-    scene_free(&s);
+    alb_scene_free(&s);
     return 0;
 }

@@ -5,7 +5,7 @@
  * 0) within REPLAY_TIMEOUT seconds; the sanitizers of `make asan` turn
  * memory errors and leaks into failures.  Ends with "N passed, N failed". */
 #include "fuzz.h"
-#include "../common/file.h"
+#include "albatros/file.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -29,7 +29,7 @@ static int read_all(const char *path, uint8_t **data, size_t *size)
     if (!f)
         return -1;
     char *buf;
-    int rc = file_read_all(f, &buf, size);
+    int rc = alb_file_read_all(f, &buf, size);
     fclose(f);
     *data = (uint8_t *)buf;
     return rc ? -1 : 0;

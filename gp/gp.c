@@ -4,6 +4,7 @@
  * (6), the numerators of (7), lighting (8), edges (16-17), culling (18), the
  * VP edge format (19) and bounding edges (20).  docs/gp.md walks through it. */
 #include "gp_internal.h"
+#include "../common/vec3.h"
 #include "../common/fix.h"
 
 #include <float.h>
@@ -19,9 +20,9 @@ typedef struct {
     double tex[2][4];    /* u and v fields: M (3), D */
 } face_db;
 
-struct gp {
-    const scene_t *scene;
-    profile_t prof;
+struct alb_gp {
+    const alb_scene *scene;
+    alb_profile prof;
     face_db **db;        /* per object, per face */
     vec3 *rn;            /* observer-space vertices of the current object */
     unsigned max_nv;
@@ -31,15 +32,15 @@ struct gp {
 
 /* The vertex triple (0, a, b) spanning the largest triangle: the best-
  * conditioned system (11), whose determinant is k.N (§2). */
-static void best_triple(const scene_object *o, const scene_face *f, unsigned tri[3])
+static void best_triple(const alb_scene_object *o, const alb_scene_face *f, unsigned tri[3])
 {
     double best = -1;
-    vec3 p0 = scene_face_vertex(o, f, 0);
+    vec3 p0 = alb_scene_face_vertex(o, f, 0);
     tri[0] = 0, tri[1] = 1, tri[2] = 2;
     for (unsigned a = 1; a + 1 < f->count; a++)
         for (unsigned b = a + 1; b < f->count; b++) {
-            vec3 k = v3_cross(v3_sub(scene_face_vertex(o, f, a), p0),
-                              v3_sub(scene_face_vertex(o, f, b), p0));
+            vec3 k = v3_cross(v3_sub(alb_scene_face_vertex(o, f, a), p0),
+                              v3_sub(alb_scene_face_vertex(o, f, b), p0));
             double area = v3_dot(k, k);
             if (area > best) {
                 best = area;
@@ -50,13 +51,13 @@ static void best_triple(const scene_object *o, const scene_face *f, unsigned tri
 
 /* One linear field over the face from values at the triple: system (11),
  * solved about the first vertex for precision far from the origin. */
-static int solve_field(const scene_object *o, const scene_face *f, const unsigned tri[3],
+static int solve_field(const alb_scene_object *o, const alb_scene_face *f, const unsigned tri[3],
                        vec3 n, const double val[3], double out[4])
 {
-    vec3 origin = scene_face_vertex(o, f, tri[0]);
+    vec3 origin = alb_scene_face_vertex(o, f, tri[0]);
     vec3 r[3];
     for (int k = 0; k < 3; k++)
-        r[k] = v3_sub(scene_face_vertex(o, f, tri[k]), origin);
+        r[k] = v3_sub(alb_scene_face_vertex(o, f, tri[k]), origin);
     if (gp_solve_linear(r, val, n, out))
         return -1;
     /* I = M.(R - origin) + D'  =>  D = D' - M.origin */
@@ -64,27 +65,27 @@ static int solve_field(const scene_object *o, const scene_face *f, const unsigne
     return 0;
 }
 
-static alb_err prepare_face(const scene_t *s, const scene_object *o, const scene_face *f,
-                            face_db *db, diag_t *d)
+static alb_err prepare_face(const alb_scene *s, const alb_scene_object *o, const alb_scene_face *f,
+                            face_db *db, alb_diag *d)
 {
-    vec3 n = scene_face_newell(o, f);
+    vec3 n = alb_scene_face_newell(o, f);
     db->n = v3_scale(n, 1 / v3_len(n));
-    db->d = v3_dot(db->n, scene_face_vertex(o, f, 0));
+    db->d = v3_dot(db->n, alb_scene_face_vertex(o, f, 0));
     unsigned tri[3];
     best_triple(o, f, tri);
     double val[3];
     switch (f->shade) {
-    case SHADE_FLAT:
+    case ALB_SHADE_FLAT:
         db->shade[0] = db->shade[1] = db->shade[2] = 0;
         db->shade[3] = f->intensity;
         break;
-    case SHADE_VERTEX:
+    case ALB_SHADE_VERTEX:
         for (int k = 0; k < 3; k++)
             val[k] = o->v[o->idx[f->first + tri[k]]].i;
         if (solve_field(o, f, tri, db->n, val, db->shade))
             goto singular;
         break;
-    case SHADE_LIT: {
+    case ALB_SHADE_LIT: {
         /* The front normal is -Newell: with x right, y up, z forward a face
          * counter-clockwise on the screen has its Newell normal pointing away
          * from the observer.  Vertices without a normal take the face's. */
@@ -92,8 +93,8 @@ static alb_err prepare_face(const scene_t *s, const scene_object *o, const scene
         for (int c = 0; c < 3; c++) {
             double col[4];
             for (int k = 0; k < 3; k++) {
-                const scene_vertex *v = &o->v[o->idx[f->first + tri[k]]];
-                vec3 nv = (v->has & SV_NORMAL) ? v->n : front;
+                const alb_scene_vertex *v = &o->v[o->idx[f->first + tri[k]]];
+                vec3 nv = (v->has & ALB_SV_NORMAL) ? v->n : front;
                 val[k] = c == 0 ? nv.x : c == 1 ? nv.y : nv.z;
             }
             if (solve_field(o, f, tri, db->n, val, col))
@@ -104,13 +105,13 @@ static alb_err prepare_face(const scene_t *s, const scene_object *o, const scene
         break;
     }
     }
-    if (f->texmap == TEXMAP_AXES) {
+    if (f->texmap == ALB_TEXMAP_AXES) {
         memcpy(db->tex[0], f->axes, 4 * sizeof(double));
         memcpy(db->tex[1], f->axes + 4, 4 * sizeof(double));
-    } else if (f->texmap == TEXMAP_UV) {
+    } else if (f->texmap == ALB_TEXMAP_UV) {
         for (int t = 0; t < 2; t++) {
             for (int k = 0; k < 3; k++) {
-                const scene_vertex *v = &o->v[o->idx[f->first + tri[k]]];
+                const alb_scene_vertex *v = &o->v[o->idx[f->first + tri[k]]];
                 val[k] = t ? v->v : v->u;
             }
             if (solve_field(o, f, tri, db->n, val, db->tex[t]))
@@ -119,7 +120,7 @@ static alb_err prepare_face(const scene_t *s, const scene_object *o, const scene
     }
     return ALB_OK;
 singular:
-    return diag_at(d, ALB_ERR_GEOMETRY, s->file, f->line, 0,
+    return alb_diag_at(d, ALB_ERR_GEOMETRY, s->file, f->line, 0,
                    "face %u: system (11) is singular (vertices nearly collinear)", f->id);
 }
 
@@ -145,35 +146,35 @@ static bool fog_word(double dist, double near, uint32_t *word)
  * the stress family `coords` from 10^-60 to 10^60): this is where a scene the
  * stream cannot carry is refused, at the line and column that set the value,
  * rather than written into a stream the decoder rejects. */
-static alb_err check_stream_values(const scene_t *s, diag_t *d)
+static alb_err check_stream_values(const alb_scene *s, alb_diag *d)
 {
     if (!(s->near >= FLT_MIN && s->near <= FLT_MAX))
-        return diag_at(d, ALB_ERR_LIMIT, s->file, s->near_line, s->near_col,
+        return alb_diag_at(d, ALB_ERR_LIMIT, s->file, s->near_line, s->near_col,
                        "near %g is outside %g .. %g: the word stream stores near as IEEE-754 "
                        "binary32", s->near, FLT_MIN, FLT_MAX);
     uint32_t wn, wf;
     if (s->fog && !(fog_word(s->fog_far, s->near, &wf) && fog_word(s->fog_near, s->near, &wn)))
-        return diag_at(d, ALB_ERR_LIMIT, s->file, s->fog_line, s->fog_col,
+        return alb_diag_at(d, ALB_ERR_LIMIT, s->file, s->fog_line, s->fog_col,
                        "fog far %g is %g times near (%g): the word stream's 24.8 fog distance "
                        "holds at most %g; raise near or lower the fog distances", s->fog_far,
                        s->fog_far / s->near, s->near, FOG_WORD_MAX / 256);
     if (s->fog && wf <= wn)
-        return diag_at(d, ALB_ERR_LIMIT, s->file, s->fog_line, s->fog_col,
+        return alb_diag_at(d, ALB_ERR_LIMIT, s->file, s->fog_line, s->fog_col,
                        "fog near %g and far %g are one value in the word stream's 24.8 fog "
                        "distance (steps of near/256 = %g): move them further apart", s->fog_near,
                        s->fog_far, s->near / 256);
     return ALB_OK;
 }
 
-alb_err gp_create(gp_t **out, const scene_t *scene, const profile_t *prof, diag_t *d)
+alb_err alb_gp_create(alb_gp **out, const alb_scene *scene, const alb_profile *prof, alb_diag *d)
 {
     char msg[256];
-    if (profile_check(prof, msg, sizeof msg))
-        return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "%s", msg);
+    if (alb_profile_check(prof, msg, sizeof msg))
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "%s", msg);
     alb_err e = check_stream_values(scene, d);
     if (e)
         return e;
-    gp_t *gp = calloc(1, sizeof *gp);
+    alb_gp *gp = calloc(1, sizeof *gp);
     if (!gp)
         return ALB_ERR_NOMEM;
     gp->scene = scene;
@@ -182,7 +183,7 @@ alb_err gp_create(gp_t **out, const scene_t *scene, const profile_t *prof, diag_
     if (!gp->db)
         goto nomem;
     for (unsigned i = 0; i < scene->nobj; i++) {
-        const scene_object *o = &scene->obj[i];
+        const alb_scene_object *o = &scene->obj[i];
         if (o->nv > gp->max_nv)
             gp->max_nv = o->nv;
         gp->db[i] = calloc(o->nf ? o->nf : 1, sizeof **gp->db);
@@ -191,7 +192,7 @@ alb_err gp_create(gp_t **out, const scene_t *scene, const profile_t *prof, diag_
         for (unsigned j = 0; j < o->nf; j++) {
             e = prepare_face(scene, o, &o->f[j], &gp->db[i][j], d);
             if (e) {
-                gp_destroy(gp);
+                alb_gp_destroy(gp);
                 return e;
             }
         }
@@ -202,11 +203,11 @@ alb_err gp_create(gp_t **out, const scene_t *scene, const profile_t *prof, diag_
     *out = gp;
     return ALB_OK;
 nomem:
-    gp_destroy(gp);
-    return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory preparing the GP database");
+    alb_gp_destroy(gp);
+    return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory preparing the GP database");
 }
 
-void gp_destroy(gp_t *gp)
+void alb_gp_destroy(alb_gp *gp)
 {
     if (!gp)
         return;
@@ -218,7 +219,7 @@ void gp_destroy(gp_t *gp)
     free(gp);
 }
 
-unsigned gp_frame_count(const gp_t *gp) { return gp->scene->nframes; }
+unsigned alb_gp_frame_count(const alb_gp *gp) { return gp->scene->nframes; }
 
 /* ---- per frame ---- */
 
@@ -232,22 +233,27 @@ typedef struct {
     double ambient;
 } xform;
 
-static int object_xform(const gp_t *gp, const scene_frame *fr, unsigned oi, xform *x)
+/* The frame's part of every object's T: S V^T, computed once a frame. */
+static mat3 observer_part(const alb_gp *gp, const alb_scene_observer *ob)
 {
-    const scene_pose *pose = &fr->poses[oi];
-    const scene_observer *ob = &fr->obs;
     double aspect = ob->aspect > 0 ? ob->aspect : (double)gp->prof.width / gp->prof.height;
-    double sy = 1 / tan(ob->fov_y * VEC3_PI / 360), sx = sy / aspect;
-    mat3 q = m3_orientation(pose->yaw, pose->pitch, pose->roll);
-    mat3 o = m3_orientation(ob->pose.yaw, ob->pose.pitch, ob->pose.roll);
+    double sy = 1 / cr_tan(ob->fov_y * VEC3_PI / 360), sx = sy / aspect;
+    mat3 o = ob->look_at ? m3_look_at(ob->pose.pos, ob->at, ob->up)
+                         : m3_orientation(ob->pose.yaw, ob->pose.pitch, ob->pose.roll);
     mat3 v = m3_transpose(&o);
     mat3 s = {{{sx, 0, 0}, {0, sy, 0}, {0, 0, 1}}};
-    mat3 sv = m3_mul(&s, &v);
-    x->t = m3_mul(&sv, &q);
+    return m3_mul(&s, &v);
+}
+
+static int object_xform(const alb_scene_frame *fr, const mat3 *sv, unsigned oi, xform *x)
+{
+    const alb_scene_pose *pose = &fr->poses[oi];
+    mat3 q = m3_orientation(pose->yaw, pose->pitch, pose->roll);
+    x->t = m3_mul(sv, &q);
     if (!m3_inverse_transpose(&x->t, &x->tk))
         return -1;
     mat3 qt = m3_transpose(&q);
-    x->r_sm = m3_apply(&qt, v3_sub(pose->pos, ob->pose.pos));
+    x->r_sm = m3_apply(&qt, v3_sub(pose->pos, fr->obs.pose.pos));
     x->light = m3_apply(&qt, fr->light.dir);
     x->ambient = fr->light.ambient;
     return 0;
@@ -262,7 +268,7 @@ static void field_to_observer(const xform *x, const double f[4], vec3 *m_n, doub
 }
 
 /* eq. (7): numerator coefficients A_n + D_n Az, ... scaled like the depth form. */
-static ws_form numerator_form(const gp_t *gp, vec3 m_n, double d_n, vec3 z, int *sat)
+static alb_ws_form numerator_form(const alb_gp *gp, vec3 m_n, double d_n, vec3 z, int *sat)
 {
     double near = gp->scene->near;
     return gp_quantise_form(near * (m_n.x + d_n * z.x), near * (m_n.y + d_n * z.y),
@@ -272,7 +278,7 @@ static ws_form numerator_form(const gp_t *gp, vec3 m_n, double d_n, vec3 z, int 
 typedef enum { EMIT_OK, EMIT_DROP_FACE } emit_result;
 
 /* Append a screen line as an edge, unless eq. (18) drops it or the face. */
-static emit_result add_line(const gp_t *gp, ws_face *wf, gp_line l, gp_stats *st, bool bounding)
+static emit_result add_line(const alb_gp *gp, alb_ws_face *wf, gp_line l, alb_gp_stats *st, bool bounding)
 {
     switch (gp_classify_line(l)) {
     case LINE_DROP_FACE:
@@ -295,8 +301,8 @@ static emit_result add_line(const gp_t *gp, ws_face *wf, gp_line l, gp_stats *st
 /* An axis-parallel bounding edge at screen coordinate v, with its screen test
  * of §7: it crosses the screen iff |v| < 1; otherwise R and the sign of v say
  * whether the screen is inside (drop the edge) or outside (drop the face). */
-static emit_result add_bound(const gp_t *gp, ws_face *wf, unsigned u, unsigned r, double v,
-                             gp_stats *st)
+static emit_result add_bound(const alb_gp *gp, alb_ws_face *wf, unsigned u, unsigned r, double v,
+                             alb_gp_stats *st)
 {
     if (fabs(v) < 1) {
         wf->edge[wf->n_edges++] = gp_bound_format(u, r, v, gp->prof.edge_frac_bits);
@@ -310,9 +316,21 @@ static emit_result add_bound(const gp_t *gp, ws_face *wf, unsigned u, unsigned r
     return EMIT_OK;
 }
 
-static emit_result bound_albatros(const gp_t *gp, ws_face *wf, const vec3 *p,
-                                  const gp_line *lines, unsigned n, gp_stats *st)
+/* The paper's rule (§7, code 20): at most two per face, because the sector
+ * differences around a convex polygon add up to 8 and each generating vertex
+ * takes 3 or 4.  A face that is not strictly convex on the screen — a vertex
+ * turning back within the scene parser's tolerance, or a straight vertex
+ * whose two edges rounding puts on either side of a sector border — steps
+ * back a sector (a difference of 7) and can then generate at three or more.
+ * The GP keeps the rule as a guarantee: the first two generating vertices in
+ * vertex order get bounding edges, later ones none (bound_excess counts
+ * them).  Bounding edges only bound, so this changes no covered sample. */
+#define BOUND_PER_FACE 2
+
+static emit_result bound_albatros(const alb_gp *gp, alb_ws_face *wf, const vec3 *p,
+                                  const gp_line *lines, unsigned n, alb_gp_stats *st)
 {
+    unsigned generated = 0;
     for (unsigned k = 0; k < n; k++) {
         const gp_line *e1 = &lines[(k + n - 1) % n], *e2 = &lines[k];
         /* the vertex between edge k-1 and edge k must have a screen image */
@@ -322,6 +340,11 @@ static emit_result bound_albatros(const gp_t *gp, ws_face *wf, const vec3 *p,
         unsigned rom = gp_bound_rom[code];
         if (!(rom & BOUND_ROM_GEN))
             continue;
+        if (generated == BOUND_PER_FACE) {
+            st->bound_excess++;
+            continue;
+        }
+        generated++;
         unsigned u = (rom & BOUND_ROM_U) != 0, r = rom & BOUND_ROM_R;
         double v = u ? p[k].x / p[k].z : p[k].y / p[k].z;
         if (add_bound(gp, wf, u, r, v, st) == EMIT_DROP_FACE)
@@ -330,7 +353,7 @@ static emit_result bound_albatros(const gp_t *gp, ws_face *wf, const vec3 *p,
     return EMIT_OK;
 }
 
-static emit_result bound_box(const gp_t *gp, ws_face *wf, const vec3 *p, unsigned n, gp_stats *st)
+static emit_result bound_box(const alb_gp *gp, alb_ws_face *wf, const vec3 *p, unsigned n, alb_gp_stats *st)
 {
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (unsigned k = 0; k < n; k++) {
@@ -351,8 +374,8 @@ static emit_result bound_box(const gp_t *gp, ws_face *wf, const vec3 *p, unsigne
     return EMIT_OK;
 }
 
-static emit_result bound_bisector(const gp_t *gp, ws_face *wf, const vec3 *p, unsigned n,
-                                  gp_stats *st)
+static emit_result bound_bisector(const alb_gp *gp, alb_ws_face *wf, const vec3 *p, unsigned n,
+                                  alb_gp_stats *st)
 {
     for (unsigned k = 0; k < n; k++)
         if (p[k].z <= 0)
@@ -362,12 +385,12 @@ static emit_result bound_bisector(const gp_t *gp, ws_face *wf, const vec3 *p, un
         double bx = b->x / b->z, by = b->y / b->z;
         double d1x = bx - a->x / a->z, d1y = by - a->y / a->z;
         double d2x = c->x / c->z - bx, d2y = c->y / c->z - by;
-        double l1 = hypot(d1x, d1y), l2 = hypot(d2x, d2y);
+        double l1 = cr_hypot(d1x, d1y), l2 = cr_hypot(d2x, d2y);
         if (!(l1 > 0 && l2 > 0))
             continue;
         /* interior bisector -d1/|d1| + d2/|d2|; the edge is perpendicular to it */
         double nx = -d1x / l1 + d2x / l2, ny = -d1y / l1 + d2y / l2;
-        if (!(hypot(nx, ny) > 1e-9))
+        if (!(cr_hypot(nx, ny) > 1e-9))
             continue;   /* a straight vertex needs no bounding edge */
         gp_line l = {nx, ny, -(nx * bx + ny * by)};
         if (add_line(gp, wf, l, st, true) == EMIT_DROP_FACE)
@@ -377,12 +400,12 @@ static emit_result bound_bisector(const gp_t *gp, ws_face *wf, const vec3 *p, un
 }
 
 /* Build the FACE packet of one face; false if the face is dropped. */
-static bool build_face(gp_t *gp, const scene_object *o, const scene_face *f, const face_db *db,
-                       const xform *x, ws_face *wf, gp_stats *st)
+static bool build_face(alb_gp *gp, const alb_scene_object *o, const alb_scene_face *f, const face_db *db,
+                       const xform *x, alb_ws_face *wf, alb_gp_stats *st)
 {
-    const scene_t *s = gp->scene;
+    const alb_scene *s = gp->scene;
     unsigned n = f->count;
-    vec3 p[SCENE_MAX_FACE_VERTICES];
+    vec3 p[ALB_SCENE_MAX_FACE_VERTICES];
     bool any_front = false;
     for (unsigned k = 0; k < n; k++) {
         p[k] = gp->rn[o->idx[f->first + k]];
@@ -423,7 +446,7 @@ static bool build_face(gp_t *gp, const scene_object *o, const scene_face *f, con
     wf->depth = gp_quantise_form(s->near * z.x, s->near * z.y, s->near * z.z,
                                  gp->prof.coef_bits, &sat);
     /* Edges (16-17) with culling (18). */
-    gp_line lines[SCENE_MAX_FACE_VERTICES];
+    gp_line lines[ALB_SCENE_MAX_FACE_VERTICES];
     for (unsigned k = 0; k < n; k++) {
         const vec3 *r1 = &p[k], *r2 = &p[(k + 1) % n];
         vec3 abc = v3_cross(*r1, *r2);
@@ -443,10 +466,10 @@ static bool build_face(gp_t *gp, const scene_object *o, const scene_face *f, con
     }
     emit_result br = EMIT_OK;
     switch (gp->prof.bound) {
-    case BOUND_NONE: break;
-    case BOUND_ALBATROS: br = bound_albatros(gp, wf, p, lines, n, st); break;
-    case BOUND_BOX: br = bound_box(gp, wf, p, n, st); break;
-    case BOUND_BISECTOR: br = bound_bisector(gp, wf, p, n, st); break;
+    case ALB_BOUND_NONE: break;
+    case ALB_BOUND_ALBATROS: br = bound_albatros(gp, wf, p, lines, n, st); break;
+    case ALB_BOUND_BOX: br = bound_box(gp, wf, p, n, st); break;
+    case ALB_BOUND_BISECTOR: br = bound_bisector(gp, wf, p, n, st); break;
     }
     if (br == EMIT_DROP_FACE) {
         st->faces_offscreen++;
@@ -454,10 +477,10 @@ static bool build_face(gp_t *gp, const scene_object *o, const scene_face *f, con
     }
     /* Intensity (7): static fields, or lit through the interpolation matrix
      * (8) in object space, then transformed like any field (3). */
-    bool shaded = !(f->shade == SHADE_FLAT && f->intensity == 1.0);
+    bool shaded = !(f->shade == ALB_SHADE_FLAT && f->intensity == 1.0);
     if (shaded) {
         double field[4];
-        if (f->shade == SHADE_LIT) {
+        if (f->shade == ALB_SHADE_LIT) {
             const vec3 *l = &x->light;
             for (int row = 0; row < 4; row++)
                 field[row] = db->interp[row][0] * l->x + db->interp[row][1] * l->y +
@@ -470,9 +493,9 @@ static bool build_face(gp_t *gp, const scene_object *o, const scene_face *f, con
         double dd;
         field_to_observer(x, field, &m_n, &dd);
         wf->shade = numerator_form(gp, m_n, dd, z, &sat);
-        wf->flags |= WS_FACE_SHADE;
+        wf->flags |= ALB_WS_FACE_SHADE;
     }
-    if (f->texmap != TEXMAP_NONE) {
+    if (f->texmap != ALB_TEXMAP_NONE) {
         for (int t = 0; t < 2; t++) {
             vec3 m_n;
             double dd;
@@ -483,11 +506,11 @@ static bool build_face(gp_t *gp, const scene_object *o, const scene_face *f, con
             dd -= floor(dd);
             *(t ? &wf->tex_v : &wf->tex_u) = numerator_form(gp, m_n, dd, z, &sat);
         }
-        wf->flags |= WS_FACE_TEXTURE;
+        wf->flags |= ALB_WS_FACE_TEXTURE;
         wf->texture = (uint8_t)f->texture;
     }
     if (s->fog && f->fog)
-        wf->flags |= WS_FACE_FOG;
+        wf->flags |= ALB_WS_FACE_FOG;
     st->coef_saturated += (unsigned)sat;
     st->edges_out += wf->n_edges;
     return true;
@@ -498,39 +521,40 @@ static uint32_t rgb_word(const uint8_t c[3])
     return (uint32_t)c[0] << 16 | (uint32_t)c[1] << 8 | c[2];
 }
 
-void gp_stream_header(gp_t *gp, ws_buf *out)
+void alb_gp_stream_header(alb_gp *gp, alb_ws_buf *out)
 {
-    ws_config cfg = {gp->prof.edge_frac_bits, gp->prof.coef_bits, (float)gp->scene->near};
-    ws_put_config(out, &cfg);
+    alb_ws_config cfg = {gp->prof.edge_frac_bits, gp->prof.coef_bits, (float)gp->scene->near};
+    alb_ws_put_config(out, &cfg);
     for (unsigned i = 0; i < gp->scene->ntex; i++) {
-        const scene_texture *t = &gp->scene->tex[i];
-        ws_texture wt = {(uint8_t)i, (uint8_t)t->log2size, t->texels};
-        ws_put_texture(out, &wt);
+        const alb_scene_texture *t = &gp->scene->tex[i];
+        alb_ws_texture wt = {(uint8_t)i, (uint8_t)t->log2size, t->texels};
+        alb_ws_put_texture(out, &wt);
     }
 }
 
-alb_err gp_frame(gp_t *gp, unsigned frame, ws_buf *out, gp_stats *st, diag_t *d)
+alb_err alb_gp_frame(alb_gp *gp, unsigned frame, alb_ws_buf *out, alb_gp_stats *st, alb_diag *d)
 {
-    const scene_t *s = gp->scene;
-    const scene_frame *fr = &s->frames[frame];
+    const alb_scene *s = gp->scene;
+    const alb_scene_frame *fr = &s->frames[frame];
     memset(st, 0, sizeof *st);
     size_t start = out->n;
-    ws_frame wf = {frame & 0xFFFFFF, rgb_word(s->background), s->fog, rgb_word(s->fog_rgb), 0, 0};
-    /* in range, far beyond near: gp_create checked (check_stream_values) */
+    alb_ws_frame wf = {frame & 0xFFFFFF, rgb_word(s->background), s->fog, rgb_word(s->fog_rgb), 0, 0};
+    /* in range, far beyond near: alb_gp_create checked (check_stream_values) */
     if (s->fog) {
         fog_word(s->fog_near, s->near, &wf.fog_near);
         fog_word(s->fog_far, s->near, &wf.fog_far);
     }
-    ws_put_frame(out, &wf);
-    ws_face *face = malloc(sizeof *face);
+    alb_ws_put_frame(out, &wf);
+    alb_ws_face *face = malloc(sizeof *face);
     if (!face)
-        return diag_at(d, ALB_ERR_NOMEM, s->file, 0, 0, "out of memory");
+        return alb_diag_at(d, ALB_ERR_NOMEM, s->file, 0, 0, "out of memory");
+    mat3 sv = observer_part(gp, &fr->obs);
     for (unsigned oi = 0; oi < s->nobj; oi++) {
-        const scene_object *o = &s->obj[oi];
+        const alb_scene_object *o = &s->obj[oi];
         xform x;
-        if (object_xform(gp, fr, oi, &x)) {
+        if (object_xform(fr, &sv, oi, &x)) {
             free(face);
-            return diag_at(d, ALB_ERR_GEOMETRY, s->file, o->line, 0,
+            return alb_diag_at(d, ALB_ERR_GEOMETRY, s->file, o->line, 0,
                            "frame %u: object '%s' has a singular observer transform", frame,
                            o->name);
         }
@@ -541,51 +565,90 @@ alb_err gp_frame(gp_t *gp, unsigned frame, ws_buf *out, gp_stats *st, diag_t *d)
             if (build_face(gp, o, &o->f[j], &gp->db[oi][j], &x, face, st)) {
                 if (st->faces_out == gp->prof.frame_faces) {
                     free(face);
-                    return diag_at(d, ALB_ERR_LIMIT, s->file, o->f[j].line, 0,
+                    return alb_diag_at(d, ALB_ERR_LIMIT, s->file, o->f[j].line, 0,
                                    "frame %u has more than %u faces (frame_faces=%u; "
                                    "docs/limits.md)", frame, gp->prof.frame_faces,
                                    gp->prof.frame_faces);
                 }
-                ws_put_face(out, face);
+                alb_ws_put_face(out, face);
                 st->faces_out++;
             }
         }
     }
     free(face);
-    ws_put_frame_end(out, st->faces_out);
+    alb_ws_put_frame_end(out, st->faces_out);
     if (out->oom)
-        return diag_at(d, ALB_ERR_NOMEM, s->file, 0, 0, "out of memory for the word stream");
+        return alb_diag_at(d, ALB_ERR_NOMEM, s->file, 0, 0, "out of memory for the word stream");
     st->words = out->n - start;
     return ALB_OK;
 }
 
-void gp_stats_add(gp_stats *sum, const gp_stats *s)
+void alb_gp_stats_add(alb_gp_stats *sum, const alb_gp_stats *s)
 {
 #define ADD(f) sum->f += s->f
     ADD(faces_in); ADD(faces_out); ADD(faces_behind); ADD(faces_backfacing);
     ADD(faces_edge_on); ADD(faces_offscreen); ADD(edges_out); ADD(edges_behind);
     ADD(edges_degenerate); ADD(edges_offscreen); ADD(bound_added); ADD(bound_culled);
+    ADD(bound_excess);
     ADD(coef_saturated); ADD(words);
 #undef ADD
 }
 
-alb_err gp_run(gp_t *gp, ws_buf *out, gp_stats *total, diag_t *d)
+alb_err alb_gp_run(alb_gp *gp, alb_ws_buf *out, alb_gp_stats *total, alb_diag *d)
 {
-    gp_stats sum, st;
+    alb_gp_stats sum, st;
     memset(&sum, 0, sizeof sum);
     size_t start = out->n;
-    gp_stream_header(gp, out);
+    alb_gp_stream_header(gp, out);
     for (unsigned f = 0; f < gp->scene->nframes; f++) {
-        alb_err e = gp_frame(gp, f, out, &st, d);
+        alb_err e = alb_gp_frame(gp, f, out, &st, d);
         if (e)
             return e;
-        gp_stats_add(&sum, &st);
+        alb_gp_stats_add(&sum, &st);
     }
-    ws_put_end(out);
+    alb_ws_put_end(out);
     if (out->oom)
-        return diag_at(d, ALB_ERR_NOMEM, gp->scene->file, 0, 0, "out of memory for the word stream");
+        return alb_diag_at(d, ALB_ERR_NOMEM, gp->scene->file, 0, 0, "out of memory for the word stream");
     sum.words = out->n - start;
     if (total)
         *total = sum;
+    return ALB_OK;
+}
+
+alb_err alb_gp_compile_file(const char *scene, const char *profile, const char *const *sets,
+                            uint32_t **w, size_t *n, alb_diag *d)
+{
+    alb_diag local;
+    if (!d)
+        d = &local;
+    alb_diag_init(d, NULL);
+    *w = NULL;
+    *n = 0;
+    alb_profile p;
+    alb_err e = alb_profile_open(&p, profile, sets, d);
+    if (e)
+        return e;
+    alb_scene s;
+    e = scene ? alb_scene_load(scene, &s, d) : alb_scene_load_builtin(&s, d);
+    if (e)
+        return e;
+    if ((e = alb_scene_resolve_screenspace(&s, p.width, p.height, d))) {
+        alb_scene_free(&s);
+        return e;
+    }
+    alb_gp *gp = NULL;
+    alb_ws_buf b;
+    alb_ws_buf_init(&b);
+    e = alb_gp_create(&gp, &s, &p, d);
+    if (!e)
+        e = alb_gp_run(gp, &b, NULL, d);
+    alb_gp_destroy(gp);
+    alb_scene_free(&s);
+    if (e) {
+        alb_ws_buf_free(&b);
+        return e;
+    }
+    *w = b.w;
+    *n = b.n;
     return ALB_OK;
 }

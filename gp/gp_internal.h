@@ -2,7 +2,8 @@
 #ifndef ALBATROS_GP_INTERNAL_H
 #define ALBATROS_GP_INTERNAL_H
 
-#include "gp.h"
+#include "albatros/gp.h"
+#include "../common/vec3.h"
 
 #include <math.h>
 
@@ -46,16 +47,25 @@ gp_line_class gp_classify_line(gp_line l);
  * saturate to [0, 2^(3+F) - 1] (docs/number-formats.md §1). */
 uint32_t gp_quantise_intercept(double x, unsigned frac_bits);
 /* U | R | X1 | X2 of a line that crosses the screen (§6). */
-ws_edge gp_edge_format(gp_line l, unsigned frac_bits);
+alb_ws_edge gp_edge_format(gp_line l, unsigned frac_bits);
 /* An axis-parallel bounding edge through screen coordinate v (§7). */
-ws_edge gp_bound_format(unsigned u, unsigned r, double v, unsigned frac_bits);
+alb_ws_edge gp_bound_format(unsigned u, unsigned r, double v, unsigned frac_bits);
 
 /* Block floating-point form of (a, b, c) with coef_bits signed mantissas
  * (docs/number-formats.md §2).  *saturated set if the exponent clamped. */
-ws_form gp_quantise_form(double a, double b, double c, unsigned coef_bits, int *saturated);
+alb_ws_form gp_quantise_form(double a, double b, double c, unsigned coef_bits, int *saturated);
 
 /* Solve system (11): X_k A + Y_k B + Z_k C + D = val_k (k = 1..3) and
  * N.(A, B, C) = 0.  Returns 0, or -1 if the determinant k.N vanishes. */
 int gp_solve_linear(const vec3 r[3], const double val[3], vec3 n, double out[4]);
+
+/* A closed planar polygon given by its n edge vectors (dx[k], dy[k]), edge k
+ * leaving vertex k, in a plane frame where the polygon runs counter-clockwise
+ * if convex (gp/polygon.c).  REFLEX: *vertex is a vertex turning right by a
+ * sine below -tol_sin (or by 90 degrees or more, or doubling back); otherwise
+ * *vertex is how many times the polygon winds, CONVEX when once. */
+typedef enum { GP_TURNS_CONVEX, GP_TURNS_REFLEX, GP_TURNS_NOT_SIMPLE } gp_turns;
+gp_turns gp_polygon_turns(const double *dx, const double *dy, unsigned n, double tol_sin,
+                          unsigned *vertex);
 
 #endif

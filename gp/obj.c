@@ -1,8 +1,10 @@
 /* obj.c — Wavefront OBJ import: the polygons become one scene object of valid
  * convex planar faces (split or rejected where needed), MTL Kd colours become
  * face colours, and an eye/at/up camera becomes the single frame's observer. */
-#include "scene.h"
-#include "../common/file.h"
+#include "albatros/scene.h"
+#include "../common/vec3.h"
+#include "albatros/file.h"
+#include "gp_internal.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -13,7 +15,7 @@
 
 #define GREY 200                /* colour of faces without a (known) material */
 #define OBJ_MAX_POLY 1024       /* ear clipping is cubic in the worst case */
-/* The tolerances of scene_check_face (scene.c), so that "planar" and
+/* The tolerances of alb_scene_check_face (scene.c), so that "planar" and
  * "collinear" here mean exactly what the checker means. */
 #define TOL_AREA  1e-12
 #define TOL_PLANE 1e-6
@@ -43,18 +45,18 @@ static void *grow(void *p, unsigned *cap, unsigned need, size_t elem)
     return q;
 }
 
-static alb_err read_file(const char *path, char **out, size_t *len, diag_t *d)
+static alb_err read_file(const char *path, char **out, size_t *len, alb_diag *d)
 {
     FILE *f = fopen(path, "rb");
     if (!f)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
-    int rc = file_read_all(f, out, len);
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
+    int rc = alb_file_read_all(f, out, len);
     int err = errno;
     fclose(f);
     if (rc == -2)
-        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "file too large for memory");
+        return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "file too large for memory");
     if (rc)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
     return ALB_OK;
 }
 
@@ -67,7 +69,7 @@ typedef struct {
 
 typedef struct {
     const char *file;
-    diag_t *d;
+    alb_diag *d;
     const char *text;
     size_t len, next;        /* next: offset of the next line */
     unsigned line;
@@ -76,7 +78,7 @@ typedef struct {
     unsigned end_col;        /* column just after the last token read */
 } reader;
 
-static reader reader_make(const char *text, size_t len, const char *file, diag_t *d)
+static reader reader_make(const char *text, size_t len, const char *file, alb_diag *d)
 {
     reader r;
     memset(&r, 0, sizeof r);
@@ -95,7 +97,7 @@ rerr(reader *r, unsigned col, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    return diag_at(r->d, ALB_ERR_PARSE, r->file, r->line, col, "%s", msg);
+    return alb_diag_at(r->d, ALB_ERR_PARSE, r->file, r->line, col, "%s", msg);
 }
 
 /* Advance to the next line; *got = false at the end.  Both formats are
@@ -118,7 +120,7 @@ static alb_err next_line(reader *r, bool *got)
         unsigned char c = (unsigned char)r->ln[i];
         if (c == 0 || c >= 0x80)
             return rerr(r, (unsigned)i + 1, "byte 0x%02x: expected ASCII text%s", c,
-                        scene_byte_hint(r->text, r->len, (size_t)(r->ln - r->text) + i));
+                        alb_scene_byte_hint(r->text, r->len, (size_t)(r->ln - r->text) + i));
     }
     return ALB_OK;
 }
@@ -192,7 +194,7 @@ static alb_err parse_num(reader *r, const otok *t, double *out)
     if (whole && (isnan(v) || (isinf(v) && errno != ERANGE)))
         return rerr(r, t->col, "number '%s' is NaN or infinite; expected a finite number", buf);
     /* plain decimal only: strtod would also take hexadecimal */
-    if (!whole || !scene_decimal_syntax(buf, t->len))
+    if (!whole || !alb_scene_decimal_syntax(buf, t->len))
         return expected(r, t, "a number");
     if (isinf(v))
         return rerr(r, t->col, "number '%s' is out of range", buf);
@@ -216,9 +218,9 @@ typedef struct {
 } material;
 
 typedef struct {
-    scene_t *s;
-    scene_object *o;
-    diag_t *d;
+    alb_scene *s;
+    alb_scene_object *o;
+    alb_diag *d;
     const char *path;        /* the OBJ file: diagnostics, mtllib directory */
     unsigned line, col;      /* the statement being imported */
     unsigned nvt, nvn;       /* counted only, to check face indices */
@@ -231,7 +233,9 @@ typedef struct {
     unsigned *poly;          /* vertex indices of the face being read */
     unsigned cap_poly;
     unsigned ndegenerate, first_degenerate;
-    diag_t chk;              /* why the last scene_check_face failed */
+    unsigned fnum;           /* the 'f' statement being imported, from 0: the id of
+                                every face made of it (docs/vp.md §7) */
+    alb_diag chk;              /* why the last alb_scene_check_face failed */
 } importer;
 
 static void importer_free(importer *im)
@@ -262,7 +266,7 @@ static alb_err __attribute__((format(printf, 2, 3))) gerr(importer *im, const ch
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    return diag_at(im->d, ALB_ERR_GEOMETRY, im->path, im->line, im->col, "%s", msg);
+    return alb_diag_at(im->d, ALB_ERR_GEOMETRY, im->path, im->line, im->col, "%s", msg);
 }
 
 /* ---- materials ---- */
@@ -305,7 +309,7 @@ static alb_err mtl_kd(importer *im, reader *r, int cur, unsigned col)
         return expected(r, NULL, "a red value 0..1");
     if (tok_is(&t, "spectral") || tok_is(&t, "xyz")) {
         if (!im->warned_kd)
-            diag_warn(im->d, r->file, r->line, "'Kd %.*s' is not supported; such materials "
+            alb_diag_warn(im->d, r->file, r->line, "'Kd %.*s' is not supported; such materials "
                       "keep the default colour", clip_len(t.len), t.s);
         im->warned_kd = true;
         return ALB_OK;
@@ -368,13 +372,13 @@ static alb_err load_mtl(importer *im, const otok *name, bool warn, bool *opened)
     if (!path)
         return ALB_ERR_NOMEM;
     size_t len;
-    diag_t io;
-    diag_init(&io, NULL);
+    alb_diag io;
+    alb_diag_init(&io, NULL);
     alb_err e = read_file(path, &text, &len, &io);
     *opened = e != ALB_ERR_IO;
     if (e == ALB_ERR_IO) {
         if (warn)
-            diag_warn(im->d, im->path, im->line, "material library '%s': %s; faces using its "
+            alb_diag_warn(im->d, im->path, im->line, "material library '%s': %s; faces using its "
                       "materials get the default colour", path, io.msg);
         e = ALB_OK;
     } else if (!e) {
@@ -412,7 +416,7 @@ static alb_err st_usemtl(importer *im, reader *r)
     int m = find_material(im, t.s, t.len);
     if (m < 0) {
         /* Remembered as a grey material so that it is reported only once. */
-        diag_warn(im->d, im->path, r->line, "material '%.*s' is not defined in any material "
+        alb_diag_warn(im->d, im->path, r->line, "material '%.*s' is not defined in any material "
                   "library; its faces get the default colour", clip_len(t.len), t.s);
         if ((m = add_material(im, t.s, t.len)) < 0)
             return ALB_ERR_NOMEM;
@@ -427,7 +431,7 @@ static alb_err st_usemtl(importer *im, reader *r)
  * whose colours are ignored. */
 static alb_err st_v(importer *im, reader *r)
 {
-    scene_vertex v;
+    alb_scene_vertex v;
     memset(&v, 0, sizeof v);
     double x[3], extra[3];
     unsigned n = 0;
@@ -444,11 +448,11 @@ static alb_err st_v(importer *im, reader *r)
     if (n == 1 && extra[0] == 0)
         return rerr(r, t[0].col, "vertex weight w is 0 (a point at infinity)");
     if (n == 3 && !im->warned_vcolour) {
-        diag_warn(im->d, im->path, r->line, "vertex colours are ignored");
+        alb_diag_warn(im->d, im->path, r->line, "vertex colours are ignored");
         im->warned_vcolour = true;
     }
-    v.p = v3(x[0], x[1], -x[2]);   /* see scene_load_obj: OBJ is right-handed */
-    return scene_add_vertex(im->o, &v) ? ALB_ERR_NOMEM : ALB_OK;
+    v.p = v3(x[0], x[1], -x[2]);   /* see alb_scene_load_obj: OBJ is right-handed */
+    return alb_scene_add_vertex(im->o, &v) ? ALB_ERR_NOMEM : ALB_OK;
 }
 
 /* vt / vn: between `min` and `max` numbers, checked and counted. */
@@ -528,24 +532,27 @@ static alb_err face_ref(importer *im, reader *r, const otok *t, unsigned *out)
 
 /* ---- faces: geometry ---- */
 
-/* Append a face and check it; one that fails is taken back out again, so
- * that face ids stay consecutive.  *ok says which. */
+/* Append a face and check it; one that fails is taken back out again.  Its
+ * id is its 'f' statement's number, not its place among the faces made: the
+ * triangles of a split polygon share their polygon's, and a skipped face
+ * moves no later one, so face.id is the OBJ's face order.  *ok says which. */
 static alb_err emit_face(importer *im, const unsigned *vi, unsigned n, bool *ok)
 {
-    scene_t *s = im->s;
-    scene_object *o = im->o;
-    scene_face *f = scene_add_face(s, o, vi, n);
+    alb_scene *s = im->s;
+    alb_scene_object *o = im->o;
+    alb_scene_face *f = alb_scene_add_face(s, o, vi, n);
     if (!f)
         return ALB_ERR_NOMEM;
+    f->id = im->fnum;
     f->line = im->line;
     f->col = im->col;
     if (im->cur_mat >= 0)
         memcpy(f->rgb, im->mat[im->cur_mat].rgb, 3);
-    f->shade = SHADE_FLAT;
+    f->shade = ALB_SHADE_FLAT;
     f->intensity = 1.0;
     f->texture = -1;
-    f->texmap = TEXMAP_NONE;
-    *ok = scene_check_face(s, o, f, NULL, &im->chk) == ALB_OK;
+    f->texmap = ALB_TEXMAP_NONE;
+    *ok = alb_scene_check_face(s, o, f, NULL, &im->chk) == ALB_OK;
     if (!*ok) {
         o->nf--;
         o->nidx -= n;
@@ -590,7 +597,7 @@ static double longest_edge(const pvert *v, unsigned n)
     return L;
 }
 
-/* All vertices on one line (the test scene_check_face makes for triangles). */
+/* All vertices on one line (the test alb_scene_check_face makes for triangles). */
 static bool collinear(const polygon *pg)
 {
     unsigned far = 0;
@@ -612,7 +619,7 @@ static vec3 centroid(const polygon *pg)
     return v3_scale(c, 1.0 / pg->n);
 }
 
-/* Newell normal, unnormalised (as scene_face_newell). */
+/* Newell normal, unnormalised (as alb_scene_face_newell). */
 static vec3 newell(const polygon *pg)
 {
     vec3 n = {0, 0, 0};
@@ -656,20 +663,18 @@ static double orient(const pvert *a, const pvert *b, const pvert *c)
     return (b->x - a->x) * (c->y - a->y) - (b->y - a->y) * (c->x - a->x);
 }
 
-/* Convex in the plane: no right turn, one revolution in all. */
+/* Convex in the plane: no right turn, one revolution in all (the rule of
+ * alb_scene_check_face, gp/polygon.c). */
 static bool convex2d(const polygon *pg)
 {
-    double total = 0;
-    for (unsigned k = 0; k < pg->n; k++) {
-        const pvert *a = &pg->v[(k + pg->n - 1) % pg->n], *b = &pg->v[k],
-                    *c = &pg->v[(k + 1) % pg->n];
-        double dot = (b->x - a->x) * (c->x - b->x) + (b->y - a->y) * (c->y - b->y);
-        double turn = atan2(orient(a, b, c), dot);
-        if (turn < -TOL_TURN)
-            return false;
-        total += turn;
+    double ex[OBJ_MAX_POLY], ey[OBJ_MAX_POLY];
+    unsigned k;
+    for (k = 0; k < pg->n; k++) {
+        const pvert *a = &pg->v[k], *b = &pg->v[(k + 1) % pg->n];
+        ex[k] = b->x - a->x;
+        ey[k] = b->y - a->y;
     }
-    return fabs(total - 2 * VEC3_PI) <= 1e-6;
+    return gp_polygon_turns(ex, ey, pg->n, TOL_TURN, &k) == GP_TURNS_CONVEX;
 }
 
 /* p, known to be on the line ab, lies on the segment ab. */
@@ -718,8 +723,8 @@ static bool simple2d(const polygon *pg)
 
 static double ear_eps(const pvert *a, const pvert *b, const pvert *c)
 {
-    double l1 = hypot(b->x - a->x, b->y - a->y), l2 = hypot(c->x - b->x, c->y - b->y),
-           l3 = hypot(a->x - c->x, a->y - c->y);
+    double l1 = cr_hypot(b->x - a->x, b->y - a->y), l2 = cr_hypot(c->x - b->x, c->y - b->y),
+           l3 = cr_hypot(a->x - c->x, a->y - c->y);
     double L = fmax(l1, fmax(l2, l3));
     return TOL_EAR * L * L;
 }
@@ -816,8 +821,8 @@ static alb_err split_polygon(importer *im, polygon *pg, unsigned n_orig)
         note_degenerate(im);
         return ALB_OK;
     }
-    if (pg->n < n_orig && pg->n <= SCENE_MAX_FACE_VERTICES) {
-        unsigned vi[SCENE_MAX_FACE_VERTICES];
+    if (pg->n < n_orig && pg->n <= ALB_SCENE_MAX_FACE_VERTICES) {
+        unsigned vi[ALB_SCENE_MAX_FACE_VERTICES];
         for (unsigned k = 0; k < pg->n; k++)
             vi[k] = pg->v[k].vi;
         if ((e = emit_face(im, vi, pg->n, &ok)) || ok)
@@ -842,13 +847,13 @@ static alb_err split_polygon(importer *im, polygon *pg, unsigned n_orig)
     return ear_clip(im, pg);
 }
 
-/* The face of im->poly[0..n): as written if scene_check_face takes it,
+/* The face of im->poly[0..n): as written if alb_scene_check_face takes it,
  * otherwise cleaned up and possibly split into triangles. */
 static alb_err add_polygon(importer *im, unsigned n)
 {
     bool ok;
     alb_err e;
-    if (n <= SCENE_MAX_FACE_VERTICES && ((e = emit_face(im, im->poly, n, &ok)) || ok))
+    if (n <= ALB_SCENE_MAX_FACE_VERTICES && ((e = emit_face(im, im->poly, n, &ok)) || ok))
         return e;
     pvert *v = malloc(n * sizeof *v);
     if (!v)
@@ -882,7 +887,9 @@ static alb_err st_f(importer *im, reader *r, unsigned col)
     if (n < 3)
         return rerr(r, r->end_col, "a face needs at least 3 vertices, found %u", n);
     im->col = col;
-    return add_polygon(im, n);
+    e = add_polygon(im, n);
+    im->fnum++;
+    return e;
 }
 
 /* ---- statements ---- */
@@ -899,7 +906,7 @@ static alb_err warn_keyword(importer *im, reader *r, const otok *k)
     if (!(im->kw[im->nkw] = dup_n(k->s, k->len)))
         return ALB_ERR_NOMEM;
     im->nkw++;
-    diag_warn(im->d, im->path, r->line, "'%.*s' statements are not supported and are ignored",
+    alb_diag_warn(im->d, im->path, r->line, "'%.*s' statements are not supported and are ignored",
               clip_len(k->len), k->s);
     return ALB_OK;
 }
@@ -943,35 +950,35 @@ static alb_err obj_parse(importer *im, const char *text, size_t len)
 }
 
 /* The object is named after the file: basename without its extension. */
-static void object_name(const char *path, char out[SCENE_NAME_MAX])
+static void object_name(const char *path, char out[ALB_SCENE_NAME_MAX])
 {
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
     const char *dot = strrchr(base, '.');
     size_t len = dot && dot > base ? (size_t)(dot - base) : strlen(base);
     if (len == 0)
-        snprintf(out, SCENE_NAME_MAX, "obj");
+        snprintf(out, ALB_SCENE_NAME_MAX, "obj");
     else
-        snprintf(out, SCENE_NAME_MAX, "%.*s",
-                 (int)(len < SCENE_NAME_MAX ? len : SCENE_NAME_MAX - 1), base);
+        snprintf(out, ALB_SCENE_NAME_MAX, "%.*s",
+                 (int)(len < ALB_SCENE_NAME_MAX ? len : ALB_SCENE_NAME_MAX - 1), base);
 }
 
 static alb_err import(importer *im, const char *text, size_t len)
 {
-    char name[SCENE_NAME_MAX];
+    char name[ALB_SCENE_NAME_MAX];
     object_name(im->path, name);
-    if (!(im->o = scene_add_object(im->s, name)))
+    if (!(im->o = alb_scene_add_object(im->s, name)))
         return ALB_ERR_NOMEM;
     im->o->line = 1;
     alb_err e = obj_parse(im, text, len);
     if (e)
         return e;
     if (im->ndegenerate)
-        diag_warn(im->d, im->path, 0, "skipped %u degenerate face%s (no area), the first on "
+        alb_diag_warn(im->d, im->path, 0, "skipped %u degenerate face%s (no area), the first on "
                   "line %u", im->ndegenerate, im->ndegenerate == 1 ? "" : "s",
                   im->first_degenerate);
     if (im->o->nf == 0)
-        return diag_at(im->d, ALB_ERR_PARSE, im->path, im->line, 0,
+        return alb_diag_at(im->d, ALB_ERR_PARSE, im->path, im->line, 0,
                        "no faces to draw (no 'f' statements, or only degenerate ones)");
     return ALB_OK;
 }
@@ -983,50 +990,47 @@ static bool finite3(vec3 v)
     return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
 }
 
-alb_err scene_camera_check(const scene_camera *c, diag_t *d)
+alb_err alb_scene_camera_check(const alb_scene_camera *c, alb_diag *d)
 {
     if (!finite3(c->eye) || !finite3(c->at) || !finite3(c->up))
-        return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--eye, --at and --up must be finite");
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--eye, --at and --up must be finite");
     vec3 f = v3_sub(c->at, c->eye);
     double fl = v3_len(f), ul = v3_len(c->up);
     if (!(fl > 0 && isfinite(fl)))
-        return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--eye and --at must be different points "
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--eye and --at must be different points "
                        "(the camera looks from --eye toward --at)");
     if (!(ul > 0 && isfinite(ul)))
-        return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--up must be a non-zero vector");
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--up must be a non-zero vector");
     if (!(v3_len(v3_cross(v3_scale(f, 1 / fl), v3_scale(c->up, 1 / ul))) > TOL_UP))
-        return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--up (%g,%g,%g) is parallel to the view "
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--up (%g,%g,%g) is parallel to the view "
                        "direction from --eye to --at; choose an up vector across it",
                        c->up.x, c->up.y, c->up.z);
     if (!(c->fov_y > 0 && c->fov_y < 180))
-        return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--fov %g: the vertical field of view must "
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--fov %g: the vertical field of view must "
                        "be in (0, 180) degrees", c->fov_y);
     return ALB_OK;
 }
 
-static alb_err camera_size_check(const scene_camera *c, diag_t *d)
+static alb_err camera_size_check(const alb_scene_camera *c, alb_diag *d)
 {
     if (!c->width || !c->height)
-        return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--size %ux%u: width and height must be "
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--size %ux%u: width and height must be "
                        "positive", c->width, c->height);
     if (!((double)c->width / c->height < 100))   /* the scene format's aspect limit */
-        return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--size %ux%u: aspect ratio width/height "
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--size %ux%u: aspect ratio width/height "
                        "must be below 100", c->width, c->height);
     return ALB_OK;
 }
 
-/* Yaw and pitch turn the observer's +Z onto the view direction; roll then
- * turns its +Y (column 1 of m3_orientation) about +Z toward `up`: the up axis
- * is cos(roll) Y0 + sin(roll) X0 for the zero-roll axes X0, Y0. */
-static void camera_observer(const scene_camera *c, scene_observer *obs)
+/* A look-at observer: the GP builds its orientation from the vectors
+ * (m3_look_at), with no round trip through angles, so no transcendental
+ * function of the C library touches the camera (docs/number-formats.md §0). */
+static void camera_observer(const alb_scene_camera *c, alb_scene_observer *obs)
 {
-    const double deg = 180 / VEC3_PI;
-    vec3 f = v3_sub(c->at, c->eye);
-    double yaw = atan2(f.x, f.z) * deg, pitch = atan2(f.y, hypot(f.x, f.z)) * deg;
-    mat3 m = m3_orientation(yaw, pitch, 0);
-    vec3 x0 = v3(m.m[0][0], m.m[1][0], m.m[2][0]), y0 = v3(m.m[0][1], m.m[1][1], m.m[2][1]);
-    double roll = atan2(v3_dot(c->up, x0), v3_dot(c->up, y0)) * deg;
-    obs->pose = (scene_pose){c->eye, yaw, pitch, roll};
+    obs->pose = (alb_scene_pose){c->eye, 0, 0, 0};
+    obs->look_at = true;
+    obs->at = c->at;
+    obs->up = c->up;
     obs->fov_y = c->fov_y;
     obs->aspect = (double)c->width / c->height;
 }
@@ -1041,17 +1045,17 @@ static void camera_observer(const scene_camera *c, scene_observer *obs)
  * as they are, the coordinates would show the model mirrored and the GP
  * would take every front for a back.  The camera is given in the file's
  * coordinates, as the user's modeller shows them, and converted alike. */
-alb_err scene_load_obj(const char *path, const scene_camera *cam_obj, scene_t *s, diag_t *d)
+alb_err alb_scene_load_obj(const char *path, const alb_scene_camera *cam_obj, alb_scene *s, alb_diag *d)
 {
-    scene_init(s, path);
+    alb_scene_init(s, path);
     char *text;
     size_t len;
     /* checked as the user gave it, so that the messages quote what was typed
      * (negating z changes no length and no angle) */
-    alb_err e = scene_camera_check(cam_obj, d);
+    alb_err e = alb_scene_camera_check(cam_obj, d);
     if (e || (e = camera_size_check(cam_obj, d)) || (e = read_file(path, &text, &len, d)))
         return e;
-    scene_camera c = *cam_obj, *cam = &c;
+    alb_scene_camera c = *cam_obj, *cam = &c;
     c.eye.z = -c.eye.z;
     c.at.z = -c.at.z;
     c.up.z = -c.up.z;
@@ -1061,15 +1065,15 @@ alb_err scene_load_obj(const char *path, const scene_camera *cam_obj, scene_t *s
     im.d = d;
     im.path = path;
     im.cur_mat = -1;
-    diag_init(&im.chk, NULL);
+    alb_diag_init(&im.chk, NULL);
     e = import(&im, text, len);
     free(text);
     importer_free(&im);
-    if (!e && !(e = scene_finish(s, d)))
+    if (!e && !(e = alb_scene_finish(s, d)))
         camera_observer(cam, &s->frames[0].obs);
     if (e == ALB_ERR_NOMEM)
-        diag_at(d, e, path, im.line, 0, "out of memory");
+        alb_diag_at(d, e, path, im.line, 0, "out of memory");
     if (e)
-        scene_free(s);
+        alb_scene_free(s);
     return e;
 }

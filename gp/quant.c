@@ -4,6 +4,7 @@
  * (the Makefile passes -ffp-contract=off); every rounding is the one of
  * docs/number-formats.md. */
 #include "gp_internal.h"
+#include "../common/vec3.h"
 #include "../common/fix.h"
 
 #include <math.h>
@@ -29,9 +30,9 @@ uint32_t gp_quantise_intercept(double x, unsigned frac_bits)
     return (uint32_t)(q > max ? max : q);
 }
 
-ws_edge gp_edge_format(gp_line l, unsigned frac_bits)
+alb_ws_edge gp_edge_format(gp_line l, unsigned frac_bits)
 {
-    ws_edge e;
+    alb_ws_edge e;
     e.u = (uint8_t)gp_line_u(l);
     if (e.u) {
         /* vertical: x at y = -1 and y = +1 */
@@ -47,9 +48,9 @@ ws_edge gp_edge_format(gp_line l, unsigned frac_bits)
     return e;
 }
 
-ws_edge gp_bound_format(unsigned u, unsigned r, double v, unsigned frac_bits)
+alb_ws_edge gp_bound_format(unsigned u, unsigned r, double v, unsigned frac_bits)
 {
-    ws_edge e;
+    alb_ws_edge e;
     e.u = (uint8_t)u;
     e.r = (uint8_t)r;
     e.x1 = e.x2 = gp_quantise_intercept(v, frac_bits);
@@ -59,9 +60,9 @@ ws_edge gp_bound_format(unsigned u, unsigned r, double v, unsigned frac_bits)
 /* Round half away from zero. */
 static int64_t round_away(double v) { return (int64_t)(v < 0 ? -floor(-v + 0.5) : floor(v + 0.5)); }
 
-ws_form gp_quantise_form(double a, double b, double c, unsigned coef_bits, int *saturated)
+alb_ws_form gp_quantise_form(double a, double b, double c, unsigned coef_bits, int *saturated)
 {
-    ws_form f = {0, {0, 0, 0}};
+    alb_ws_form f = {0, {0, 0, 0}};
     double v[3] = {a, b, c};
     double m = fmax(fabs(a), fmax(fabs(b), fabs(c)));
     int64_t lim = ((int64_t)1 << (coef_bits - 1)) - 1;

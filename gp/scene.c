@@ -1,8 +1,10 @@
 /* scene.c — the text scene format of docs/scene-format.md: a line-oriented
  * parser whose every error names file:line:column and what was expected, and
  * the degenerate-face checks shared with the OBJ importer. */
-#include "scene.h"
-#include "../common/file.h"
+#include "albatros/scene.h"
+#include "../common/vec3.h"
+#include "albatros/file.h"
+#include "gp_internal.h"
 
 #include <errno.h>
 #include <math.h>
@@ -19,17 +21,17 @@ typedef struct {
 } token;
 
 typedef struct {
-    scene_t *s;
-    diag_t *d;
+    alb_scene *s;
+    alb_diag *d;
     const char *file;
     unsigned line;
     token tok[MAX_TOKENS];
     unsigned ntok;
-    scene_object *obj;        /* inside object ... end */
+    alb_scene_object *obj;        /* inside object ... end */
     uint8_t colour[3];
     int texture;
-    scene_frame init;         /* state before the first frame line */
-    scene_frame *cur;         /* state being modified */
+    alb_scene_frame init;         /* state before the first frame line */
+    alb_scene_frame *cur;         /* state being modified */
     bool in_frames;
     unsigned cap_poses;       /* of init.poses */
     /* object names -> index + 1, open addressing, at most half full: a
@@ -58,7 +60,7 @@ static int grow(void **p, unsigned *cap, unsigned need, size_t elem)
     return 0;
 }
 
-void scene_init(scene_t *s, const char *name)
+void alb_scene_init(alb_scene *s, const char *name)
 {
     memset(s, 0, sizeof *s);
     snprintf(s->file, sizeof s->file, "%s", name ? name : "<scene>");
@@ -66,17 +68,17 @@ void scene_init(scene_t *s, const char *name)
     s->background[0] = 90, s->background[1] = 140, s->background[2] = 210;
 }
 
-scene_object *scene_add_object(scene_t *s, const char *name)
+alb_scene_object *alb_scene_add_object(alb_scene *s, const char *name)
 {
     if (grow((void **)&s->obj, &s->cap_obj, s->nobj + 1, sizeof *s->obj))
         return NULL;
-    scene_object *o = &s->obj[s->nobj++];
+    alb_scene_object *o = &s->obj[s->nobj++];
     memset(o, 0, sizeof *o);
     snprintf(o->name, sizeof o->name, "%s", name);
     return o;
 }
 
-int scene_add_vertex(scene_object *o, const scene_vertex *v)
+int alb_scene_add_vertex(alb_scene_object *o, const alb_scene_vertex *v)
 {
     if (grow((void **)&o->v, &o->cap_v, o->nv + 1, sizeof *o->v))
         return -1;
@@ -84,12 +86,12 @@ int scene_add_vertex(scene_object *o, const scene_vertex *v)
     return 0;
 }
 
-scene_face *scene_add_face(scene_t *s, scene_object *o, const unsigned *vidx, unsigned n)
+alb_scene_face *alb_scene_add_face(alb_scene *s, alb_scene_object *o, const unsigned *vidx, unsigned n)
 {
     if (grow((void **)&o->f, &o->cap_f, o->nf + 1, sizeof *o->f) ||
         grow((void **)&o->idx, &o->cap_idx, o->nidx + n, sizeof *o->idx))
         return NULL;
-    scene_face *f = &o->f[o->nf++];
+    alb_scene_face *f = &o->f[o->nf++];
     memset(f, 0, sizeof *f);
     f->first = o->nidx;
     f->count = n;
@@ -103,7 +105,7 @@ scene_face *scene_add_face(scene_t *s, scene_object *o, const unsigned *vidx, un
     return f;
 }
 
-void scene_free(scene_t *s)
+void alb_scene_free(alb_scene *s)
 {
     for (unsigned i = 0; i < s->nobj; i++) {
         free(s->obj[i].v);
@@ -119,16 +121,16 @@ void scene_free(scene_t *s)
     free(s->frames);
     char file[sizeof s->file];
     memcpy(file, s->file, sizeof file);
-    scene_init(s, file);
+    alb_scene_init(s, file);
 }
 
 /* ---- geometry checks ---- */
 
-vec3 scene_face_newell(const scene_object *o, const scene_face *f)
+vec3 alb_scene_face_newell(const alb_scene_object *o, const alb_scene_face *f)
 {
     vec3 n = {0, 0, 0};
     for (unsigned k = 0; k < f->count; k++) {
-        vec3 a = scene_face_vertex(o, f, k), b = scene_face_vertex(o, f, (k + 1) % f->count);
+        vec3 a = alb_scene_face_vertex(o, f, k), b = alb_scene_face_vertex(o, f, (k + 1) % f->count);
         n.x += (a.y - b.y) * (a.z + b.z);
         n.y += (a.z - b.z) * (a.x + b.x);
         n.z += (a.x - b.x) * (a.y + b.y);
@@ -140,18 +142,18 @@ vec3 scene_face_newell(const scene_object *o, const scene_face *f)
  * face's longest edge L. */
 #define TOL_AREA   1e-12   /* |Newell| / L^2 below this: collinear */
 #define TOL_PLANE  1e-6    /* distance from the plane / L above this: non-planar */
-#define TOL_TURN   1e-9    /* radians: a turn this far negative is a reflex vertex */
+#define TOL_TURN   1e-9    /* sine of a turn this far negative: a reflex vertex */
 
 /* The number by which the face's k-th vertex is written: 1-based in its
  * object, as on an `f` line (the index itself for OBJ's positive indices). */
-static unsigned vertex_number(const scene_object *o, const scene_face *f, unsigned k)
+static unsigned vertex_number(const alb_scene_object *o, const alb_scene_face *f, unsigned k)
 {
     return o->idx[f->first + k] + 1;
 }
 
 /* Where an error about the face's k-th vertex is reported: the column of
  * its number on the `f` line, or the face's own column if unknown. */
-static unsigned vertex_col(const scene_face *f, const unsigned *cols, unsigned k)
+static unsigned vertex_col(const alb_scene_face *f, const unsigned *cols, unsigned k)
 {
     return cols ? cols[k] : f->col;
 }
@@ -159,7 +161,7 @@ static unsigned vertex_col(const scene_face *f, const unsigned *cols, unsigned k
 /* Distance of the face's vertex k from the plane through the others: the
  * Newell normal of the polygon without k, through the others' centroid.
  * Negative if the others have no plane (they lie on one line). */
-static double distance_from_others(const scene_object *o, const scene_face *f, unsigned k)
+static double distance_from_others(const alb_scene_object *o, const alb_scene_face *f, unsigned k)
 {
     unsigned n = f->count;
     vec3 nn = {0, 0, 0}, c = {0, 0, 0};
@@ -167,7 +169,7 @@ static double distance_from_others(const scene_object *o, const scene_face *f, u
         if (j == k)
             continue;
         unsigned next = (j + 1) % n == k ? (j + 2) % n : (j + 1) % n;
-        vec3 a = scene_face_vertex(o, f, j), b = scene_face_vertex(o, f, next);
+        vec3 a = alb_scene_face_vertex(o, f, j), b = alb_scene_face_vertex(o, f, next);
         nn.x += (a.y - b.y) * (a.z + b.z);
         nn.y += (a.z - b.z) * (a.x + b.x);
         nn.z += (a.x - b.x) * (a.y + b.y);
@@ -177,7 +179,7 @@ static double distance_from_others(const scene_object *o, const scene_face *f, u
     if (!(nl > 0))
         return -1;
     c = v3_scale(c, 1.0 / (n - 1));
-    return fabs(v3_dot(v3_scale(nn, 1 / nl), v3_sub(scene_face_vertex(o, f, k), c)));
+    return fabs(v3_dot(v3_scale(nn, 1 / nl), v3_sub(alb_scene_face_vertex(o, f, k), c)));
 }
 
 /* A face that is not planar: name the vertex farthest from the plane of the
@@ -185,8 +187,8 @@ static double distance_from_others(const scene_object *o, const scene_face *f, u
  * far it moved, while each other vertex is measured against a plane the moved
  * one has tilted (a plane through the centroid of all of them would put every
  * vertex of a quad at the same distance, and name the first). */
-static alb_err not_planar(const scene_t *s, const scene_object *o, const scene_face *f,
-                          const unsigned *cols, double tol, diag_t *d)
+static alb_err not_planar(const alb_scene *s, const alb_scene_object *o, const alb_scene_face *f,
+                          const unsigned *cols, double tol, alb_diag *d)
 {
     unsigned worst = 0;
     double dist = -1;
@@ -195,85 +197,94 @@ static alb_err not_planar(const scene_t *s, const scene_object *o, const scene_f
         if (dk > dist)
             dist = dk, worst = k;
     }
-    return diag_at(d, ALB_ERR_GEOMETRY, s->file, f->line, vertex_col(f, cols, worst),
+    return alb_diag_at(d, ALB_ERR_GEOMETRY, s->file, f->line, vertex_col(f, cols, worst),
                    "face %u of object '%s' is not planar: vertex %u is %.3g from the plane of "
                    "the others (tolerance %.3g)", f->id, o->name, vertex_number(o, f, worst),
                    dist, tol);
 }
 
-alb_err scene_check_face(const scene_t *s, const scene_object *o, const scene_face *f,
-                         const unsigned *cols, diag_t *d)
+alb_err alb_scene_check_face(const alb_scene *s, const alb_scene_object *o, const alb_scene_face *f,
+                         const unsigned *cols, alb_diag *d)
 {
     const char *file = s->file;
     unsigned n = f->count;
     if (n < 3)
-        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
+        return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
                        "face %u of object '%s' has %u vertices: expected at least 3 vertex "
                        "numbers", f->id, o->name, n);
-    if (n > SCENE_MAX_FACE_VERTICES)
-        return diag_at(d, ALB_ERR_LIMIT, file, f->line, f->col,
+    if (n > ALB_SCENE_MAX_FACE_VERTICES)
+        return alb_diag_at(d, ALB_ERR_LIMIT, file, f->line, f->col,
                        "face %u of object '%s' has more than %d vertices (%u)", f->id, o->name,
-                       SCENE_MAX_FACE_VERTICES, n);
+                       ALB_SCENE_MAX_FACE_VERTICES, n);
     double L = 0;
     for (unsigned k = 0; k < n; k++) {
         unsigned k2 = (k + 1) % n;
-        vec3 a = scene_face_vertex(o, f, k), b = scene_face_vertex(o, f, k2);
+        vec3 a = alb_scene_face_vertex(o, f, k), b = alb_scene_face_vertex(o, f, k2);
         unsigned va = vertex_number(o, f, k), vb = vertex_number(o, f, k2);
         if (!isfinite(a.x) || !isfinite(a.y) || !isfinite(a.z))
-            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, vertex_col(f, cols, k),
+            return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, vertex_col(f, cols, k),
                            "face %u of object '%s': vertex %u is not finite", f->id, o->name, va);
         /* the second of the two is the one to delete, unless the pair is the
          * closing edge: then the last number written */
         unsigned col = vertex_col(f, cols, k2 ? k2 : k);
         double len = v3_len(v3_sub(b, a));
         if (len == 0 && va == vb)
-            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, col,
+            return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, col,
                            "face %u of object '%s': vertex %u is given twice in a row "
                            "(zero-length edge)", f->id, o->name, va);
         if (len == 0)
-            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, col,
+            return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, col,
                            "face %u of object '%s': vertices %u and %u coincide (zero-length edge)",
                            f->id, o->name, va, vb);
         if (len > L)
             L = len;
     }
     if (!isfinite(L))
-        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
+        return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
                        "face %u of object '%s': coordinates too large (edge length overflows)",
                        f->id, o->name);
-    vec3 nn = scene_face_newell(o, f);
+    vec3 nn = alb_scene_face_newell(o, f);
     double nl = v3_len(nn);
     if (!(nl > TOL_AREA * L * L))
-        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
+        return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
                        "face %u of object '%s' has zero area (collinear vertices)", f->id, o->name);
     /* Planar: every vertex within TOL_PLANE L of the plane of the Newell
      * normal through the centroid. */
     vec3 u = v3_scale(nn, 1 / nl);
     vec3 c = {0, 0, 0};
     for (unsigned k = 0; k < n; k++)
-        c = v3_add(c, scene_face_vertex(o, f, k));
+        c = v3_add(c, alb_scene_face_vertex(o, f, k));
     c = v3_scale(c, 1.0 / n);
     for (unsigned k = 0; k < n; k++)
-        if (fabs(v3_dot(u, v3_sub(scene_face_vertex(o, f, k), c))) > TOL_PLANE * L)
+        if (fabs(v3_dot(u, v3_sub(alb_scene_face_vertex(o, f, k), c))) > TOL_PLANE * L)
             return not_planar(s, o, f, cols, TOL_PLANE * L, d);
-    /* Convex and simple: every turn is non-negative about the Newell normal
-     * and the turns add up to one full revolution. */
-    double total = 0;
+    /* Convex and simple: no turn about the Newell normal below -TOL_TURN (its
+     * sine), and one revolution in all; in the plane's frame (a, b), a x b =
+     * u, so that a left turn about u is a left turn there (gp/polygon.c). */
+    vec3 axis = fabs(u.x) <= fabs(u.y) && fabs(u.x) <= fabs(u.z) ? v3(1, 0, 0)
+                : fabs(u.y) <= fabs(u.z) ? v3(0, 1, 0) : v3(0, 0, 1);
+    vec3 pa = v3_cross(axis, u);
+    pa = v3_scale(pa, 1 / v3_len(pa));
+    vec3 pb = v3_cross(u, pa);
+    double ex[ALB_SCENE_MAX_FACE_VERTICES], ey[ALB_SCENE_MAX_FACE_VERTICES];
     for (unsigned k = 0; k < n; k++) {
-        vec3 a = scene_face_vertex(o, f, (k + n - 1) % n), b = scene_face_vertex(o, f, k),
-             e = scene_face_vertex(o, f, (k + 1) % n);
-        vec3 e1 = v3_sub(b, a), e2 = v3_sub(e, b);
-        double turn = atan2(v3_dot(v3_cross(e1, e2), u), v3_dot(e1, e2));
-        if (turn < -TOL_TURN)
-            return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, vertex_col(f, cols, k),
-                           "face %u of object '%s' is not convex at vertex %u", f->id, o->name,
-                           vertex_number(o, f, k));
-        total += turn;
+        vec3 e = v3_sub(alb_scene_face_vertex(o, f, (k + 1) % n), alb_scene_face_vertex(o, f, k));
+        ex[k] = v3_dot(e, pa);
+        ey[k] = v3_dot(e, pb);
     }
-    if (fabs(total - 2 * VEC3_PI) > 1e-6)
-        return diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
+    unsigned k;
+    switch (gp_polygon_turns(ex, ey, n, TOL_TURN, &k)) {
+    case GP_TURNS_CONVEX:
+        break;
+    case GP_TURNS_REFLEX:
+        return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, vertex_col(f, cols, k),
+                       "face %u of object '%s' is not convex at vertex %u", f->id, o->name,
+                       vertex_number(o, f, k));
+    case GP_TURNS_NOT_SIMPLE:
+        return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
                        "face %u of object '%s' is not a simple convex polygon (it winds %.2f times)",
-                       f->id, o->name, total / (2 * VEC3_PI));
+                       f->id, o->name, (double)(int)k);
+    }
     return ALB_OK;
 }
 
@@ -318,14 +329,14 @@ perr(parser *p, unsigned col, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, col, "%s", msg);
+    return alb_diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, col, "%s", msg);
 }
 
 static alb_err err_found(parser *p, const token *t, const char *expected)
 {
     char got[48];
     snprintf(got, sizeof got, "%.*s", (int)(t->len > 40 ? 40 : t->len), t->s);
-    return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, t->col, "expected %s, found '%s'",
+    return alb_diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, t->col, "expected %s, found '%s'",
                    expected, got);
 }
 
@@ -338,7 +349,7 @@ static alb_err err_tok(parser *p, unsigned i, const char *expected)
     return err_found(p, &p->tok[i], expected);
 }
 
-bool scene_decimal_syntax(const char *s, size_t len)
+bool alb_scene_decimal_syntax(const char *s, size_t len)
 {
     const char *e = s + len;
     bool digits = false;
@@ -363,7 +374,7 @@ bool scene_decimal_syntax(const char *s, size_t len)
     return s == e;
 }
 
-const char *scene_byte_hint(const char *text, size_t len, size_t at)
+const char *alb_scene_byte_hint(const char *text, size_t len, size_t at)
 {
     if (at == 0 && len >= 3 && memcmp(text, "\xef\xbb\xbf", 3) == 0)
         return " (this is a UTF-8 byte-order mark: save the file without one)";
@@ -379,7 +390,7 @@ static alb_err num_token(parser *p, const token *t, double *out)
 {
     char buf[NUM_MAX_CHARS + 1];
     if (t->len > NUM_MAX_CHARS) {
-        if (!scene_decimal_syntax(t->s, t->len))
+        if (!alb_scene_decimal_syntax(t->s, t->len))
             return err_found(p, t, "a number");
         return perr(p, t->col, "number '%.40s...' is too long: %u characters, at most %d",
                     t->s, t->len, NUM_MAX_CHARS);
@@ -394,7 +405,7 @@ static alb_err num_token(parser *p, const token *t, double *out)
      * are) and hexadecimal (not a scene number at all). */
     if (whole && (isnan(v) || (isinf(v) && errno != ERANGE)))
         return perr(p, t->col, "number '%s' is not finite or out of range", buf);
-    if (!whole || !scene_decimal_syntax(buf, t->len))
+    if (!whole || !alb_scene_decimal_syntax(buf, t->len))
         return err_found(p, t, "a number");
     if (isinf(v))
         return perr(p, t->col, "number '%s' is not finite or out of range", buf);
@@ -451,7 +462,7 @@ static alb_err byte3(parser *p, unsigned i, uint8_t out[3])
         if (e)
             return e;
         if (v < 0 || v > 255 || v != floor(v))
-            return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, p->tok[i + k].col,
+            return alb_diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, p->tok[i + k].col,
                            "colour component must be an integer 0..255, found %g", v);
         out[k] = (uint8_t)v;
     }
@@ -462,16 +473,16 @@ static alb_err name_tok(parser *p, unsigned i, char *out)
 {
     if (i >= p->ntok)
         return err_tok(p, i, "a name");
-    if (p->tok[i].len >= SCENE_NAME_MAX)
-        return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, p->tok[i].col,
-                       "name longer than %d characters", SCENE_NAME_MAX - 1);
+    if (p->tok[i].len >= ALB_SCENE_NAME_MAX)
+        return alb_diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, p->tok[i].col,
+                       "name longer than %d characters", ALB_SCENE_NAME_MAX - 1);
     memcpy(out, p->tok[i].s, p->tok[i].len);
     out[p->tok[i].len] = 0;
     return ALB_OK;
 }
 
 /* "at X Y Z", "yaw D", "pitch D", "roll D" from token i on. */
-static alb_err pose_options(parser *p, unsigned i, scene_pose *pose, unsigned *next,
+static alb_err pose_options(parser *p, unsigned i, alb_scene_pose *pose, unsigned *next,
                             const char *others)
 {
     while (i < p->ntok) {
@@ -502,7 +513,7 @@ static alb_err pose_options(parser *p, unsigned i, scene_pose *pose, unsigned *n
 
 /* Give back what doubling reserved beyond a finished object's size: most
  * objects of big generated scenes are one small face. */
-static void shrink_object(scene_object *o)
+static void shrink_object(alb_scene_object *o)
 {
     void *q;
     if (o->nv < o->cap_v && (q = realloc(o->v, o->nv * sizeof *o->v)))
@@ -521,7 +532,7 @@ static size_t name_hash(const char *s, size_t n)
     return (size_t)h;
 }
 
-static scene_object *find_object(const parser *p, const token *t)
+static alb_scene_object *find_object(const parser *p, const token *t)
 {
     if (!p->cap_names)
         return NULL;
@@ -554,7 +565,7 @@ static int index_object(parser *p, unsigned k)
     return 0;
 }
 
-static int find_texture(scene_t *s, const token *t)
+static int find_texture(alb_scene *s, const token *t)
 {
     for (unsigned i = 0; i < s->ntex; i++)
         if (tok_is(t, s->tex[i].name))
@@ -566,7 +577,7 @@ static int find_texture(scene_t *s, const token *t)
 
 static alb_err st_observer(parser *p)
 {
-    scene_observer *o = &p->cur->obs;
+    alb_scene_observer *o = &p->cur->obs;
     unsigned i = 1;
     while (i < p->ntok) {
         unsigned next;
@@ -617,8 +628,8 @@ static alb_err st_light(parser *p)
 
 static alb_err st_texture(parser *p)
 {
-    scene_t *s = p->s;
-    char name[SCENE_NAME_MAX];
+    alb_scene *s = p->s;
+    char name[ALB_SCENE_NAME_MAX];
     alb_err e = name_tok(p, 1, name);
     if (e)
         return e;
@@ -628,7 +639,7 @@ static alb_err st_texture(parser *p)
         return perr(p, p->tok[0].col, "more than 255 textures");
     if (grow((void **)&s->tex, &s->cap_tex, s->ntex + 1, sizeof *s->tex))
         return ALB_ERR_NOMEM;
-    scene_texture t = {.line = p->line};
+    alb_scene_texture t = {.line = p->line};
     snprintf(t.name, sizeof t.name, "%s", name);
     if (p->ntok > 2 && tok_is(&p->tok[2], "checker")) {
         double lg, sq = 8;
@@ -645,7 +656,7 @@ static alb_err st_texture(parser *p)
         }
         if (p->ntok > 11)
             return err_tok(p, 11, "end of line");
-        if (scene_texture_checker(&t, (unsigned)lg, a, b, (unsigned)sq))
+        if (alb_scene_texture_checker(&t, (unsigned)lg, a, b, (unsigned)sq))
             return ALB_ERR_NOMEM;
     } else if (p->ntok > 2 && tok_is(&p->tok[2], "file")) {
         if (p->ntok < 4)
@@ -661,10 +672,10 @@ static alb_err st_texture(parser *p)
                      p->tok[3].s) >= (int)sizeof path)
             return perr(p, p->tok[3].col, "texture path longer than %zu characters",
                         sizeof path - 1);
-        diag_t inner;
-        diag_init(&inner, NULL);
-        if ((e = scene_texture_png(&t, path, &inner)))
-            return diag_at(p->d, e, p->file, p->line, p->tok[3].col, "texture '%s': %s",
+        alb_diag inner;
+        alb_diag_init(&inner, NULL);
+        if ((e = alb_scene_texture_png(&t, path, &inner)))
+            return alb_diag_at(p->d, e, p->file, p->line, p->tok[3].col, "texture '%s': %s",
                            name, inner.msg);
     } else {
         return err_tok(p, 2, "'checker' or 'file'");
@@ -679,13 +690,13 @@ static alb_err st_object(parser *p)
         return perr(p, p->tok[0].col, "objects must be declared before the first 'frame'");
     if (p->obj)
         return perr(p, p->tok[0].col, "'object' inside object '%s' (missing 'end'?)", p->obj->name);
-    char name[SCENE_NAME_MAX];
+    char name[ALB_SCENE_NAME_MAX];
     alb_err e = name_tok(p, 1, name);
     if (e)
         return e;
     if (find_object(p, &p->tok[1]))
         return perr(p, p->tok[1].col, "object '%s' defined twice", name);
-    scene_object *o = scene_add_object(p->s, name);
+    alb_scene_object *o = alb_scene_add_object(p->s, name);
     if (!o || index_object(p, p->s->nobj - 1))
         return ALB_ERR_NOMEM;
     o->line = p->line;
@@ -694,7 +705,7 @@ static alb_err st_object(parser *p)
         o->moving = true;
         i++;
     }
-    scene_pose pose = {{0, 0, 0}, 0, 0, 0};
+    alb_scene_pose pose = {{0, 0, 0}, 0, 0, 0};
     unsigned next;
     if ((e = pose_options(p, i, &pose, &next, NULL)))
         return e;
@@ -710,7 +721,7 @@ static alb_err st_object(parser *p)
 
 static alb_err st_vertex(parser *p)
 {
-    scene_vertex v = {0};
+    alb_scene_vertex v = {0};
     double x[3];
     alb_err e = nums(p, 1, x, 3);
     if (e)
@@ -721,7 +732,7 @@ static alb_err st_vertex(parser *p)
         if (tok_is(&p->tok[i], "i")) {
             if ((e = num(p, i + 1, &v.i)))
                 return e;
-            v.has |= SV_INTENSITY;
+            v.has |= ALB_SV_INTENSITY;
             i += 2;
         } else if (tok_is(&p->tok[i], "n")) {
             if ((e = nums(p, i + 1, x, 3)))
@@ -731,24 +742,24 @@ static alb_err st_vertex(parser *p)
             if (!(l > 0))
                 return perr(p, p->tok[i].col, "vertex normal has zero length");
             v.n = v3_scale(v.n, 1 / l);
-            v.has |= SV_NORMAL;
+            v.has |= ALB_SV_NORMAL;
             i += 4;
         } else if (tok_is(&p->tok[i], "t")) {
             if ((e = nums(p, i + 1, x, 2)))
                 return e;
             v.u = x[0], v.v = x[1];
-            v.has |= SV_UV;
+            v.has |= ALB_SV_UV;
             i += 3;
         } else {
             return err_tok(p, i, "i, n or t");
         }
     }
-    if (scene_add_vertex(p->obj, &v))
+    if (alb_scene_add_vertex(p->obj, &v))
         return ALB_ERR_NOMEM;
     return ALB_OK;
 }
 
-static alb_err face_options(parser *p, unsigned i, scene_face *f)
+static alb_err face_options(parser *p, unsigned i, alb_scene_face *f)
 {
     alb_err e;
     while (i < p->ntok) {
@@ -766,7 +777,7 @@ static alb_err face_options(parser *p, unsigned i, scene_face *f)
         } else if (tok_is(&p->tok[i], "axes")) {
             if ((e = nums(p, i + 1, f->axes, 8)))
                 return e;
-            f->texmap = TEXMAP_AXES;
+            f->texmap = ALB_TEXMAP_AXES;
             i += 9;
         } else if (tok_is(&p->tok[i], "intensity")) {
             if ((e = num(p, i + 1, &f->intensity)))
@@ -784,8 +795,8 @@ static alb_err face_options(parser *p, unsigned i, scene_face *f)
 
 static alb_err st_face(parser *p)
 {
-    scene_object *o = p->obj;
-    unsigned vidx[SCENE_MAX_FACE_VERTICES], cols[SCENE_MAX_FACE_VERTICES];
+    alb_scene_object *o = p->obj;
+    unsigned vidx[ALB_SCENE_MAX_FACE_VERTICES], cols[ALB_SCENE_MAX_FACE_VERTICES];
     unsigned n = 0, i = 1;
     for (; i < p->ntok; i++) {
         const token *t = &p->tok[i];
@@ -796,18 +807,18 @@ static alb_err st_face(parser *p)
         if (e)
             return e;
         if (v < 1 || v > o->nv || v != floor(v))
-            return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, t->col,
+            return alb_diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, t->col,
                            "vertex number %g: object '%s' has vertices 1..%u so far", v,
                            o->name, o->nv);
-        if (n == SCENE_MAX_FACE_VERTICES)
-            return diag_at(p->d, ALB_ERR_LIMIT, p->file, p->line, t->col,
-                           "face has more than %d vertices", SCENE_MAX_FACE_VERTICES);
+        if (n == ALB_SCENE_MAX_FACE_VERTICES)
+            return alb_diag_at(p->d, ALB_ERR_LIMIT, p->file, p->line, t->col,
+                           "face has more than %d vertices", ALB_SCENE_MAX_FACE_VERTICES);
         cols[n] = t->col;
         vidx[n++] = (unsigned)v - 1;
     }
     if (n < 3)
         return err_tok(p, i, n ? "at least 3 vertex numbers" : "vertex numbers");
-    scene_face *f = scene_add_face(p->s, o, vidx, n);
+    alb_scene_face *f = alb_scene_add_face(p->s, o, vidx, n);
     if (!f)
         return ALB_ERR_NOMEM;
     f->line = p->line;
@@ -821,20 +832,20 @@ static alb_err st_face(parser *p)
      * is lit through its normals; otherwise flat. */
     bool all_i = true, all_uv = true;
     for (unsigned k = 0; k < n; k++) {
-        all_i &= (o->v[vidx[k]].has & SV_INTENSITY) != 0;
-        all_uv &= (o->v[vidx[k]].has & SV_UV) != 0;
+        all_i &= (o->v[vidx[k]].has & ALB_SV_INTENSITY) != 0;
+        all_uv &= (o->v[vidx[k]].has & ALB_SV_UV) != 0;
     }
-    f->shade = o->moving ? SHADE_LIT : all_i ? SHADE_VERTEX : SHADE_FLAT;
-    if (f->texture >= 0 && f->texmap != TEXMAP_AXES) {
+    f->shade = o->moving ? ALB_SHADE_LIT : all_i ? ALB_SHADE_VERTEX : ALB_SHADE_FLAT;
+    if (f->texture >= 0 && f->texmap != ALB_TEXMAP_AXES) {
         if (!all_uv)
-            return diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, p->tok[0].col,
+            return alb_diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, p->tok[0].col,
                            "face has texture '%s' but no mapping: give 't U V' on each of its "
                            "vertices or 'axes' on the face", p->s->tex[f->texture].name);
-        f->texmap = TEXMAP_UV;
+        f->texmap = ALB_TEXMAP_UV;
     }
     if (f->texture < 0)
-        f->texmap = TEXMAP_NONE;
-    return scene_check_face(p->s, o, f, cols, p->d);
+        f->texmap = ALB_TEXMAP_NONE;
+    return alb_scene_check_face(p->s, o, f, cols, p->d);
 }
 
 static alb_err st_pose(parser *p)
@@ -843,14 +854,14 @@ static alb_err st_pose(parser *p)
         return perr(p, p->tok[0].col, "'pose' belongs inside a frame (after a 'frame' line)");
     if (p->ntok < 2)
         return err_tok(p, 1, "an object name");
-    scene_object *o = find_object(p, &p->tok[1]);
+    alb_scene_object *o = find_object(p, &p->tok[1]);
     if (!o)
         return err_tok(p, 1, "the name of an object defined above");
     unsigned next;
     return pose_options(p, 2, &p->cur->poses[o - p->s->obj], &next, NULL);
 }
 
-static alb_err copy_frame(scene_frame *dst, const scene_frame *src, unsigned nobj)
+static alb_err copy_frame(alb_scene_frame *dst, const alb_scene_frame *src, unsigned nobj)
 {
     *dst = *src;
     dst->poses = malloc((nobj ? nobj : 1) * sizeof *dst->poses);
@@ -863,14 +874,14 @@ static alb_err copy_frame(scene_frame *dst, const scene_frame *src, unsigned nob
 
 static alb_err st_frame(parser *p)
 {
-    scene_t *s = p->s;
+    alb_scene *s = p->s;
     if (p->ntok > 1)
         return err_tok(p, 1, "end of line");
-    scene_frame *nf = realloc(s->frames, (s->nframes + 1) * sizeof *nf);
+    alb_scene_frame *nf = realloc(s->frames, (s->nframes + 1) * sizeof *nf);
     if (!nf)
         return ALB_ERR_NOMEM;
     s->frames = nf;
-    const scene_frame *prev = s->nframes ? &s->frames[s->nframes - 1] : &p->init;
+    const alb_scene_frame *prev = s->nframes ? &s->frames[s->nframes - 1] : &p->init;
     alb_err e = copy_frame(&s->frames[s->nframes], prev, s->nobj);
     if (e)
         return e;
@@ -882,7 +893,7 @@ static alb_err st_frame(parser *p)
 static alb_err statement(parser *p)
 {
     const token *k = &p->tok[0];
-    scene_t *s = p->s;
+    alb_scene *s = p->s;
     alb_err e;
     double v[3];
     if (p->obj) {
@@ -950,7 +961,7 @@ static alb_err statement(parser *p)
             return e;
         if (!(s->near > 0))
             return perr(p, p->tok[1].col, "near must be positive");
-        /* whether the stream can hold it is the GP's check (gp_create): the
+        /* whether the stream can hold it is the GP's check (alb_gp_create): the
          * reference methods take any positive near */
         s->near_line = p->line;
         s->near_col = p->tok[1].col;
@@ -977,14 +988,14 @@ static alb_err statement(parser *p)
                          "fog, frame)");
 }
 
-void scene_default_frame(scene_frame *f)
+void alb_scene_default_frame(alb_scene_frame *f)
 {
     memset(f, 0, sizeof *f);
     f->obs.fov_y = 60;
-    f->light = (scene_light){{0.3, 0.8, -0.5}, 0.3};
+    f->light = (alb_scene_light){{0.3, 0.8, -0.5}, 0.3};
 }
 
-alb_err scene_finish(scene_t *s, diag_t *d)
+alb_err alb_scene_finish(alb_scene *s, alb_diag *d)
 {
     (void)d;
     if (s->nframes == 0) {
@@ -992,11 +1003,11 @@ alb_err scene_finish(scene_t *s, diag_t *d)
         if (!s->frames)
             return ALB_ERR_NOMEM;
         s->nframes = 1;
-        scene_default_frame(&s->frames[0]);
+        alb_scene_default_frame(&s->frames[0]);
     }
     for (unsigned f = 0; f < s->nframes; f++) {
         if (!s->frames[f].poses) {
-            s->frames[f].poses = calloc(s->nobj ? s->nobj : 1, sizeof(scene_pose));
+            s->frames[f].poses = calloc(s->nobj ? s->nobj : 1, sizeof(alb_scene_pose));
             if (!s->frames[f].poses)
                 return ALB_ERR_NOMEM;
         }
@@ -1017,21 +1028,21 @@ static alb_err check_bytes(parser *p, const char *text, size_t len, size_t pos, 
                                 "line ends");
         if (c == 0 || c >= 0x80)
             return perr(p, col, "byte 0x%02x: scene files are ASCII text%s", c,
-                        scene_byte_hint(text, len, i));
+                        alb_scene_byte_hint(text, len, i));
     }
     return ALB_OK;
 }
 
-alb_err scene_parse(const char *text, size_t len, const char *name, scene_t *s, diag_t *d)
+alb_err alb_scene_parse(const char *text, size_t len, const char *name, alb_scene *s, alb_diag *d)
 {
     parser p;
     memset(&p, 0, sizeof p);
-    scene_init(s, name);
+    alb_scene_init(s, name);
     p.s = s;
     p.d = d;
     p.file = s->file;
     p.texture = -1;
-    scene_default_frame(&p.init);
+    alb_scene_default_frame(&p.init);
     p.cur = &p.init;
     alb_err e = ALB_OK;
     bool header = false;
@@ -1048,13 +1059,13 @@ alb_err scene_parse(const char *text, size_t len, const char *name, scene_t *s, 
         if (p.ntok == 0)
             continue;
         if (p.ntok > MAX_TOKENS) {
-            e = diag_at(d, ALB_ERR_PARSE, p.file, p.line, p.tok[MAX_TOKENS - 1].col,
+            e = alb_diag_at(d, ALB_ERR_PARSE, p.file, p.line, p.tok[MAX_TOKENS - 1].col,
                         "more than %d words on one line", MAX_TOKENS);
             break;
         }
         if (!header) {
             if (!tok_is(&p.tok[0], "albatros-scene") || p.ntok != 2 || !tok_is(&p.tok[1], "1")) {
-                e = diag_at(d, ALB_ERR_PARSE, p.file, p.line, 1,
+                e = alb_diag_at(d, ALB_ERR_PARSE, p.file, p.line, 1,
                             "expected the header line 'albatros-scene 1'");
                 break;
             }
@@ -1064,13 +1075,13 @@ alb_err scene_parse(const char *text, size_t len, const char *name, scene_t *s, 
         e = statement(&p);
     }
     if (!e && !header)
-        e = diag_at(d, ALB_ERR_PARSE, p.file, p.line ? p.line : 1, 1,
+        e = alb_diag_at(d, ALB_ERR_PARSE, p.file, p.line ? p.line : 1, 1,
                     "empty scene: expected the header line 'albatros-scene 1'");
     if (!e && p.obj)
-        e = diag_at(d, ALB_ERR_PARSE, p.file, p.line, 1,
+        e = alb_diag_at(d, ALB_ERR_PARSE, p.file, p.line, 1,
                     "object '%s' (line %u) has no 'end'", p.obj->name, p.obj->line);
     if (!e && s->nobj == 0)
-        e = diag_at(d, ALB_ERR_PARSE, p.file, p.line, 1, "scene has no objects");
+        e = alb_diag_at(d, ALB_ERR_PARSE, p.file, p.line, 1, "scene has no objects");
     if (!e && s->nframes == 0) {
         /* one frame: the initial state itself */
         s->frames = malloc(sizeof *s->frames);
@@ -1082,34 +1093,34 @@ alb_err scene_parse(const char *text, size_t len, const char *name, scene_t *s, 
     free(p.init.poses);
     free(p.names);
     if (!e)
-        e = scene_finish(s, d);
+        e = alb_scene_finish(s, d);
     if (e == ALB_ERR_NOMEM)
-        diag_at(d, e, p.file, p.line, 0, "out of memory");
+        alb_diag_at(d, e, p.file, p.line, 0, "out of memory");
     if (e)
-        scene_free(s);
+        alb_scene_free(s);
     return e;
 }
 
-alb_err scene_load(const char *path, scene_t *s, diag_t *d)
+alb_err alb_scene_load(const char *path, alb_scene *s, alb_diag *d)
 {
     FILE *f = fopen(path, "rb");
     if (!f)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open scene: %s", strerror(errno));
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open scene: %s", strerror(errno));
     char *buf;
     size_t len;
-    int rc = file_read_all(f, &buf, &len);
+    int rc = alb_file_read_all(f, &buf, &len);
     int err = errno;
     fclose(f);
     if (rc == -2)
-        return diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "scene too large for memory");
+        return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "scene too large for memory");
     if (rc)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
-    alb_err e = scene_parse(buf, len, path, s, d);
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
+    alb_err e = alb_scene_parse(buf, len, path, s, d);
     free(buf);
     return e;
 }
 
-alb_err scene_resolve_screenspace(scene_t *s, unsigned width, unsigned height, diag_t *d)
+alb_err alb_scene_resolve_screenspace(alb_scene *s, unsigned width, unsigned height, alb_diag *d)
 {
     if (!s->screenspace)
         return ALB_OK;
@@ -1118,7 +1129,7 @@ alb_err scene_resolve_screenspace(scene_t *s, unsigned width, unsigned height, d
         for (unsigned k = 0; k < s->obj[i].nv; k++) {
             double z = s->obj[i].v[k].p.z;
             if (!(z > 0))
-                return diag_at(d, ALB_ERR_GEOMETRY, s->file, s->obj[i].line, 0,
+                return alb_diag_at(d, ALB_ERR_GEOMETRY, s->file, s->obj[i].line, 0,
                                "screen-space object '%s': vertex %u has depth %g; depths must be "
                                "positive", s->obj[i].name, k + 1, z);
             dmax = fmax(dmax, z);
@@ -1128,17 +1139,17 @@ alb_err scene_resolve_screenspace(scene_t *s, unsigned width, unsigned height, d
      * the map takes planes to planes, so each face stays planar and convex
      * with 1/Z linear on the screen, as the textbook's depth is. */
     for (unsigned i = 0; i < s->nobj; i++) {
-        scene_object *o = &s->obj[i];
+        alb_scene_object *o = &s->obj[i];
         for (unsigned k = 0; k < o->nv; k++) {
             vec3 *p = &o->v[k].p;
             double xs = -1 + 2 * p->x / width, ys = -1 + 2 * p->y / height, q = p->z / dmax;
             *p = v3(xs / q, ys / q, 1 / q);
         }
         for (unsigned j = 0; j < o->nf; j++) {
-            scene_face *f = &o->f[j];
+            alb_scene_face *f = &o->f[j];
             double area = 0;
             for (unsigned k = 0; k < f->count; k++) {
-                vec3 a = scene_face_vertex(o, f, k), b = scene_face_vertex(o, f, (k + 1) % f->count);
+                vec3 a = alb_scene_face_vertex(o, f, k), b = alb_scene_face_vertex(o, f, (k + 1) % f->count);
                 area += a.x / a.z * (b.y / b.z) - b.x / b.z * (a.y / a.z);
             }
             if (area < 0)   /* clockwise on the screen: turn it round */
@@ -1152,11 +1163,11 @@ alb_err scene_resolve_screenspace(scene_t *s, unsigned width, unsigned height, d
     if (!s->near_line)
         s->near = 1;
     for (unsigned f = 0; f < s->nframes; f++) {
-        s->frames[f].obs.pose = (scene_pose){{0, 0, 0}, 0, 0, 0};
+        s->frames[f].obs.pose = (alb_scene_pose){{0, 0, 0}, 0, 0, 0};
         s->frames[f].obs.fov_y = 90;
         s->frames[f].obs.aspect = 1;
         for (unsigned i = 0; i < s->nobj; i++)
-            s->frames[f].poses[i] = (scene_pose){{0, 0, 0}, 0, 0, 0};
+            s->frames[f].poses[i] = (alb_scene_pose){{0, 0, 0}, 0, 0, 0};
     }
     s->screenspace = false;
     return ALB_OK;

@@ -1,15 +1,17 @@
 /* texture.c — texture images for the GP's database: the built-in procedural
  * checker and PNG files through libpng.  The VP sees only texels, loaded
  * through TEXTURE packets of the word stream. */
-#include "scene.h"
+#include "albatros/scene.h"
 
 #include <errno.h>
+#ifndef ALB_NO_EXTERNAL
 #include <png.h>
+#endif
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-alb_err scene_texture_checker(scene_texture *t, unsigned log2size, const uint8_t a[3],
+alb_err alb_scene_texture_checker(alb_scene_texture *t, unsigned log2size, const uint8_t a[3],
                               const uint8_t b[3], unsigned squares)
 {
     unsigned size = 1u << log2size;
@@ -27,31 +29,41 @@ alb_err scene_texture_checker(scene_texture *t, unsigned log2size, const uint8_t
     return ALB_OK;
 }
 
+#ifdef ALB_NO_EXTERNAL
+/* The build without external libraries (make crosscheck's musl build,
+ * docs/golden-vectors.md): no libpng, so no PNG textures. */
+alb_err alb_scene_texture_png(alb_scene_texture *t, const char *path, alb_diag *d)
+{
+    (void)t;
+    return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read the PNG texture '%s': this albatros "
+                   "was built with ALB_NO_EXTERNAL, without libpng", path);
+}
+#else
 /* libpng reports every short read as "Read Error": a read that failed at
  * the end of the file means the file was cut short. */
-static alb_err png_failed(diag_t *d, const char *path, FILE *f, const char *doing,
+static alb_err png_failed(alb_diag *d, const char *path, FILE *f, const char *doing,
                           const char *libpng_msg)
 {
     if (feof(f))
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "'%s' is truncated: the file ends after %ld "
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "'%s' is truncated: the file ends after %ld "
                        "bytes, before the PNG image is complete", path, ftell(f));
-    return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot %s PNG: %s", doing, libpng_msg);
+    return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot %s PNG: %s", doing, libpng_msg);
 }
 
 /* libpng allocates a chunk's claimed length before it reads the chunk, so a
  * 45-byte file claiming a 1.7 GB text chunk took 1.7 GB and seconds (found
  * by fuzz_png).  Walk the chunk headers first: every chunk must fit in what
  * is left of the file.  f is just past the signature; left there. */
-static alb_err png_check_chunks(const char *path, FILE *f, diag_t *d)
+static alb_err png_check_chunks(const char *path, FILE *f, alb_diag *d)
 {
     if (fseek(f, 0, SEEK_END))
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read '%s': %s", path, strerror(errno));
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read '%s': %s", path, strerror(errno));
     long size = ftell(f);
     long at = 8;
     while (size >= 0 && at + 8 <= size) {
         unsigned char h[8];
         if (fseek(f, at, SEEK_SET) || fread(h, 1, sizeof h, f) != sizeof h)
-            return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read '%s': %s", path,
+            return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read '%s': %s", path,
                            strerror(errno));
         uint32_t len = (uint32_t)h[0] << 24 | (uint32_t)h[1] << 16 | (uint32_t)h[2] << 8 | h[3];
         char type[5];
@@ -60,7 +72,7 @@ static alb_err png_check_chunks(const char *path, FILE *f, diag_t *d)
         type[4] = 0;
         /* length, type, data, CRC */
         if (len > 0x7fffffffu || (uint64_t)len + 12 > (uint64_t)(size - at))
-            return diag_at(d, ALB_ERR_IO, path, 0, 0,
+            return alb_diag_at(d, ALB_ERR_IO, path, 0, 0,
                            "'%s' is truncated: the file ends after %ld bytes, inside PNG chunk "
                            "'%s' at byte %ld (which claims %lu bytes of data)",
                            path, size, type, at, (unsigned long)len);
@@ -69,11 +81,11 @@ static alb_err png_check_chunks(const char *path, FILE *f, diag_t *d)
         at += 12 + (long)len;
     }
     if (fseek(f, 0, SEEK_SET))
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read '%s': %s", path, strerror(errno));
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read '%s': %s", path, strerror(errno));
     return ALB_OK;
 }
 
-static alb_err png_read(scene_texture *t, const char *path, FILE *f, diag_t *d)
+static alb_err png_read(alb_scene_texture *t, const char *path, FILE *f, alb_diag *d)
 {
     png_image img;
     memset(&img, 0, sizeof img);
@@ -84,7 +96,7 @@ static alb_err png_read(scene_texture *t, const char *path, FILE *f, diag_t *d)
         (img.width & (img.width - 1))) {
         unsigned w = img.width, h = img.height;
         png_image_free(&img);
-        return diag_at(d, ALB_ERR_PARSE, path, 0, 0,
+        return alb_diag_at(d, ALB_ERR_PARSE, path, 0, 0,
                        "texture is %ux%u; the VP takes square powers of two, 2..1024", w, h);
     }
     img.format = PNG_FORMAT_RGB;
@@ -121,30 +133,31 @@ static alb_err png_read(scene_texture *t, const char *path, FILE *f, diag_t *d)
     return ALB_OK;
 }
 
-alb_err scene_texture_png(scene_texture *t, const char *path, diag_t *d)
+alb_err alb_scene_texture_png(alb_scene_texture *t, const char *path, alb_diag *d)
 {
     /* Opened here rather than by libpng, so that the messages can name the
      * path and the system's reason, and tell an empty file from a bad one. */
     FILE *f = fopen(path, "rb");
     if (!f)
-        return diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open '%s': %s", path, strerror(errno));
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open '%s': %s", path, strerror(errno));
     png_byte sig[8];
     size_t got = fread(sig, 1, sizeof sig, f);
     alb_err e;
     if (ferror(f))   /* a directory, for one */
-        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read '%s': %s", path, strerror(errno));
+        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read '%s': %s", path, strerror(errno));
     else if (got == 0)
-        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "'%s' is empty (0 bytes); expected a PNG image",
+        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "'%s' is empty (0 bytes); expected a PNG image",
                     path);
     else if (got < sizeof sig && png_sig_cmp(sig, 0, got) == 0)
-        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "'%s' is truncated: the file ends after %zu "
+        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "'%s' is truncated: the file ends after %zu "
                     "bytes, inside the PNG signature", path, got);
     else if (png_sig_cmp(sig, 0, sizeof sig) == 0 && (e = png_check_chunks(path, f, d)))
         ;
     else if (fseek(f, 0, SEEK_SET))
-        e = diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read '%s': %s", path, strerror(errno));
+        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read '%s': %s", path, strerror(errno));
     else
         e = png_read(t, path, f, d);
     fclose(f);
     return e;
 }
+#endif

@@ -4,6 +4,7 @@
 #ifndef ALBATROS_T_H
 #define ALBATROS_T_H
 
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 

@@ -2,6 +2,7 @@
  * checked against geometry computed here from edge directions, not from the
  * table or the sector numbering. */
 #include "t.h"
+#include "../common/vec3.h"
 #include "../gp/gp_internal.h"
 
 #include <math.h>

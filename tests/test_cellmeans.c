@@ -9,7 +9,7 @@
  * verdict and the edges still active — and no mean may round. */
 #include "t.h"
 
-#include "../common/profile.h"
+#include "albatros/profile.h"
 #include "../vp/vp_internal.h"
 
 #include <stdio.h>
@@ -34,7 +34,7 @@ typedef struct {
 } hw_cell;
 
 typedef struct {
-    hw_cell stack[3 * VP_MAX_LEVELS + 4];
+    hw_cell stack[3 * ALB_VP_MAX_LEVELS + 4];
     unsigned top;
     unsigned rounded;          /* means whose sum was odd: must stay 0 */
     int maxbits;               /* widest |h| met */
@@ -132,19 +132,19 @@ static bool hw_next(hw_walk *w, unsigned n, vp_step *out)
     return true;
 }
 
-static vp_t *make_vp(const char *name, const char *const *sets)
+static alb_vp *make_vp(const char *name, const char *const *sets)
 {
-    profile_t p;
-    if (profile_lookup(name, &p))
+    alb_profile p;
+    if (alb_profile_lookup(name, &p))
         return NULL;
     char err[300];
     for (; sets && *sets; sets++)
-        if (profile_set(&p, *sets, err, sizeof err))
+        if (alb_profile_set(&p, *sets, err, sizeof err))
             return NULL;
-    vp_t *vp = NULL;
-    diag_t d;
-    diag_init(&d, NULL);
-    if (vp_create(&vp, &p, &d))
+    alb_vp *vp = NULL;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    if (alb_vp_create(&vp, &p, &d))
         return NULL;
     vp->cfg.edge_frac_bits = p.edge_frac_bits;
     return vp;
@@ -154,7 +154,7 @@ static vp_t *make_vp(const char *name, const char *const *sets)
  * both R, intercepts over the whole 3.F range — walked by both engines. */
 static void check_profile(const char *name, const char *const *sets, unsigned faces)
 {
-    vp_t *vp = make_vp(name, sets);
+    alb_vp *vp = make_vp(name, sets);
     CHECK_MSG(vp != NULL, "profile %s", name);
     if (!vp)
         return;
@@ -176,7 +176,7 @@ static void check_profile(const char *name, const char *const *sets, unsigned fa
         uint32_t base = (rng() & 3) ? (3u << vp->cfg.edge_frac_bits) : 0;
         int64_t C1 = 2 * (int64_t)vp->sw, R1 = 2 * (int64_t)vp->sh;
         for (unsigned i = 0; i < f.n; i++) {
-            ws_edge e = {.u = (uint8_t)(rng() & 1), .r = (uint8_t)(rng() & 1),
+            alb_ws_edge e = {.u = (uint8_t)(rng() & 1), .r = (uint8_t)(rng() & 1),
                          .x1 = base + (uint32_t)(rng() % span), .x2 = base + (uint32_t)(rng() % span)};
             vp_edge_setup(vp, &e, &f.e[i]);
             /* the edge unit loads the screen's corners; the rest is means */
@@ -229,7 +229,7 @@ static void check_profile(const char *name, const char *const *sets, unsigned fa
     printf("# %s: %lu steps (out %lu, split %lu, fill %lu, sample in %lu, out %lu), |h| < 2^%d\n",
            name, steps, verdicts[0], verdicts[1], verdicts[2], verdicts[3], verdicts[4],
            hw.maxbits);
-    vp_destroy(vp);
+    alb_vp_destroy(vp);
 }
 
 TEST(subdivision_by_cell_means_equals_the_model)

@@ -15,16 +15,16 @@ TEST(default_threads_follow_the_affinity_mask)
         CHECK_MSG(0, "sched_getaffinity failed");
         return;
     }
-    unsigned n = vp_cores();
-    CHECK(n >= 1 && n == (unsigned)(CPU_COUNT(&old) < VP_MAX_THREADS ? CPU_COUNT(&old)
-                                                                     : VP_MAX_THREADS));
+    unsigned n = alb_vp_cores();
+    CHECK(n >= 1 && n == (unsigned)(CPU_COUNT(&old) < ALB_VP_MAX_THREADS ? CPU_COUNT(&old)
+                                                                     : ALB_VP_MAX_THREADS));
     int first = 0;
     while (!CPU_ISSET(first, &old))
         first++;
     CPU_ZERO(&one);
     CPU_SET(first, &one);
     CHECK(sched_setaffinity(0, sizeof one, &one) == 0);
-    CHECK_EQ(vp_cores(), 1);
+    CHECK_EQ(alb_vp_cores(), 1);
     CHECK(sched_setaffinity(0, sizeof old, &old) == 0);
-    CHECK_EQ(vp_cores(), n);
+    CHECK_EQ(alb_vp_cores(), n);
 }

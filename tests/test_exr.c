@@ -2,7 +2,7 @@
  * threads compress its chunks, and every exact plane reads back unchanged. */
 #include "t.h"
 
-#include "../emu/exr.h"
+#include "albatros/exr.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,9 +19,9 @@ static uint32_t rnd(void)
 }
 
 /* A frame of random planes within their formats' ranges. */
-static int random_frame(frame_t *f, unsigned w, unsigned h, unsigned aa, bool cycles)
+static int random_frame(alb_frame *f, unsigned w, unsigned h, unsigned aa, bool cycles)
 {
-    if (frame_alloc(f, w, h, cycles))
+    if (alb_frame_alloc(f, w, h, cycles))
         return -1;
     f->colour_bits = 1 + rnd() % 16;
     f->depth_bits = 24;
@@ -34,8 +34,8 @@ static int random_frame(frame_t *f, unsigned w, unsigned h, unsigned aa, bool cy
             f->rgb[3 * i + (size_t)c] = (uint16_t)(rnd() & ((1u << f->colour_bits) - 1));
         bool none = rnd() % 5 == 0;
         f->depth[i] = none ? 0 : 1 + rnd() % ((1u << 24) - 1);
-        f->face[i] = none ? FRAME_NO_FACE : rnd();
-        f->level[i] = none ? FRAME_NO_LEVEL : (uint8_t)(rnd() % 12);
+        f->face[i] = none ? ALB_FRAME_NO_FACE : rnd();
+        f->level[i] = none ? ALB_FRAME_NO_LEVEL : (uint8_t)(rnd() % 12);
         f->coverage[i] = (uint16_t)(rnd() % ((1u << (2 * aa)) + 1));
         if (cycles)
             f->cycles[i] = rnd();
@@ -71,19 +71,19 @@ TEST(exr_bytes_do_not_depend_on_threads)
     snprintf(p1, sizeof p1, "%s/one.exr", t_tmpdir());
     snprintf(pn, sizeof pn, "%s/many.exr", t_tmpdir());
     for (size_t s = 0; s < sizeof shapes / sizeof shapes[0]; s++) {
-        frame_t f;
+        alb_frame f;
         if (random_frame(&f, shapes[s].w, shapes[s].h, shapes[s].aa, shapes[s].cycles)) {
             CHECK_MSG(0, "no memory");
             return;
         }
-        diag_t d;
-        diag_init(&d, NULL);
-        CHECK_MSG(exr_write_frame(p1, &f, &d) == ALB_OK, "%s", d.msg);
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        CHECK_MSG(alb_exr_write_frame(p1, &f, &d) == ALB_OK, "%s", d.msg);
         size_t n1 = 0;
         unsigned char *b1 = slurp(p1, &n1);
         CHECK(b1 && n1 > 0);
         for (size_t k = 0; b1 && k < sizeof threads / sizeof threads[0]; k++) {
-            CHECK_MSG(exr_write_frame_threads(pn, &f, threads[k], &d) == ALB_OK, "%s", d.msg);
+            CHECK_MSG(alb_exr_write_frame_threads(pn, &f, threads[k], &d) == ALB_OK, "%s", d.msg);
             size_t nn = 0;
             unsigned char *bn = slurp(pn, &nn);
             CHECK_MSG(bn && nn == n1 && memcmp(b1, bn, n1) == 0,
@@ -93,11 +93,11 @@ TEST(exr_bytes_do_not_depend_on_threads)
         }
         free(b1);
         /* and what was written is what was rendered */
-        frame_t back;
-        CHECK_MSG(exr_read_frame(pn, &back, &d) == ALB_OK, "%s", d.msg);
-        CHECK_EQ(frame_count_differences(&f, &back), 0);
+        alb_frame back;
+        CHECK_MSG(alb_exr_read_frame(pn, &back, &d) == ALB_OK, "%s", d.msg);
+        CHECK_EQ(alb_frame_count_differences(&f, &back), 0);
         CHECK_EQ(back.number, f.number);
-        frame_free(&back);
-        frame_free(&f);
+        alb_frame_free(&back);
+        alb_frame_free(&f);
     }
 }

@@ -1,6 +1,7 @@
 /* test_pipeline.c — whole GP runs on small scenes, the emitted words read
  * back and compared with ray casting and direct evaluation in double. */
 #include "t.h"
+#include "../common/vec3.h"
 #include "gp_helpers.h"
 #include "../common/fix.h"
 
@@ -11,10 +12,10 @@
 static double ival(uint32_t q, unsigned frac) { return ldexp(q, -(int)frac) - 3; }
 
 /* The VP's reading of a face's edges at screen point (x, y), in double. */
-static bool face_covers(const ws_face *f, unsigned frac, double x, double y)
+static bool face_covers(const alb_ws_face *f, unsigned frac, double x, double y)
 {
     for (unsigned i = 0; i < f->n_edges; i++) {
-        const ws_edge *e = &f->edge[i];
+        const alb_ws_edge *e = &f->edge[i];
         double a = ival(e->x1, frac), b = ival(e->x2, frac);
         if (e->u) {
             double xe = a + (b - a) * (y + 1) / 2;
@@ -159,14 +160,14 @@ TEST(depth_and_intensity_forms_reproduce_vertices)
         CHECK_MSG(0, "run failed: %s", r.err);
         return;
     }
-    const ws_face *f = &r.faces[0];
-    CHECK(f->flags & WS_FACE_SHADE);
+    const alb_ws_face *f = &r.faces[0];
+    CHECK(f->flags & ALB_WS_FACE_SHADE);
     const double v[3][4] = {{-2, -1, 5, 0.2}, {3, -1, 9, 0.9}, {0, 2, 7, 0.5}};
     for (int k = 0; k < 3; k++) {
         double x = v[k][0] / v[k][2], y = v[k][1] / v[k][2];
-        double depth = ws_form_eval(&f->depth, x, y);
+        double depth = alb_ws_form_eval(&f->depth, x, y);
         CHECK_NEAR(depth, 0.5 / v[k][2], 1e-6);
-        CHECK_NEAR(ws_form_eval(&f->shade, x, y) / depth, v[k][3], 1e-5);
+        CHECK_NEAR(alb_ws_form_eval(&f->shade, x, y) / depth, v[k][3], 1e-5);
     }
     gp_run_free(&r);
 }
@@ -190,8 +191,8 @@ TEST(lit_object_intensity_at_vertices)
         double len = sqrt(n[k][0] * n[k][0] + n[k][1] * n[k][1] + n[k][2] * n[k][2]);
         double want = 0.2 + (0.3 * n[k][0] + 0.5 * n[k][1] - 0.8 * n[k][2]) / len;
         double x = v[k][0] / v[k][2], y = v[k][1] / v[k][2];
-        const ws_face *f = &r.faces[0];
-        CHECK_NEAR(ws_form_eval(&f->shade, x, y) / ws_form_eval(&f->depth, x, y), want, 1e-5);
+        const alb_ws_face *f = &r.faces[0];
+        CHECK_NEAR(alb_ws_form_eval(&f->shade, x, y) / alb_ws_form_eval(&f->depth, x, y), want, 1e-5);
     }
     gp_run_free(&r);
 }
@@ -218,10 +219,10 @@ TEST(observer_transform_places_vertices)
         vec3 w = v3_add(m3_apply(&q, v3(obj[k][0], obj[k][1], obj[k][2])), v3(2, 1, 6));
         vec3 e = m3_apply(&ot, v3_sub(w, v3(1, 2, -3)));
         double x = sx * e.x / e.z, y = sy * e.y / e.z;
-        const ws_face *f = &r.faces[0];
-        double depth = ws_form_eval(&f->depth, x, y);
+        const alb_ws_face *f = &r.faces[0];
+        double depth = alb_ws_form_eval(&f->depth, x, y);
         CHECK_NEAR(depth, 0.25 / e.z, 1e-6 * 0.25 / e.z + 1e-9);
-        CHECK_NEAR(ws_form_eval(&f->shade, x, y) / depth, obj[k][3], 1e-5);
+        CHECK_NEAR(alb_ws_form_eval(&f->shade, x, y) / depth, obj[k][3], 1e-5);
     }
     gp_run_free(&r);
 }
@@ -256,16 +257,16 @@ TEST(texture_far_from_origin_keeps_precision)
         CHECK_MSG(0, "run failed: %s", r.err);
         return;
     }
-    const ws_face *f = &r.faces[0];
-    CHECK(f->flags & WS_FACE_TEXTURE);
+    const alb_ws_face *f = &r.faces[0];
+    CHECK(f->flags & ALB_WS_FACE_TEXTURE);
     uint64_t s = 4;
     double worst = 0;
     for (int i = 0; i < 2000; i++) {
         double x = t_uniform(&s, -0.45, 0.45), y = t_uniform(&s, -0.45, 0.45);
         /* ray (x, y, 1) from the observer meets z = 10 at X = 1000000.25 + 10x */
         double u_exact = 0.25 + 10 * x, v_exact = 0.5 + 10 * y;
-        double depth = ws_form_eval(&f->depth, x, y);
-        double u = ws_form_eval(&f->tex_u, x, y) / depth, v = ws_form_eval(&f->tex_v, x, y) / depth;
+        double depth = alb_ws_form_eval(&f->depth, x, y);
+        double u = alb_ws_form_eval(&f->tex_u, x, y) / depth, v = alb_ws_form_eval(&f->tex_v, x, y) / depth;
         double du = fabs(remainder(u - u_exact, 1)), dv = fabs(remainder(v - v_exact, 1));
         worst = fmax(worst, fmax(du, dv));
     }
@@ -293,7 +294,7 @@ TEST(sliver_gets_bounding_edges)
         /* the tip's edge: horizontal (both edges steep), at y = 0.6, the
          * face below it; the corner's: vertical (the first edge is
          * horizontal) at x = 0.08, the face to its left */
-        const ws_edge *tip = &r.faces[0].edge[4], *corner = &r.faces[0].edge[3];
+        const alb_ws_edge *tip = &r.faces[0].edge[4], *corner = &r.faces[0].edge[3];
         CHECK(tip->u == 0 && tip->r == 1 && tip->x1 == tip->x2);
         CHECK_NEAR(ival(tip->x1, r.cfg.edge_frac_bits), 3.0 / 5, ldexp(1, -14));
         CHECK(corner->u == 1 && corner->r == 1 && corner->x1 == corner->x2);
@@ -359,7 +360,7 @@ TEST(shared_edges_identical_with_opposite_r)
                         continue;
                     shared++;
                     CHECK(r.faces[a].n_edges == 4 && r.faces[b].n_edges == 4);
-                    const ws_edge *e = &r.faces[a].edge[i], *g = &r.faces[b].edge[j];
+                    const alb_ws_edge *e = &r.faces[a].edge[i], *g = &r.faces[b].edge[j];
                     identical += e->u == g->u && e->x1 == g->x1 && e->x2 == g->x2 && e->r != g->r;
                 }
     CHECK_EQ(shared, 24);

@@ -1,7 +1,7 @@
 /* test_scene.c — the scene format: what parses, and for what does not, the
  * exact line, column and message (docs/scene-format.md). */
 #include "t.h"
-#include "../gp/scene.h"
+#include "albatros/scene.h"
 
 #include <malloc.h>
 #include <png.h>
@@ -27,10 +27,10 @@ TEST(scene_parses_everything)
         " f 1 2 3 colour 9 9 9 axes 1 0 0 0 0 1 0 0 texture c nofog intensity 0.5\n"
         "end\n"
         "frame\n pose a at 1 1 1\nframe\n observer at 0 0 0\n light 1 0 0\n";
-    scene_t s;
-    diag_t d;
-    diag_init(&d, NULL);
-    alb_err e = scene_parse(text, strlen(text), "x.scene", &s, &d);
+    alb_scene s;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_err e = alb_scene_parse(text, strlen(text), "x.scene", &s, &d);
     CHECK_MSG(e == ALB_OK, "%u:%u: %s", d.line, d.col, d.msg);
     if (e)
         return;
@@ -38,16 +38,16 @@ TEST(scene_parses_everything)
     CHECK_EQ(s.nframes, 2);
     CHECK_EQ(s.nfaces, 2);
     CHECK(s.near == 0.25 && s.fog && s.fog_far == 50);
-    const scene_object *o = &s.obj[0];
+    const alb_scene_object *o = &s.obj[0];
     CHECK(o->moving && o->nv == 3 && o->nf == 2);
-    CHECK(o->f[0].shade == SHADE_LIT && o->f[0].texmap == TEXMAP_UV && o->f[0].rgb[1] == 20);
-    CHECK(o->f[1].texmap == TEXMAP_AXES && !o->f[1].fog && o->f[1].rgb[0] == 9);
+    CHECK(o->f[0].shade == ALB_SHADE_LIT && o->f[0].texmap == ALB_TEXMAP_UV && o->f[0].rgb[1] == 20);
+    CHECK(o->f[1].texmap == ALB_TEXMAP_AXES && !o->f[1].fog && o->f[1].rgb[0] == 9);
     CHECK_NEAR(o->v[1].n.z, -1, 1e-12);   /* normals are normalised */
     /* frame 1 inherits frame 0's pose and changes the observer */
     CHECK(s.frames[0].poses[0].pos.x == 1 && s.frames[1].poses[0].pos.x == 1);
     CHECK(s.frames[0].obs.pose.pos.x == 1 && s.frames[1].obs.pose.pos.x == 0);
     CHECK(s.frames[0].obs.fov_y == 45 && s.frames[1].light.dir.x == 1);
-    scene_free(&s);
+    alb_scene_free(&s);
 }
 
 TEST(scene_errors_name_line_column_and_expectation)
@@ -152,14 +152,14 @@ TEST(scene_errors_name_line_column_and_expectation)
         {HDR "object t\n v 1e-400 0 5\n v 1 0 5\n v 0 1 5\n f 1 2 3\nend\n", 0, 0, NULL},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        scene_t s;
-        diag_t d;
-        diag_init(&d, NULL);
-        alb_err e = scene_parse(cases[i].text, strlen(cases[i].text), "x.scene", &s, &d);
+        alb_scene s;
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        alb_err e = alb_scene_parse(cases[i].text, strlen(cases[i].text), "x.scene", &s, &d);
         if (!cases[i].msg) {
             CHECK_MSG(e == ALB_OK, "case %zu: %s", i, d.msg);
             if (!e)
-                scene_free(&s);
+                alb_scene_free(&s);
             continue;
         }
         CHECK_MSG(e != ALB_OK, "case %zu: accepted", i);
@@ -183,15 +183,15 @@ TEST(scene_aspect_takes_a_ratio)
         {HDR "observer aspect 1.25\n" TRI, 1.25},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        scene_t s;
-        diag_t d;
-        diag_init(&d, NULL);
-        if (scene_parse(cases[i].text, strlen(cases[i].text), "x.scene", &s, &d)) {
+        alb_scene s;
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        if (alb_scene_parse(cases[i].text, strlen(cases[i].text), "x.scene", &s, &d)) {
             CHECK_MSG(0, "case %zu: %u:%u: %s", i, d.line, d.col, d.msg);
             continue;
         }
         CHECK(s.frames[0].obs.aspect == cases[i].aspect);
-        scene_free(&s);
+        alb_scene_free(&s);
     }
 }
 
@@ -211,18 +211,18 @@ TEST(screenspace_keeps_a_written_near)
         char text[256];
         snprintf(text, sizeof text, HDR "%sobject t\n v 0 0 2\n v 32 0 4\n v 0 32 4\n f 1 2 3\nend\n",
                  cases[i].head);
-        scene_t s;
-        diag_t d;
-        diag_init(&d, NULL);
-        if (scene_parse(text, strlen(text), "x.scene", &s, &d) ||
-            scene_resolve_screenspace(&s, 32, 32, &d)) {
+        alb_scene s;
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        if (alb_scene_parse(text, strlen(text), "x.scene", &s, &d) ||
+            alb_scene_resolve_screenspace(&s, 32, 32, &d)) {
             CHECK_MSG(0, "case %zu: %s", i, d.msg);
             continue;
         }
         CHECK(s.near == cases[i].near);
         /* the vertex at the largest depth at Z = 1, the one at half of it at 2 */
         CHECK(s.obj[0].v[1].p.z == 1 && s.obj[0].v[0].p.z == 2);
-        scene_free(&s);
+        alb_scene_free(&s);
     }
 }
 
@@ -278,11 +278,11 @@ TEST(texture_png_errors_say_why)
         {".", "Is a directory"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        scene_texture t = {0};
-        diag_t d;
-        diag_init(&d, NULL);
+        alb_scene_texture t = {0};
+        alb_diag d;
+        alb_diag_init(&d, NULL);
         const char *path = tmp_path(cases[i].file);
-        alb_err e = scene_texture_png(&t, path, &d);
+        alb_err e = alb_scene_texture_png(&t, path, &d);
         if (!cases[i].msg) {
             CHECK_MSG(e == ALB_OK && t.log2size == 2, "%s: %s", cases[i].file, d.msg);
             free(t.texels);
@@ -316,10 +316,10 @@ TEST(texture_png_alpha_composited_onto_black)
     /* fresh memory filled with a pattern, as a reused heap would hold */
     mallopt(M_PERTURB, 0x5a);
     for (int run = 0; run < 2; run++) {
-        scene_texture t = {0};
-        diag_t d;
-        diag_init(&d, NULL);
-        if (scene_texture_png(&t, path, &d) != ALB_OK) {
+        alb_scene_texture t = {0};
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        if (alb_scene_texture_png(&t, path, &d) != ALB_OK) {
             CHECK_MSG(0, "%s", d.msg);
             return;
         }
@@ -338,10 +338,10 @@ TEST(texture_png_alpha_composited_onto_black)
 
 TEST(builtin_scene_parses)
 {
-    scene_t s;
-    diag_t d;
-    diag_init(&d, NULL);
-    alb_err e = scene_load_builtin(&s, &d);
+    alb_scene s;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_err e = alb_scene_load_builtin(&s, &d);
     CHECK_MSG(e == ALB_OK, "%u:%u: %s", d.line, d.col, d.msg);
     if (e)
         return;
@@ -349,10 +349,10 @@ TEST(builtin_scene_parses)
     bool moving = false, vertex_shaded = false, textured = false;
     for (unsigned i = 0; i < s.nobj; i++)
         for (unsigned j = 0; j < s.obj[i].nf; j++) {
-            moving |= s.obj[i].f[j].shade == SHADE_LIT;
-            vertex_shaded |= s.obj[i].f[j].shade == SHADE_VERTEX;
-            textured |= s.obj[i].f[j].texmap != TEXMAP_NONE;
+            moving |= s.obj[i].f[j].shade == ALB_SHADE_LIT;
+            vertex_shaded |= s.obj[i].f[j].shade == ALB_SHADE_VERTEX;
+            textured |= s.obj[i].f[j].texmap != ALB_TEXMAP_NONE;
         }
     CHECK(moving && vertex_shaded && textured);
-    scene_free(&s);
+    alb_scene_free(&s);
 }

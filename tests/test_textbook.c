@@ -208,7 +208,7 @@ typedef struct {
 static int render(const poly *s, unsigned n, const char *sets, vp_grid *g)
 {
     char text[2048], err[600];
-    frame_t f;
+    alb_frame f;
     memset(&f, 0, sizeof f);
     scene_text(s, n, text, sizeof text);
     if (render_text(text, "t32", sets, &f, NULL, NULL, err, sizeof err)) {
@@ -221,10 +221,10 @@ static int render(const poly *s, unsigned n, const char *sets, vp_grid *g)
     for (int row = 0; row < W; row++)
         for (int x = 0; x < W; x++) {
             uint32_t id = f.face[row * W + x];
-            g->value[row][x] = id == FRAME_NO_FACE ? 0 : (int)id + 1;
+            g->value[row][x] = id == ALB_FRAME_NO_FACE ? 0 : (int)id + 1;
             g->depth[row][x] = f.depth[row * W + x];
         }
-    frame_free(&f);
+    alb_frame_free(&f);
     return 0;
 }
 

@@ -4,33 +4,24 @@
  * sets, monotonicity, and the VCD trace read back by a parser. */
 #include "t.h"
 #include "gp_helpers.h"
-#include "../emu/sim.h"
-#include "../emu/vcd.h"
+#include "albatros/sim.h"
+#include "albatros/vcd.h"
 #include "../tools/scenegen.h"
 
 #include <dirent.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Apply "key=value key=value ..." to a profile (the test's own, valid). */
-static void profile_set_all(profile_t *p, const char *sets)
-{
-    char buf[256], err[256];
-    snprintf(buf, sizeof buf, "%s", sets);
-    for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
-        profile_set(p, tok, err, sizeof err);
-}
-
 #define MAX_FRAMES 8
 
 typedef struct {
     unsigned n;
-    sim_counters c[MAX_FRAMES];
-    vp_stats s[MAX_FRAMES];
-    frame_t f[MAX_FRAMES];
+    alb_sim_counters c[MAX_FRAMES];
+    alb_vp_stats s[MAX_FRAMES];
+    alb_frame f[MAX_FRAMES];
 } run_log;
 
-static int log_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
+static int log_frame(void *ctx, const alb_frame *f, const alb_vp_stats *vs, const alb_sim_counters *sc)
 {
     run_log *l = ctx;
     if (l->n == MAX_FRAMES)
@@ -38,7 +29,7 @@ static int log_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim_
     l->s[l->n] = *vs;
     if (sc)
         l->c[l->n] = *sc;
-    if (frame_copy(&l->f[l->n], f))
+    if (alb_frame_copy(&l->f[l->n], f))
         return -1;
     l->n++;
     return 0;
@@ -47,32 +38,32 @@ static int log_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim_
 static void log_free(run_log *l)
 {
     for (unsigned i = 0; i < l->n; i++)
-        frame_free(&l->f[i]);
+        alb_frame_free(&l->f[i]);
     l->n = 0;
 }
 
-static alb_err run_threads(const profile_t *p, const ws_buf *b, fidelity fid, unsigned threads,
-                           run_log *l, vcd_t *v)
+static alb_err run_threads(const alb_profile *p, const alb_ws_buf *b, alb_fidelity fid, unsigned threads,
+                           run_log *l, alb_vcd *v)
 {
-    diag_t d;
-    diag_init(&d, NULL);
-    sim_options o = {.fid = fid, .vcd = v, .vcd_to = UINT64_MAX, .threads = threads};
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_sim_options o = {.fid = fid, .vcd = v, .vcd_to = UINT64_MAX, .threads = threads};
     memset(l, 0, sizeof *l);
-    alb_err e = sim_run(p, b->w, b->n, "test", &o, log_frame, l, &d);
+    alb_err e = alb_sim_run(p, b->w, b->n, "test", &o, log_frame, l, &d);
     if (e)
         fprintf(stderr, "sim_run: %s\n", d.msg);
     return e;
 }
 
-static alb_err run(const profile_t *p, const ws_buf *b, fidelity fid, run_log *l, vcd_t *v)
+static alb_err run(const alb_profile *p, const alb_ws_buf *b, alb_fidelity fid, run_log *l, alb_vcd *v)
 {
     return run_threads(p, b, fid, 1, l, v);
 }
 
-static profile_t t32_fast_gp(void)
+static alb_profile t32_fast_gp(void)
 {
-    profile_t p;
-    profile_lookup("t32", &p);
+    alb_profile p;
+    alb_profile_lookup("t32", &p);
     p.gp_face_cycles = 10;
     p.gp_edge_cycles = 0;
     p.gp_frame_cycles = 0;
@@ -81,40 +72,40 @@ static profile_t t32_fast_gp(void)
 
 /* A stream of one frame with the given faces (screen-covering faces with
  * the given edges). */
-static void one_frame(ws_buf *b, const profile_t *p, const ws_face *faces, unsigned n)
+static void one_frame(alb_ws_buf *b, const alb_profile *p, const alb_ws_face *faces, unsigned n)
 {
-    ws_buf_init(b);
-    ws_config cfg = {p->edge_frac_bits, p->coef_bits, 1.0f};
-    ws_put_config(b, &cfg);
-    ws_frame fr = {0, 0x101010, false, 0, 0, 0};
-    ws_put_frame(b, &fr);
+    alb_ws_buf_init(b);
+    alb_ws_config cfg = {p->edge_frac_bits, p->coef_bits, 1.0f};
+    alb_ws_put_config(b, &cfg);
+    alb_ws_frame fr = {0, 0x101010, false, 0, 0, 0};
+    alb_ws_put_frame(b, &fr);
     for (unsigned i = 0; i < n; i++)
-        ws_put_face(b, &faces[i]);
-    ws_put_frame_end(b, n);
-    ws_put_end(b);
+        alb_ws_put_face(b, &faces[i]);
+    alb_ws_put_frame_end(b, n);
+    alb_ws_put_end(b);
 }
 
 /* A face at depth 1/2 everywhere (near/Z = 0.5), no edges: the whole screen. */
-static ws_face whole_screen(uint32_t id)
+static alb_ws_face whole_screen(uint32_t id)
 {
-    ws_face f;
+    alb_ws_face f;
     memset(&f, 0, sizeof f);
     f.id = id;
     f.rgb = 0xFF8040;
-    f.depth = (ws_form){-1, {0, 0, 1}};
+    f.depth = (alb_ws_form){-1, {0, 0, 1}};
     return f;
 }
 
 TEST(timing_worked_example_whole_screen_face)
 {
     /* docs/microarchitecture.md, "Worked example": 295 cycles */
-    profile_t p = t32_fast_gp();
-    ws_face f = whole_screen(0);
-    ws_buf b;
+    alb_profile p = t32_fast_gp();
+    alb_ws_face f = whole_screen(0);
+    alb_ws_buf b;
     one_frame(&b, &p, &f, 1);
     run_log l;
-    for (int fid = FIDELITY_TIMED; fid <= FIDELITY_CYCLE; fid++) {
-        CHECK(run(&p, &b, (fidelity)fid, &l, NULL) == ALB_OK);
+    for (int fid = ALB_FIDELITY_TIMED; fid <= ALB_FIDELITY_CYCLE; fid++) {
+        CHECK(run(&p, &b, (alb_fidelity)fid, &l, NULL) == ALB_OK);
         CHECK_EQ(l.n, 1);
         CHECK_EQ(l.c[0].cycles, 295);
         CHECK_EQ(l.c[0].engine_busy, 1);
@@ -125,7 +116,7 @@ TEST(timing_worked_example_whole_screen_face)
         CHECK_EQ(l.n ? l.f[0].face[32 * 32 - 1] : 99, 0);
         log_free(&l);
     }
-    ws_buf_free(&b);
+    alb_ws_buf_free(&b);
 }
 
 TEST(timing_face_rejected_at_top_level)
@@ -135,25 +126,25 @@ TEST(timing_face_rejected_at_top_level)
      * 18-26, FRAME_END 27, END 28.  Parser: each word a cycle later, starving
      * in cycle 0 and 9-18; the face loaded in 27, FRAME_END taken in 28.
      * Engine: one 1-cycle step in 28, rejected.  Retires in 28: 29 cycles. */
-    profile_t p = t32_fast_gp();
-    ws_face f = whole_screen(0);
+    alb_profile p = t32_fast_gp();
+    alb_ws_face f = whole_screen(0);
     f.n_edges = 1;
-    f.edge[0] = (ws_edge){1, 0, 5u << p.edge_frac_bits, 5u << p.edge_frac_bits};
-    ws_buf b;
+    f.edge[0] = (alb_ws_edge){1, 0, 5u << p.edge_frac_bits, 5u << p.edge_frac_bits};
+    alb_ws_buf b;
     one_frame(&b, &p, &f, 1);
     run_log l;
-    for (int fid = FIDELITY_TIMED; fid <= FIDELITY_CYCLE; fid++) {
-        CHECK(run(&p, &b, (fidelity)fid, &l, NULL) == ALB_OK);
+    for (int fid = ALB_FIDELITY_TIMED; fid <= ALB_FIDELITY_CYCLE; fid++) {
+        CHECK(run(&p, &b, (alb_fidelity)fid, &l, NULL) == ALB_OK);
         CHECK_EQ(l.c[0].cycles, 29);
         CHECK_EQ(l.c[0].engine_busy, 1);
         CHECK_EQ(l.c[0].fill_busy, 0);
         CHECK_EQ(l.c[0].gp_busy, 19 + 10);
         CHECK_EQ(l.c[0].parser_busy, 18);
         CHECK_EQ(l.c[0].parser_starve, 11);
-        CHECK_EQ(l.f[0].face[0], FRAME_NO_FACE);
+        CHECK_EQ(l.f[0].face[0], ALB_FRAME_NO_FACE);
         log_free(&l);
     }
-    ws_buf_free(&b);
+    alb_ws_buf_free(&b);
 }
 
 TEST(timing_full_fifo_stalls_the_gp)
@@ -163,16 +154,16 @@ TEST(timing_full_fifo_stalls_the_gp)
      * fills and the GP stalls in cycle 17.  Face 1 is loaded in 23, starts in
      * 24, its cell waits for the fill unit (busy 17-272) and is filled in
      * 273-528, written by 540: 541 cycles. */
-    profile_t p = t32_fast_gp();
+    alb_profile p = t32_fast_gp();
     p.gp_face_cycles = 0;
     p.face_slots = 1;
     p.fifo_depth = 2;
-    ws_face f[2] = {whole_screen(0), whole_screen(1)};
-    ws_buf b;
+    alb_ws_face f[2] = {whole_screen(0), whole_screen(1)};
+    alb_ws_buf b;
     one_frame(&b, &p, f, 2);
     run_log l;
-    for (int fid = FIDELITY_TIMED; fid <= FIDELITY_CYCLE; fid++) {
-        CHECK(run(&p, &b, (fidelity)fid, &l, NULL) == ALB_OK);
+    for (int fid = ALB_FIDELITY_TIMED; fid <= ALB_FIDELITY_CYCLE; fid++) {
+        CHECK(run(&p, &b, (alb_fidelity)fid, &l, NULL) == ALB_OK);
         CHECK_EQ(l.c[0].cycles, 541);
         CHECK_EQ(l.c[0].gp_stall, 1);
         /* blocked in 16 for the slot, then 25-540 holding END for retirement */
@@ -183,36 +174,19 @@ TEST(timing_full_fifo_stalls_the_gp)
         CHECK_EQ(l.f[0].face[100], 0);
         log_free(&l);
     }
-    ws_buf_free(&b);
+    alb_ws_buf_free(&b);
 }
 
 /* The stream of a scene text for profile p. */
-static int stream_of(const char *text, const profile_t *p, ws_buf *b)
-{
-    scene_t s;
-    diag_t d;
-    diag_init(&d, NULL);
-    ws_buf_init(b);
-    if (scene_parse(text, strlen(text), "t", &s, &d))
-        return -1;
-    gp_t *gp = NULL;
-    alb_err e = gp_create(&gp, &s, p, &d);
-    if (!e)
-        e = gp_run(gp, b, NULL, &d);
-    gp_destroy(gp);
-    scene_free(&s);
-    return e ? -1 : 0;
-}
-
-static bool counters_equal(const sim_counters *a, const sim_counters *b)
+static bool counters_equal(const alb_sim_counters *a, const alb_sim_counters *b)
 {
 #define EQ(field) if (a->field != b->field) return false;
-    SIM_COUNTER_FIELDS(EQ)
+    ALB_SIM_COUNTER_FIELDS(EQ)
 #undef EQ
     return true;
 }
 
-static bool frames_equal(const frame_t *a, const frame_t *b, bool cycles)
+static bool frames_equal(const alb_frame *a, const alb_frame *b, bool cycles)
 {
     size_t n = (size_t)a->width * a->height;
     return !memcmp(a->rgb, b->rgb, 3 * n * sizeof *a->rgb) &&
@@ -224,22 +198,22 @@ static bool frames_equal(const frame_t *a, const frame_t *b, bool cycles)
 
 /* The functional renderer on several threads (vp/parallel.c) against one:
  * every plane of every frame and every statistic the same. */
-static void check_threads(const profile_t *p, const ws_buf *b, const run_log *lf,
+static void check_threads(const alb_profile *p, const alb_ws_buf *b, const run_log *lf,
                           const char *what)
 {
     static const unsigned counts[] = {2, 3, 5, 8};
     for (unsigned k = 0; k < sizeof counts / sizeof counts[0]; k++) {
         run_log lm;
-        if (run_threads(p, b, FIDELITY_FUNCTIONAL, counts[k], &lm, NULL)) {
+        if (run_threads(p, b, ALB_FIDELITY_FUNCTIONAL, counts[k], &lm, NULL)) {
             CHECK_MSG(0, "%s: the run on %u threads failed", what, counts[k]);
             continue;
         }
         CHECK_MSG(lm.n == lf->n, "%s: %u frames on %u threads, %u on one", what, lm.n,
                   counts[k], lf->n);
         for (unsigned i = 0; i < lm.n && i < lf->n; i++) {
-            CHECK_MSG(frame_count_differences(&lm.f[i], &lf->f[i]) == 0,
+            CHECK_MSG(alb_frame_count_differences(&lm.f[i], &lf->f[i]) == 0,
                       "%s frame %u: %zu pixels differ on %u threads", what, i,
-                      frame_count_differences(&lm.f[i], &lf->f[i]), counts[k]);
+                      alb_frame_count_differences(&lm.f[i], &lf->f[i]), counts[k]);
             CHECK_MSG(!memcmp(&lm.s[i], &lf->s[i], sizeof lm.s[i]),
                       "%s frame %u: statistics differ on %u threads", what, i, counts[k]);
         }
@@ -249,11 +223,11 @@ static void check_threads(const profile_t *p, const ws_buf *b, const run_log *lf
 
 /* cycle == timed (counters, frames, per-pixel cycles); functional == both
  * on pixels, on any number of threads. */
-static void check_fidelities(const profile_t *p, const ws_buf *b, const char *what)
+static void check_fidelities(const alb_profile *p, const alb_ws_buf *b, const char *what)
 {
     run_log lf, lt, lc;
-    if (run(p, b, FIDELITY_FUNCTIONAL, &lf, NULL) || run(p, b, FIDELITY_TIMED, &lt, NULL) ||
-        run(p, b, FIDELITY_CYCLE, &lc, NULL)) {
+    if (run(p, b, ALB_FIDELITY_FUNCTIONAL, &lf, NULL) || run(p, b, ALB_FIDELITY_TIMED, &lt, NULL) ||
+        run(p, b, ALB_FIDELITY_CYCLE, &lc, NULL)) {
         CHECK_MSG(0, "%s: a run failed", what);
         return;
     }
@@ -283,14 +257,14 @@ TEST(timing_cycle_equals_timed_on_random_scenes)
     };
     scenegen_params gp = scenegen_defaults();
     for (uint64_t seed = 1; seed <= 200; seed++) {
-        profile_t p;
-        profile_lookup("t32", &p);
+        alb_profile p;
+        alb_profile_lookup("t32", &p);
         p.width = p.height = 64;
         p.edge_frac_bits = 11;
         profile_set_all(&p, sets[seed % 5]);
         gp.faces = 2 + (unsigned)(seed % 23);
         char *text = scenegen_random(seed, &gp);
-        ws_buf b;
+        alb_ws_buf b;
         if (!text || stream_of(text, &p, &b)) {
             CHECK_MSG(0, "seed %llu: no stream", (unsigned long long)seed);
             free(text);
@@ -299,7 +273,7 @@ TEST(timing_cycle_equals_timed_on_random_scenes)
         char what[64];
         snprintf(what, sizeof what, "seed %llu", (unsigned long long)seed);
         check_fidelities(&p, &b, what);
-        ws_buf_free(&b);
+        alb_ws_buf_free(&b);
         free(text);
     }
 }
@@ -307,16 +281,16 @@ TEST(timing_cycle_equals_timed_on_random_scenes)
 TEST(timing_cycle_equals_timed_on_builtin_scene)
 {
     size_t len;
-    const char *text = scene_builtin_text(&len);
+    const char *text = alb_scene_builtin_text(&len);
     char *copy = malloc(len + 1);
     memcpy(copy, text, len);
     copy[len] = 0;
-    profile_t p;
-    profile_lookup("a256", &p);
-    ws_buf b;
+    alb_profile p;
+    alb_profile_lookup("a256", &p);
+    alb_ws_buf b;
     CHECK(stream_of(copy, &p, &b) == 0);
     check_fidelities(&p, &b, "builtin");
-    ws_buf_free(&b);
+    alb_ws_buf_free(&b);
     free(copy);
 }
 
@@ -337,8 +311,8 @@ TEST(timing_more_faces_never_fewer_cycles)
     };
     scenegen_params gp = scenegen_defaults();
     for (uint64_t seed = 1; seed <= 40; seed++) {
-        profile_t p;
-        profile_lookup("t32", &p);
+        alb_profile p;
+        alb_profile_lookup("t32", &p);
         profile_set_all(&p, sets[seed % 5]);
         uint64_t prev = 0, prev_end = 0;
         for (unsigned n = 1; n <= 12; n++) {
@@ -347,9 +321,9 @@ TEST(timing_more_faces_never_fewer_cycles)
             char *text = scenegen_random(seed, &gp), *more = NULL;
             if (text && (more = realloc(text, strlen(text) + 16)) != NULL)
                 strcat(text = more, "\nframe\nframe\n");
-            ws_buf b;
+            alb_ws_buf b;
             run_log l;
-            if (!more || stream_of(text, &p, &b) || run(&p, &b, FIDELITY_TIMED, &l, NULL)) {
+            if (!more || stream_of(text, &p, &b) || run(&p, &b, ALB_FIDELITY_TIMED, &l, NULL)) {
                 CHECK_MSG(0, "seed %llu n %u", (unsigned long long)seed, n);
                 free(text);
                 return;
@@ -364,7 +338,7 @@ TEST(timing_more_faces_never_fewer_cycles)
             prev = l.c[0].cycles;
             prev_end = l.c[1].retire;
             log_free(&l);
-            ws_buf_free(&b);
+            alb_ws_buf_free(&b);
             free(text);
         }
     }
@@ -501,30 +475,30 @@ static int vcd_parse(const char *path, long long period_ps, vcd_summary *s)
 }
 
 /* A whole run traced: its frames in l, its trace summed in s. */
-static int run_traced(const profile_t *p, const ws_buf *b, const char *path, run_log *l,
+static int run_traced(const alb_profile *p, const alb_ws_buf *b, const char *path, run_log *l,
                       vcd_summary *s)
 {
-    diag_t d;
-    diag_init(&d, NULL);
-    vcd_t *v = vcd_open(path, &d);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_vcd *v = alb_vcd_open(path, &d);
     CHECK(v != NULL);
     if (!v)
         return -1;
-    alb_err e = run(p, b, FIDELITY_CYCLE, l, v);
+    alb_err e = run(p, b, ALB_FIDELITY_CYCLE, l, v);
     CHECK(e == ALB_OK);
-    CHECK(vcd_close(v) == 0);
+    CHECK(alb_vcd_close(v) == 0);
     /* every profile here runs at 10 MHz: 100000 ps a cycle */
     return e || vcd_parse(path, 1000000000ll / p->clock_khz, s) ? -1 : 0;
 }
 
 TEST(timing_vcd_trace_is_valid)
 {
-    profile_t p = t32_fast_gp();
+    alb_profile p = t32_fast_gp();
     p.fifo_depth = 2;
     p.face_slots = 1;
     p.gp_face_cycles = 0;
-    ws_face f[2] = {whole_screen(0), whole_screen(1)};
-    ws_buf b;
+    alb_ws_face f[2] = {whole_screen(0), whole_screen(1)};
+    alb_ws_buf b;
     one_frame(&b, &p, f, 2);
     char path[600];
     snprintf(path, sizeof path, "%s/t.vcd", t_tmpdir());
@@ -549,16 +523,16 @@ TEST(timing_vcd_trace_is_valid)
     /* a second run gives the same bytes */
     char path2[600];
     snprintf(path2, sizeof path2, "%s/t2.vcd", t_tmpdir());
-    diag_t d;
-    diag_init(&d, NULL);
-    vcd_t *v = vcd_open(path2, &d);
-    CHECK(run(&p, &b, FIDELITY_CYCLE, &l, v) == ALB_OK);
-    CHECK(vcd_close(v) == 0);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_vcd *v = alb_vcd_open(path2, &d);
+    CHECK(run(&p, &b, ALB_FIDELITY_CYCLE, &l, v) == ALB_OK);
+    CHECK(alb_vcd_close(v) == 0);
     log_free(&l);
     char cmd[1300];
     snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", path, path2);
     CHECK(system(cmd) == 0);
-    ws_buf_free(&b);
+    alb_ws_buf_free(&b);
 }
 
 /* --vcd-units: the names are the scopes of a full trace; a list parses to
@@ -568,24 +542,24 @@ TEST(timing_vcd_unit_names)
     unsigned mask = 0, n = 0;
     const char *bad = NULL;
     size_t badlen = 99;
-    while (sim_trace_unit_name(n))
+    while (alb_sim_trace_unit_name(n))
         n++;
     CHECK_EQ(n, 6);
-    CHECK_EQ(SIM_TRACE_ALL, (1u << n) - 1);
+    CHECK_EQ(ALB_SIM_TRACE_ALL, (1u << n) - 1);
     for (unsigned i = 0; i < n; i++) {
-        CHECK(sim_trace_units_parse(sim_trace_unit_name(i), &mask, &bad, &badlen) == 0);
+        CHECK(alb_sim_trace_units_parse(alb_sim_trace_unit_name(i), &mask, &bad, &badlen) == 0);
         CHECK_EQ(mask, 1u << i);
     }
-    CHECK(sim_trace_units_parse("all", &mask, &bad, &badlen) == 0);
-    CHECK_EQ(mask, SIM_TRACE_ALL);
-    CHECK(sim_trace_units_parse("pipe,fifo,pipe", &mask, &bad, &badlen) == 0);
+    CHECK(alb_sim_trace_units_parse("all", &mask, &bad, &badlen) == 0);
+    CHECK_EQ(mask, ALB_SIM_TRACE_ALL);
+    CHECK(alb_sim_trace_units_parse("pipe,fifo,pipe", &mask, &bad, &badlen) == 0);
     CHECK_EQ(mask, 1u << 1 | 1u << 5);
     const char *list = "fifo,engines,pipe";
-    CHECK(sim_trace_units_parse(list, &mask, &bad, &badlen) == -1);
+    CHECK(alb_sim_trace_units_parse(list, &mask, &bad, &badlen) == -1);
     CHECK(bad == list + 5 && badlen == 7);
-    CHECK(sim_trace_units_parse("fifo,", &mask, &bad, &badlen) == -1 && badlen == 0);
-    CHECK(sim_trace_units_parse("", &mask, &bad, &badlen) == -1 && badlen == 0);
-    CHECK(sim_trace_units_parse("FIFO", &mask, &bad, &badlen) == -1);
+    CHECK(alb_sim_trace_units_parse("fifo,", &mask, &bad, &badlen) == -1 && badlen == 0);
+    CHECK(alb_sim_trace_units_parse("", &mask, &bad, &badlen) == -1 && badlen == 0);
+    CHECK(alb_sim_trace_units_parse("FIFO", &mask, &bad, &badlen) == -1);
 }
 
 /* A trace that keeps only the fifo's scope: the clock and the open frame,
@@ -593,10 +567,10 @@ TEST(timing_vcd_unit_names)
  * of the other units, and the same bytes twice. */
 TEST(timing_vcd_units_keep_only_their_scopes)
 {
-    profile_t p = t32_fast_gp();
+    alb_profile p = t32_fast_gp();
     p.fifo_depth = 3;
-    ws_face f[3] = {whole_screen(0), whole_screen(1), whole_screen(2)};
-    ws_buf b;
+    alb_ws_face f[3] = {whole_screen(0), whole_screen(1), whole_screen(2)};
+    alb_ws_buf b;
     one_frame(&b, &p, f, 3);
     char full[600], part[600], part2[600];
     snprintf(full, sizeof full, "%s/full.vcd", t_tmpdir());
@@ -607,12 +581,12 @@ TEST(timing_vcd_units_keep_only_their_scopes)
     bool have_full = run_traced(&p, &b, full, &l, &sf) == 0;
     log_free(&l);
     for (int k = 0; k < 2; k++) {
-        diag_t d;
-        diag_init(&d, NULL);
-        vcd_t *v = vcd_open(k ? part2 : part, &d);
-        CHECK(v != NULL && vcd_keep_scope(v, "fifo") == 0);
-        CHECK(run(&p, &b, FIDELITY_CYCLE, &l, v) == ALB_OK);
-        CHECK(vcd_close(v) == 0);
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        alb_vcd *v = alb_vcd_open(k ? part2 : part, &d);
+        CHECK(v != NULL && alb_vcd_keep_scope(v, "fifo") == 0);
+        CHECK(run(&p, &b, ALB_FIDELITY_CYCLE, &l, v) == ALB_OK);
+        CHECK(alb_vcd_close(v) == 0);
         log_free(&l);
     }
     if (have_full && vcd_parse(part, 1000000000ll / p.clock_khz, &sp) == 0) {
@@ -636,16 +610,16 @@ TEST(timing_vcd_units_keep_only_their_scopes)
     char cmd[1300];
     snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", part, part2);
     CHECK(system(cmd) == 0);
-    ws_buf_free(&b);
+    alb_ws_buf_free(&b);
 }
 
 TEST(timing_vcd_pixel_writes_of_the_worked_example)
 {
     /* docs/microarchitecture.md, "Worked example": samples issued 4 a cycle
      * in cycles 27-282 and written L - 1 = 12 cycles later, 39-294 */
-    profile_t p = t32_fast_gp();
-    ws_face f = whole_screen(0);
-    ws_buf b;
+    alb_profile p = t32_fast_gp();
+    alb_ws_face f = whole_screen(0);
+    alb_ws_buf b;
     one_frame(&b, &p, &f, 1);
     char path[600];
     snprintf(path, sizeof path, "%s/w.vcd", t_tmpdir());
@@ -669,27 +643,9 @@ TEST(timing_vcd_pixel_writes_of_the_worked_example)
         }
     }
     log_free(&l);
-    ws_buf_free(&b);
+    alb_ws_buf_free(&b);
 }
 
-
-/* A random scene with `extra` more `frame` lines (each copies the last) and
- * its stream in *b; the scene's text (to free), or NULL on failure. */
-static char *random_frames_stream(uint64_t seed, const scenegen_params *gp, unsigned extra,
-                                  const profile_t *p, ws_buf *b)
-{
-    char *text = scenegen_random(seed, gp), *more = NULL;
-    if (text && (more = realloc(text, strlen(text) + 7 * extra + 1)) != NULL) {
-        text = more;
-        for (unsigned i = 0; i < extra; i++)
-            strcat(text, "\nframe\n");
-    }
-    if (!more || stream_of(text, p, b)) {
-        free(more ? more : text);
-        return NULL;
-    }
-    return text;
-}
 
 /* Over whole traces of random scenes (several frames, odd fill rates and
  * latencies, stalls): the samples written by the pipeline's last stage sum
@@ -705,13 +661,13 @@ TEST(timing_vcd_pixel_writes_match_the_counters)
     };
     scenegen_params gp = scenegen_defaults();
     for (uint64_t seed = 1; seed <= 8; seed++) {
-        profile_t p;
-        profile_lookup("t32", &p);
+        alb_profile p;
+        alb_profile_lookup("t32", &p);
         profile_set_all(&p, sets[seed % 4]);
         gp.faces = 5 + (unsigned)(seed % 11);
         /* 1 to 3 frames of the same faces (each `frame` copies the last) */
         unsigned frames = 1 + (unsigned)(seed % 3);
-        ws_buf b;
+        alb_ws_buf b;
         char *text = random_frames_stream(seed, &gp, frames, &p, &b);
         if (!text) {
             CHECK_MSG(0, "seed %llu: no stream", (unsigned long long)seed);
@@ -752,58 +708,27 @@ TEST(timing_vcd_pixel_writes_match_the_counters)
                       (unsigned long long)stall);
         }
         log_free(&l);
-        ws_buf_free(&b);
+        alb_ws_buf_free(&b);
         free(text);
     }
 }
 
 /* cycle == timed == functional on every golden vector's stream, with the
  * vector's own profile (its options file: --profile and --set only). */
+static void vector_fidelities(const char *name, const alb_profile *p, const alb_ws_buf *b,
+                              void *ctx)
+{
+    (void)ctx;
+    check_fidelities(p, b, name);
+}
+
 TEST(timing_fidelities_agree_on_every_vector)
 {
-    DIR *dir = opendir("test-vectors");
-    CHECK(dir != NULL);
-    if (!dir)
-        return;
-    struct dirent *de;
-    unsigned n = 0;
-    while ((de = readdir(dir))) {
-        if (de->d_name[0] == '.')
-            continue;
-        char path[600], opts[1024] = "";
-        snprintf(path, sizeof path, "test-vectors/%s/options", de->d_name);
-        FILE *f = fopen(path, "r");
-        if (f) {
-            size_t k = fread(opts, 1, sizeof opts - 1, f);
-            opts[k] = 0;
-            fclose(f);
-        }
-        profile_t p;
-        profile_lookup("a512", &p);
-        char err[256];
-        for (char *tok = strtok(opts, " \n"); tok; tok = strtok(NULL, " \n")) {
-            if (!strcmp(tok, "--profile") && (tok = strtok(NULL, " \n")))
-                profile_lookup(tok, &p);
-            else if (!strcmp(tok, "--set") && (tok = strtok(NULL, " \n")))
-                profile_set(&p, tok, err, sizeof err);
-        }
-        snprintf(path, sizeof path, "test-vectors/%s/expected.stream", de->d_name);
-        ws_buf b;
-        ws_buf_init(&b);
-        diag_t d;
-        diag_init(&d, NULL);
-        if (ws_read_file(path, &b.w, &b.n, &d))
-            continue;   /* not a vector */
-        check_fidelities(&p, &b, de->d_name);
-        ws_buf_free(&b);
-        n++;
-    }
-    closedir(dir);
-    CHECK(n >= 12);
+    CHECK(for_each_vector(vector_fidelities, NULL) >= 12);
 }
 
 /* The timed model fed a stream in pieces of any size (the simulated board's
- * sim_feed) gives each frame, at its FRAME_END, the pixels, statistics and
+ * alb_sim_feed) gives each frame, at its FRAME_END, the pixels, statistics and
  * cycle count of the whole run. */
 TEST(timing_feed_in_pieces_equals_the_whole_run)
 {
@@ -815,38 +740,38 @@ TEST(timing_feed_in_pieces_equals_the_whole_run)
     scenegen_params gp = scenegen_defaults();
     uint64_t rnd = 12345;
     for (uint64_t seed = 1; seed <= 30; seed++) {
-        profile_t p;
-        profile_lookup("t32", &p);
+        alb_profile p;
+        alb_profile_lookup("t32", &p);
         profile_set_all(&p, sets[seed % 3]);
         gp.faces = 3 + (unsigned)(seed % 9);
         unsigned frames = 1 + (unsigned)(seed % 3);
-        ws_buf b;
+        alb_ws_buf b;
         char *text = random_frames_stream(seed, &gp, frames - 1, &p, &b);
         if (!text) {
             CHECK_MSG(0, "seed %llu: no stream", (unsigned long long)seed);
             return;
         }
         run_log whole, pieces;
-        CHECK(run_threads(&p, &b, FIDELITY_TIMED, 1, &whole, NULL) == ALB_OK);
+        CHECK(run_threads(&p, &b, ALB_FIDELITY_TIMED, 1, &whole, NULL) == ALB_OK);
         memset(&pieces, 0, sizeof pieces);
-        diag_t d;
-        diag_init(&d, NULL);
-        sim_feed *f = NULL;
-        CHECK(sim_feed_open(&f, &p, "pieces", log_frame, &pieces, &d) == ALB_OK);
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        alb_sim_feed *f = NULL;
+        CHECK(alb_sim_feed_open(&f, &p, "pieces", log_frame, &pieces, &d) == ALB_OK);
         size_t n = 0;
         while (f && n < b.n) {
             rnd = rnd * 6364136223846793005ull + 1442695040888963407ull;
             size_t k = 1 + (size_t)(rnd >> 33) % 50;
             n = n + k < b.n ? n + k : b.n;
-            if (sim_feed_words(f, b.w, n, &d)) {
+            if (alb_sim_feed_words(f, b.w, n, &d)) {
                 CHECK_MSG(0, "seed %llu: %s", (unsigned long long)seed, d.msg);
                 break;
             }
         }
-        sim_feed_close(f);
+        alb_sim_feed_close(f);
         CHECK_EQ(pieces.n, whole.n);
         for (unsigned i = 0; i < whole.n && i < pieces.n; i++) {
-            CHECK_MSG(frame_count_differences(&whole.f[i], &pieces.f[i]) == 0 &&
+            CHECK_MSG(alb_frame_count_differences(&whole.f[i], &pieces.f[i]) == 0 &&
                       whole.c[i].cycles == pieces.c[i].cycles &&
                       whole.s[i].faces == pieces.s[i].faces,
                       "seed %llu frame %u: cycles %llu against %llu", (unsigned long long)seed, i,
@@ -854,7 +779,7 @@ TEST(timing_feed_in_pieces_equals_the_whole_run)
         }
         log_free(&whole);
         log_free(&pieces);
-        ws_buf_free(&b);
+        alb_ws_buf_free(&b);
         free(text);
     }
 }

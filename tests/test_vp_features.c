@@ -21,7 +21,7 @@ TEST(antialiasing_coverage_and_colour_mean)
              "albatros-scene 1\nscreenspace\nbackground 0 0 0\nobject t\n v %g %g 1\n v %g %g 1\n"
              " v %g %g 1\n f 1 2 3 colour 255 255 255\nend\n",
              tri[0][0], tri[0][1], tri[1][0], tri[1][1], tri[2][0], tri[2][1]);
-    frame_t fr;
+    alb_frame fr;
     char err[300];
     if (render_text(text, "t32", "aa=2 bound=none", &fr, NULL, NULL, err, sizeof err)) {
         CHECK_MSG(0, "%s", err);
@@ -65,7 +65,7 @@ TEST(antialiasing_coverage_and_colour_mean)
     CHECK_EQ(bad_col, 0);
     CHECK(partial > 40);
     CHECK_MSG(skipped < partial / 2, "%u pixels skipped, %u partly covered", skipped, partial);
-    frame_free(&fr);
+    alb_frame_free(&fr);
 }
 
 static int write_png(const char *path, const uint8_t *rgb, unsigned w, unsigned h)
@@ -98,7 +98,7 @@ TEST(image_texture_from_png)
              "albatros-scene 1\nscreenspace\ntexture t file %s\nobject q\n v 0 0 1 t 0 0\n"
              " v 32 0 1 t 1 0\n v 32 32 1 t 1 1\n v 0 32 1 t 0 1\n"
              " f 1 2 3 4 colour 255 255 255 texture t\nend\n", path);
-    frame_t fr;
+    alb_frame fr;
     char err[300];
     if (render_text(text, "t32", NULL, &fr, NULL, NULL, err, sizeof err)) {
         CHECK_MSG(0, "%s", err);
@@ -113,7 +113,7 @@ TEST(image_texture_from_png)
             bad += c[0] != t[0] || c[1] != t[1] || c[2] != t[2];
         }
     CHECK_EQ(bad, 0);
-    frame_free(&fr);
+    alb_frame_free(&fr);
 }
 
 /* Colour and fog against the exact reference: the built-in scene (lit,
@@ -122,19 +122,19 @@ TEST(image_texture_from_png)
 TEST(colours_agree_with_reference)
 {
     char *copy = builtin_scene_copy();
-    frame_t vp;
+    alb_frame vp;
     char err[300];
-    profile_t p;
+    alb_profile p;
     if (render_text(copy, "a256", NULL, &vp, NULL, &p, err, sizeof err)) {
         CHECK_MSG(0, "%s", err);
         free(copy);
         return;
     }
-    scene_t s;
-    diag_t d;
-    diag_init(&d, NULL);
-    frame_t ref;
-    CHECK(scene_parse(copy, strlen(copy), "builtin", &s, &d) == ALB_OK);
+    alb_scene s;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_frame ref;
+    CHECK(alb_scene_parse(copy, strlen(copy), "builtin", &s, &d) == ALB_OK);
     CHECK(ref_render(&s, &p, 0, &ref) == 0);
     size_t same = 0, close = 0, n = (size_t)p.width * p.height;
     double sq = 0;
@@ -155,19 +155,19 @@ TEST(colours_agree_with_reference)
     CHECK_MSG(close >= same * 995 / 1000, "%zu of %zu pixels within 2 units", close, same);
     double psnr = 10 * log10(255.0 * 255.0 / (sq / (3.0 * (double)same)));
     CHECK_MSG(psnr > 40, "PSNR %.2f dB", psnr);
-    frame_free(&vp);
-    frame_free(&ref);
-    scene_free(&s);
+    alb_frame_free(&vp);
+    alb_frame_free(&ref);
+    alb_scene_free(&s);
     free(copy);
 }
 
 /* Render text both ways — only the units each face uses, and every unit for
  * every sample (all_units=1) — and require the same frame and statistics. */
 static void same_with_all_units(const char *what, const char *text, const char *sets,
-                                vp_stats *st)
+                                alb_vp_stats *st)
 {
-    frame_t a, b;
-    vp_stats sb;
+    alb_frame a, b;
+    alb_vp_stats sb;
     char err[300], all_sets[200];
     snprintf(all_sets, sizeof all_sets, "%s all_units=1", sets);
     if (render_text(text, "a256", sets, &a, st, NULL, err, sizeof err) ||
@@ -175,13 +175,13 @@ static void same_with_all_units(const char *what, const char *text, const char *
         CHECK_MSG(0, "%s: %s", what, err);
         return;
     }
-    size_t diff = frame_count_differences(&a, &b);
+    size_t diff = alb_frame_count_differences(&a, &b);
     CHECK_MSG(diff == 0, "%s: %zu pixels differ with all_units=1", what, diff);
     CHECK_MSG(memcmp(st, &sb, sizeof sb) == 0, "%s: statistics differ with all_units=1", what);
     CHECK_MSG(st->samples_written > 1000, "%s: only %llu samples written", what,
               (unsigned long long)st->samples_written);
-    frame_free(&a);
-    frame_free(&b);
+    alb_frame_free(&a);
+    alb_frame_free(&b);
 }
 
 /* The fill loops specialised per set of units (vp/fill.c) against the
@@ -191,7 +191,7 @@ static void same_with_all_units(const char *what, const char *text, const char *
 TEST(units_a_scene_needs_change_no_pixel)
 {
     char *text = builtin_scene_copy();
-    vp_stats st;
+    alb_vp_stats st;
     same_with_all_units("built-in", text, "", &st);
     CHECK(st.faces_fogged == st.faces && st.faces_textured > 0 && st.faces_shaded > 0 &&
           st.faces_shaded < st.faces);

@@ -3,8 +3,8 @@
  * functional, on the built-in scene and a heavy random scene at 1024x1024.
  * Figures, not tests: run by `make bench`. */
 #include "scenegen.h"
-#include "../emu/sim.h"
-#include "../gp/gp.h"
+#include "albatros/sim.h"
+#include "albatros/gp.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,7 +34,7 @@ static uint64_t fnv(uint64_t h, const void *p, size_t n)
     return h;
 }
 
-static int count(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
+static int count(void *ctx, const alb_frame *f, const alb_vp_stats *vs, const alb_sim_counters *sc)
 {
     totals *t = ctx;
     t->frames++;
@@ -52,18 +52,18 @@ static int count(void *ctx, const frame_t *f, const vp_stats *vs, const sim_coun
 }
 
 /* Seconds per run of the stream at fidelity fid (best of a few). */
-static double time_run_threads(const profile_t *p, const ws_buf *b, fidelity fid,
+static double time_run_threads(const alb_profile *p, const alb_ws_buf *b, alb_fidelity fid,
                                unsigned threads, totals *t)
 {
-    diag_t d;
-    diag_init(&d, stderr);
-    sim_options o = {.fid = fid, .threads = threads};
+    alb_diag d;
+    alb_diag_init(&d, stderr);
+    alb_sim_options o = {.fid = fid, .threads = threads};
     double best = 1e9;
     for (int rep = 0; rep < 3; rep++) {
         memset(t, 0, sizeof *t);
         double t0 = now();
-        if (sim_run(p, b->w, b->n, "bench", &o, count, t, &d)) {
-            diag_print(&d, stderr);
+        if (alb_sim_run(p, b->w, b->n, "bench", &o, count, t, &d)) {
+            alb_diag_print(&d, stderr);
             exit(1);
         }
         double s = now() - t0;
@@ -72,35 +72,35 @@ static double time_run_threads(const profile_t *p, const ws_buf *b, fidelity fid
     return best;
 }
 
-static double time_run(const profile_t *p, const ws_buf *b, fidelity fid, totals *t)
+static double time_run(const alb_profile *p, const alb_ws_buf *b, alb_fidelity fid, totals *t)
 {
     return time_run_threads(p, b, fid, 1, t);
 }
 
 /* The GP's stream of scene s, and the seconds it took. */
-static double gp_stream(scene_t *s, const profile_t *p, ws_buf *b)
+static double gp_stream(alb_scene *s, const alb_profile *p, alb_ws_buf *b)
 {
-    diag_t d;
-    diag_init(&d, stderr);
-    gp_t *gp = NULL;
-    ws_buf_init(b);
+    alb_diag d;
+    alb_diag_init(&d, stderr);
+    alb_gp *gp = NULL;
+    alb_ws_buf_init(b);
     double t0 = now();
-    if (gp_create(&gp, s, p, &d) || gp_run(gp, b, NULL, &d)) {
-        diag_print(&d, stderr);
+    if (alb_gp_create(&gp, s, p, &d) || alb_gp_run(gp, b, NULL, &d)) {
+        alb_diag_print(&d, stderr);
         exit(1);
     }
-    gp_destroy(gp);
+    alb_gp_destroy(gp);
     return now() - t0;
 }
 
-static void bench_scene(const char *label, scene_t *s, const profile_t *p)
+static void bench_scene(const char *label, alb_scene *s, const alb_profile *p)
 {
-    ws_buf b;
+    alb_ws_buf b;
     double gp_s = gp_stream(s, p, &b);
     totals tf, tt, tc;
-    double sf = time_run(p, &b, FIDELITY_FUNCTIONAL, &tf);
-    double st = time_run(p, &b, FIDELITY_TIMED, &tt);
-    double sc = time_run(p, &b, FIDELITY_CYCLE, &tc);
+    double sf = time_run(p, &b, ALB_FIDELITY_FUNCTIONAL, &tf);
+    double st = time_run(p, &b, ALB_FIDELITY_TIMED, &tt);
+    double sc = time_run(p, &b, ALB_FIDELITY_CYCLE, &tc);
     /* the timing models' own cost: their time beyond the functional run,
      * which does the same pixel work */
     double ot = st - sf, oc = sc - sf;
@@ -108,86 +108,86 @@ static void bench_scene(const char *label, scene_t *s, const profile_t *p)
            label, tf.frames, (unsigned long long)tc.cycles, tf.frames / sf, tf.frames / (sf + gp_s),
            (double)tt.cycles / st / 1e6, (double)tc.cycles / sc / 1e6, sc / st,
            ot > 0 ? (double)tt.cycles / ot / 1e6 : 0.0, oc > 0 ? (double)tc.cycles / oc / 1e6 : 0.0);
-    ws_buf_free(&b);
+    alb_ws_buf_free(&b);
 }
 
 /* The hash of every frame of the stream, functional. */
-static uint64_t frames_hash(const profile_t *p, const ws_buf *b, unsigned threads)
+static uint64_t frames_hash(const alb_profile *p, const alb_ws_buf *b, unsigned threads)
 {
-    diag_t d;
-    diag_init(&d, stderr);
-    sim_options o = {.fid = FIDELITY_FUNCTIONAL, .threads = threads};
+    alb_diag d;
+    alb_diag_init(&d, stderr);
+    alb_sim_options o = {.fid = ALB_FIDELITY_FUNCTIONAL, .threads = threads};
     totals t = {.hashing = true, .hash = 0xcbf29ce484222325ull};
-    if (sim_run(p, b->w, b->n, "bench", &o, count, &t, &d)) {
-        diag_print(&d, stderr);
+    if (alb_sim_run(p, b->w, b->n, "bench", &o, count, &t, &d)) {
+        alb_diag_print(&d, stderr);
         exit(1);
     }
     return t.hash;
 }
 
 /* Only the units a scene uses against every unit on (all_units=1). */
-static void bench_units(const char *label, scene_t *s, const profile_t *p)
+static void bench_units(const char *label, alb_scene *s, const alb_profile *p)
 {
-    ws_buf b;
+    alb_ws_buf b;
     gp_stream(s, p, &b);
-    profile_t all = *p;
+    alb_profile all = *p;
     all.all_units = 1;
     totals tu, ta;
-    double su = time_run(p, &b, FIDELITY_FUNCTIONAL, &tu);
-    double sa = time_run(&all, &b, FIDELITY_FUNCTIONAL, &ta);
+    double su = time_run(p, &b, ALB_FIDELITY_FUNCTIONAL, &tu);
+    double sa = time_run(&all, &b, ALB_FIDELITY_FUNCTIONAL, &ta);
     printf("| %s | %.1f%% / %.1f%% / %.1f%% | %.2f | %.2f | %.2fx | %s |\n", label,
            100.0 * (double)tu.shaded / (double)tu.faces,
            100.0 * (double)tu.textured / (double)tu.faces,
            100.0 * (double)tu.fogged / (double)tu.faces, 1e3 * su / tu.frames,
            1e3 * sa / ta.frames, sa / su, frames_hash(p, &b, 1) == frames_hash(&all, &b, 1) ? "identical" : "DIFFERENT");
-    ws_buf_free(&b);
+    alb_ws_buf_free(&b);
 }
 
 /* The random scene of seed 7 with these parameters; -1 (said) on failure. */
-static int random_scene(const scenegen_params *gp, scene_t *s)
+static int random_scene(const scenegen_params *gp, alb_scene *s)
 {
-    diag_t d;
-    diag_init(&d, stderr);
+    alb_diag d;
+    alb_diag_init(&d, stderr);
     char *text = scenegen_random(7, gp);
-    alb_err e = text ? scene_parse(text, strlen(text), "random", s, &d) : ALB_ERR_NOMEM;
+    alb_err e = text ? alb_scene_parse(text, strlen(text), "random", s, &d) : ALB_ERR_NOMEM;
     free(text);
     if (e)
-        diag_print(&d, stderr);
+        alb_diag_print(&d, stderr);
     return e ? -1 : 0;
 }
 
 /* The functional renderer on every core against one (vp/parallel.c). */
-static void bench_threads(const char *label, scene_t *s, const profile_t *p)
+static void bench_threads(const char *label, alb_scene *s, const alb_profile *p)
 {
-    ws_buf b;
+    alb_ws_buf b;
     gp_stream(s, p, &b);
-    unsigned n = vp_cores();
+    unsigned n = alb_vp_cores();
     totals t1, tn;
-    double s1 = time_run_threads(p, &b, FIDELITY_FUNCTIONAL, 1, &t1);
-    double sn = time_run_threads(p, &b, FIDELITY_FUNCTIONAL, n, &tn);
+    double s1 = time_run_threads(p, &b, ALB_FIDELITY_FUNCTIONAL, 1, &t1);
+    double sn = time_run_threads(p, &b, ALB_FIDELITY_FUNCTIONAL, n, &tn);
     printf("| %s | %u | %.2f | %.2f | %.2fx | %s |\n", label, n, 1e3 * s1 / t1.frames,
            1e3 * sn / tn.frames, s1 / sn,
            frames_hash(p, &b, 1) == frames_hash(p, &b, n) ? "identical" : "DIFFERENT");
-    ws_buf_free(&b);
+    alb_ws_buf_free(&b);
 }
 
 int main(void)
 {
-    profile_t p;
-    profile_lookup("a1024", &p);
+    alb_profile p;
+    alb_profile_lookup("a1024", &p);
     printf("## Fidelities (profile a1024, one core)\n\n"
            "| scene | frames | cycles | functional fps (VP) | fps (GP + VP) | timed | cycle | "
            "timed / cycle | timing logic, timed | timing logic, cycle |\n"
            "|---|---|---|---|---|---|---|---|---|---|\n");
-    scene_t s;
-    diag_t d;
-    diag_init(&d, stderr);
-    if (scene_load_builtin(&s, &d)) {
-        diag_print(&d, stderr);
+    alb_scene s;
+    alb_diag d;
+    alb_diag_init(&d, stderr);
+    if (alb_scene_load_builtin(&s, &d)) {
+        alb_diag_print(&d, stderr);
         return 1;
     }
     bench_scene("built-in", &s, &p);
-    scene_t builtin = s;
+    alb_scene builtin = s;
     scenegen_params gp = scenegen_defaults();
     gp.faces = 3000;
     gp.size = 0.05;
@@ -199,7 +199,7 @@ int main(void)
            "ms/frame, all_units=1 | speed-up | pixels |\n|---|---|---|---|---|---|\n");
     bench_units("built-in", &builtin, &p);
     bench_units("random 3000 faces", &s, &p);
-    scene_free(&s);
+    alb_scene_free(&s);
     gp.flat = true;
     if (random_scene(&gp, &s))
         return 1;
@@ -209,10 +209,10 @@ int main(void)
            "|---|---|---|---|---|---|\n");
     bench_threads("built-in", &builtin, &p);
     bench_threads("random 3000 faces, flat", &s, &p);
-    profile_t aa = p;
+    alb_profile aa = p;
     aa.aa_levels = 2;
     bench_threads("built-in, aa=2", &builtin, &aa);
-    scene_free(&builtin);
-    scene_free(&s);
+    alb_scene_free(&builtin);
+    alb_scene_free(&s);
     return 0;
 }

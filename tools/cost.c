@@ -2,8 +2,8 @@
  * time against resolution (the built-in scene) and against face count
  * (random scenes).  Run by `make bench`; figures go to docs/performance.md. */
 #include "scenegen.h"
-#include "../gp/gp.h"
-#include "../vp/vp.h"
+#include "albatros/gp.h"
+#include "albatros/vp.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,11 +18,11 @@ static double now(void)
 }
 
 typedef struct {
-    vp_stats st;
+    alb_vp_stats st;
     unsigned frames;
 } run_result;
 
-static int keep(void *ctx, const frame_t *f, const vp_stats *st)
+static int keep(void *ctx, const alb_frame *f, const alb_vp_stats *st)
 {
     (void)f;
     run_result *r = ctx;
@@ -31,37 +31,37 @@ static int keep(void *ctx, const frame_t *f, const vp_stats *st)
     return 0;
 }
 
-static uint64_t cells(const vp_stats *st)
+static uint64_t cells(const alb_vp_stats *st)
 {
     uint64_t n = 0;
-    for (unsigned l = 0; l < VP_MAX_LEVELS; l++)
+    for (unsigned l = 0; l < ALB_VP_MAX_LEVELS; l++)
         n += st->cells[l];
     return n;
 }
 
 /* GP + VP on the scene's frame 0 (repeated for a stable time); -1 on error. */
-static int measure(const scene_t *s, const profile_t *p, run_result *r, double *ms)
+static int measure(const alb_scene *s, const alb_profile *p, run_result *r, double *ms)
 {
-    diag_t d;
-    diag_init(&d, stderr);
-    gp_t *gp = NULL;
-    vp_t *vp = NULL;
-    ws_buf b;
-    ws_buf_init(&b);
-    gp_stats gst;
+    alb_diag d;
+    alb_diag_init(&d, stderr);
+    alb_gp *gp = NULL;
+    alb_vp *vp = NULL;
+    alb_ws_buf b;
+    alb_ws_buf_init(&b);
+    alb_gp_stats gst;
     int rc = -1;
-    if (gp_create(&gp, s, p, &d) || vp_create(&vp, p, &d))
+    if (alb_gp_create(&gp, s, p, &d) || alb_vp_create(&vp, p, &d))
         goto out;
-    gp_stream_header(gp, &b);
-    if (gp_frame(gp, 0, &b, &gst, &d))
+    alb_gp_stream_header(gp, &b);
+    if (alb_gp_frame(gp, 0, &b, &gst, &d))
         goto out;
-    ws_put_end(&b);
+    alb_ws_put_end(&b);
     double t0 = now(), t;
     unsigned reps = 0;
     do {
         r->frames = 0;
-        if (vp_run_stream(vp, b.w, b.n, "bench", keep, r, &d)) {
-            diag_print(&d, stderr);
+        if (alb_vp_run_stream(vp, b.w, b.n, "bench", keep, r, &d)) {
+            alb_diag_print(&d, stderr);
             goto out;
         }
         reps++;
@@ -70,13 +70,13 @@ static int measure(const scene_t *s, const profile_t *p, run_result *r, double *
     *ms = 1000 * t / reps;
     rc = 0;
 out:
-    vp_destroy(vp);
-    gp_destroy(gp);
-    ws_buf_free(&b);
+    alb_vp_destroy(vp);
+    alb_gp_destroy(gp);
+    alb_ws_buf_free(&b);
     return rc;
 }
 
-static void set_resolution(profile_t *p, unsigned res)
+static void set_resolution(alb_profile *p, unsigned res)
 {
     unsigned lg = 0;
     while ((1u << lg) < res)
@@ -87,13 +87,13 @@ static void set_resolution(profile_t *p, unsigned res)
 
 int main(void)
 {
-    profile_t p;
-    profile_lookup("a512", &p);
-    scene_t s;
-    diag_t d;
-    diag_init(&d, stderr);
-    if (scene_load_builtin(&s, &d)) {
-        diag_print(&d, stderr);
+    alb_profile p;
+    alb_profile_lookup("a512", &p);
+    alb_scene s;
+    alb_diag d;
+    alb_diag_init(&d, stderr);
+    if (alb_scene_load_builtin(&s, &d)) {
+        alb_diag_print(&d, stderr);
         return 1;
     }
     printf("## Resolution (built-in scene, frame 0)\n\n"
@@ -110,7 +110,7 @@ int main(void)
                (unsigned long long)r.st.samples_written,
                (double)r.st.samples_written / ((double)res * res), ms);
     }
-    scene_free(&s);
+    alb_scene_free(&s);
     printf("\n## Face count (random scenes, 1024²)\n\n"
            "| faces | cells visited | cells / face | samples written | ms |\n"
            "|---|---|---|---|---|\n");
@@ -120,8 +120,8 @@ int main(void)
         gp.faces = n;
         gp.size = 0.3 / (n < 100 ? 1 : n < 1000 ? 3 : n < 10000 ? 10 : 30);
         char *text = scenegen_random(1, &gp);
-        if (!text || scene_parse(text, strlen(text), "random", &s, &d)) {
-            diag_print(&d, stderr);
+        if (!text || alb_scene_parse(text, strlen(text), "random", &s, &d)) {
+            alb_diag_print(&d, stderr);
             free(text);
             return 1;
         }
@@ -132,7 +132,7 @@ int main(void)
             return 1;
         printf("| %u | %llu | %.1f | %llu | %.1f |\n", n, (unsigned long long)cells(&r.st),
                (double)cells(&r.st) / n, (unsigned long long)r.st.samples_written, ms);
-        scene_free(&s);
+        alb_scene_free(&s);
     }
     return 0;
 }

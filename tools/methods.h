@@ -8,17 +8,17 @@
 #ifndef ALBATROS_METHODS_H
 #define ALBATROS_METHODS_H
 
-#include "../common/profile.h"
-#include "../gp/gp.h"
-#include "../vp/vp.h"
+#include "albatros/profile.h"
+#include "albatros/gp.h"
+#include "albatros/vp.h"
 
 typedef struct {
     const char *name;      /* "zbuffer", "painter", ... */
     const char *summary;   /* one line: what it is and how it fails */
     /* Render frame `frame` of s into out (allocated here at the profile's
-     * size; free with frame_free).  0 on success; -1 if out of memory, the
+     * size; free with alb_frame_free).  0 on success; -1 if out of memory, the
      * frame does not exist, or p->aa_levels is not 0 (no anti-aliasing). */
-    int (*render)(const scene_t *s, const profile_t *p, unsigned frame, frame_t *out);
+    int (*render)(const alb_scene *s, const alb_profile *p, unsigned frame, alb_frame *out);
 } method;
 
 /* Every method, in a fixed order; *n receives how many. */

@@ -3,28 +3,103 @@
  * evaluates the scene's fields at the hit point by barycentric coordinates,
  * where the GP solves system (11) and the VP divides linear forms. */
 #include "ref.h"
+#include "../common/vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Observer space as in docs/gp.md: P = S O^T (Q R + pos - E). */
-static void object_to_observer(const scene_frame *fr, unsigned oi, double aspect, mat3 *m, vec3 *t,
-                               mat3 *inv)
+/* The camera, computed here from the scene's own values and not with the
+ * GP's matrices (m3_orientation, m3_look_at) or its correctly rounded maths:
+ * each elementary rotation is applied to vectors as docs/scene-format.md
+ * words it ("yaw turns forward (+z) toward +x, pitch turns forward toward +y,
+ * roll turns up (+y) toward +x", applied roll first, as the product
+ * Ry Rx Rz), in long double with the C library's sinl and cosl; a look-at
+ * camera by Gram-Schmidt on up against the view direction.  A mistake in
+ * the GP's camera therefore shows as a difference (docs/reference.md). */
+typedef long double ldbl;
+typedef struct {
+    ldbl v[3];
+} lvec;
+
+static lvec lv(ldbl x, ldbl y, ldbl z) { return (lvec){{x, y, z}}; }
+static ldbl lv_dot(lvec a, lvec b) { return a.v[0] * b.v[0] + a.v[1] * b.v[1] + a.v[2] * b.v[2]; }
+
+static lvec lv_unit(lvec a)
 {
-    const scene_pose *pose = &fr->poses[oi];
-    const scene_observer *ob = &fr->obs;
-    double a = ob->aspect > 0 ? ob->aspect : aspect;
-    double sy = 1 / tan(ob->fov_y * VEC3_PI / 360), sx = sy / a;
-    mat3 q = m3_orientation(pose->yaw, pose->pitch, pose->roll);
-    mat3 o = m3_orientation(ob->pose.yaw, ob->pose.pitch, ob->pose.roll);
-    mat3 ot = m3_transpose(&o), qt = m3_transpose(&q);
-    mat3 s = {{{sx, 0, 0}, {0, sy, 0}, {0, 0, 1}}}, si = {{{1 / sx, 0, 0}, {0, 1 / sy, 0}, {0, 0, 1}}};
-    mat3 so = m3_mul(&s, &ot);
-    *m = m3_mul(&so, &q);
-    *t = m3_apply(&so, v3_sub(pose->pos, ob->pose.pos));
-    mat3 qo = m3_mul(&qt, &o);
-    *inv = m3_mul(&qo, &si);   /* (S O^T Q)^-1 = Q^T O S^-1 */
+    ldbl l = sqrtl(lv_dot(a, a));
+    return lv(a.v[0] / l, a.v[1] / l, a.v[2] / l);
+}
+
+/* Turn v by deg degrees in the plane of axes `from` and `to`, `from` toward
+ * `to`: from -> cos from + sin to, to -> cos to - sin from. */
+static lvec turn_plane(lvec v, int from, int to, double deg)
+{
+    ldbl a = (ldbl)deg * 3.14159265358979323846264338327950288L / 180;
+    ldbl c = cosl(a), s = sinl(a), f = v.v[from], t = v.v[to];
+    v.v[from] = c * f - s * t;
+    v.v[to] = s * f + c * t;
+    return v;
+}
+
+enum { AX_X, AX_Y, AX_Z };
+
+/* A body vector of a pose in the parent frame: roll, then pitch, then yaw. */
+static lvec pose_apply(const alb_scene_pose *p, lvec v)
+{
+    v = turn_plane(v, AX_Y, AX_X, p->roll);
+    v = turn_plane(v, AX_Z, AX_Y, p->pitch);
+    return turn_plane(v, AX_Z, AX_X, p->yaw);
+}
+
+/* The observer's right, up and forward axes in the world. */
+static void observer_axes(const alb_scene_observer *ob, lvec axes[3])
+{
+    if (ob->look_at) {
+        lvec f = lv_unit(lv((ldbl)ob->at.x - ob->pose.pos.x, (ldbl)ob->at.y - ob->pose.pos.y,
+                            (ldbl)ob->at.z - ob->pose.pos.z));
+        lvec u = lv(ob->up.x, ob->up.y, ob->up.z);
+        ldbl k = lv_dot(u, f);
+        u = lv_unit(lv(u.v[0] - k * f.v[0], u.v[1] - k * f.v[1], u.v[2] - k * f.v[2]));
+        /* right = up x forward in this left-handed frame (x = y x z) */
+        axes[0] = lv(u.v[1] * f.v[2] - u.v[2] * f.v[1], u.v[2] * f.v[0] - u.v[0] * f.v[2],
+                     u.v[0] * f.v[1] - u.v[1] * f.v[0]);
+        axes[1] = u;
+        axes[2] = f;
+        return;
+    }
+    for (int a = 0; a < 3; a++)
+        axes[a] = pose_apply(&ob->pose, lv(a == 0, a == 1, a == 2));
+}
+
+/* Observer space P = (sx X, sy Y, Z), (X, Y, Z) the eye's right, up and
+ * forward components of (Q R + pos - E): P = m R + t, and R = inv (P - t). */
+static void object_to_observer(const alb_scene_frame *fr, unsigned oi, double aspect, mat3 *m, vec3 *t,
+                               mat3 *inv, mat3 *q_out)
+{
+    const alb_scene_pose *pose = &fr->poses[oi];
+    const alb_scene_observer *ob = &fr->obs;
+    ldbl a = ob->aspect > 0 ? ob->aspect : aspect;
+    ldbl half = (ldbl)ob->fov_y * 3.14159265358979323846264338327950288L / 360;
+    ldbl scale[3] = {cosl(half) / sinl(half) / a, cosl(half) / sinl(half), 1};
+    lvec eye[3], body[3];
+    observer_axes(ob, eye);
+    for (int j = 0; j < 3; j++)
+        body[j] = pose_apply(pose, lv(j == 0, j == 1, j == 2));   /* Q's columns */
+    lvec off = lv((ldbl)pose->pos.x - ob->pose.pos.x, (ldbl)pose->pos.y - ob->pose.pos.y,
+                  (ldbl)pose->pos.z - ob->pose.pos.z);
+    double tv[3];
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            m->m[i][j] = (double)(scale[i] * lv_dot(eye[i], body[j]));
+            /* the axes are orthonormal: the inverse is the transpose, over
+             * the scale */
+            inv->m[j][i] = (double)(lv_dot(eye[i], body[j]) / scale[i]);
+            q_out->m[i][j] = (double)body[j].v[i];
+        }
+        tv[i] = (double)(scale[i] * lv_dot(eye[i], off));
+    }
+    *t = v3(tv[0], tv[1], tv[2]);
 }
 
 static void prepare_face(ref_face *rf, const vec3 *p, unsigned n)
@@ -58,26 +133,25 @@ static void prepare_face(ref_face *rf, const vec3 *p, unsigned n)
     }
 }
 
-int ref_prepare(const scene_t *s, const profile_t *prof, unsigned frame, ref_frame *rf)
+int ref_prepare(const alb_scene *s, const alb_profile *prof, unsigned frame, ref_frame *rf)
 {
-    const scene_frame *fr = &s->frames[frame];
+    const alb_scene_frame *fr = &s->frames[frame];
     rf->n = 0;
     rf->faces = malloc((s->nfaces ? s->nfaces : 1) * sizeof *rf->faces);
     if (!rf->faces)
         return -1;
     for (unsigned oi = 0; oi < s->nobj; oi++) {
-        const scene_object *o = &s->obj[oi];
-        mat3 m, inv;
+        const alb_scene_object *o = &s->obj[oi];
+        mat3 m, inv, q;
         vec3 t;
-        object_to_observer(fr, oi, (double)prof->width / prof->height, &m, &t, &inv);
-        mat3 qt = m3_orientation(fr->poses[oi].yaw, fr->poses[oi].pitch, fr->poses[oi].roll);
-        qt = m3_transpose(&qt);
+        object_to_observer(fr, oi, (double)prof->width / prof->height, &m, &t, &inv, &q);
+        mat3 qt = m3_transpose(&q);
         for (unsigned j = 0; j < o->nf; j++) {
-            const scene_face *f = &o->f[j];
-            vec3 p[SCENE_MAX_FACE_VERTICES], c = {0, 0, 0};
+            const alb_scene_face *f = &o->f[j];
+            vec3 p[ALB_SCENE_MAX_FACE_VERTICES], c = {0, 0, 0};
             bool any_front = false;
             for (unsigned k = 0; k < f->count; k++) {
-                p[k] = v3_add(m3_apply(&m, scene_face_vertex(o, f, k)), t);
+                p[k] = v3_add(m3_apply(&m, alb_scene_face_vertex(o, f, k)), t);
                 any_front |= p[k].z > 0;
                 c = v3_add(c, p[k]);
             }
@@ -110,15 +184,15 @@ void ref_frame_free(ref_frame *rf)
 
 /* The vertex triple (0, a, b) spanning the largest triangle: the one the
  * scene format's fields are defined by (docs/scene-format.md). */
-static void field_triple(const scene_object *o, const scene_face *f, unsigned tri[3])
+static void field_triple(const alb_scene_object *o, const alb_scene_face *f, unsigned tri[3])
 {
     double best = -1;
-    vec3 p0 = scene_face_vertex(o, f, 0);
+    vec3 p0 = alb_scene_face_vertex(o, f, 0);
     tri[0] = 0, tri[1] = 1, tri[2] = 2;
     for (unsigned a = 1; a + 1 < f->count; a++)
         for (unsigned b = a + 1; b < f->count; b++) {
-            vec3 k = v3_cross(v3_sub(scene_face_vertex(o, f, a), p0),
-                              v3_sub(scene_face_vertex(o, f, b), p0));
+            vec3 k = v3_cross(v3_sub(alb_scene_face_vertex(o, f, a), p0),
+                              v3_sub(alb_scene_face_vertex(o, f, b), p0));
             if (v3_dot(k, k) > best) {
                 best = v3_dot(k, k);
                 tri[1] = a, tri[2] = b;
@@ -127,12 +201,12 @@ static void field_triple(const scene_object *o, const scene_face *f, unsigned tr
 }
 
 /* Barycentric weights of object point q in the triple: q = v0 + s e1 + t e2. */
-static void barycentric(const scene_object *o, const scene_face *f, const unsigned tri[3], vec3 q,
+static void barycentric(const alb_scene_object *o, const alb_scene_face *f, const unsigned tri[3], vec3 q,
                         double *s, double *t)
 {
-    vec3 v0 = scene_face_vertex(o, f, tri[0]);
-    vec3 e1 = v3_sub(scene_face_vertex(o, f, tri[1]), v0);
-    vec3 e2 = v3_sub(scene_face_vertex(o, f, tri[2]), v0), w = v3_sub(q, v0);
+    vec3 v0 = alb_scene_face_vertex(o, f, tri[0]);
+    vec3 e1 = v3_sub(alb_scene_face_vertex(o, f, tri[1]), v0);
+    vec3 e2 = v3_sub(alb_scene_face_vertex(o, f, tri[2]), v0), w = v3_sub(q, v0);
     double a = v3_dot(e1, e1), b = v3_dot(e1, e2), c = v3_dot(e2, e2);
     double p = v3_dot(w, e1), r = v3_dot(w, e2), det = a * c - b * b;
     *s = (p * c - r * b) / det;
@@ -145,43 +219,43 @@ static double lerp3(double a, double b, double c, double s, double t)
 }
 
 /* Colour (0..255 per channel, before fog) of face r at observer point P. */
-void ref_shade_point(const scene_t *sc, const ref_face *r, vec3 P, double out[3])
+void ref_shade_point(const alb_scene *sc, const ref_face *r, vec3 P, double out[3])
 {
-    const scene_object *o = r->obj;
-    const scene_face *f = r->face;
+    const alb_scene_object *o = r->obj;
+    const alb_scene_face *f = r->face;
     vec3 q = m3_apply(&r->to_object, v3_sub(P, r->t));
     unsigned tri[3];
     field_triple(o, f, tri);
     double s, t;
     barycentric(o, f, tri, q, &s, &t);
-    const scene_vertex *v[3];
+    const alb_scene_vertex *v[3];
     for (int k = 0; k < 3; k++)
         v[k] = &o->v[o->idx[f->first + tri[k]]];
     double inten = f->intensity;
-    if (f->shade == SHADE_VERTEX) {
+    if (f->shade == ALB_SHADE_VERTEX) {
         inten = lerp3(v[0]->i, v[1]->i, v[2]->i, s, t);
-    } else if (f->shade == SHADE_LIT) {
+    } else if (f->shade == ALB_SHADE_LIT) {
         /* -Newell is the front normal (docs/gp.md) */
-        vec3 fn = v3_scale(scene_face_newell(o, f), -1 / v3_len(scene_face_newell(o, f)));
+        vec3 fn = v3_scale(alb_scene_face_newell(o, f), -1 / v3_len(alb_scene_face_newell(o, f)));
         vec3 nv[3];
         for (int k = 0; k < 3; k++)
-            nv[k] = (v[k]->has & SV_NORMAL) ? v[k]->n : fn;
+            nv[k] = (v[k]->has & ALB_SV_NORMAL) ? v[k]->n : fn;
         vec3 n = v3(lerp3(nv[0].x, nv[1].x, nv[2].x, s, t), lerp3(nv[0].y, nv[1].y, nv[2].y, s, t),
                     lerp3(nv[0].z, nv[1].z, nv[2].z, s, t));
         inten = r->ambient + v3_dot(r->light_obj, n);
     }
     inten = fmin(fmax(inten, 0), 1);
     double texel[3] = {255, 255, 255};
-    if (f->texmap != TEXMAP_NONE) {
+    if (f->texmap != ALB_TEXMAP_NONE) {
         double u, w;
-        if (f->texmap == TEXMAP_AXES) {
+        if (f->texmap == ALB_TEXMAP_AXES) {
             u = f->axes[0] * q.x + f->axes[1] * q.y + f->axes[2] * q.z + f->axes[3];
             w = f->axes[4] * q.x + f->axes[5] * q.y + f->axes[6] * q.z + f->axes[7];
         } else {
             u = lerp3(v[0]->u, v[1]->u, v[2]->u, s, t);
             w = lerp3(v[0]->v, v[1]->v, v[2]->v, s, t);
         }
-        const scene_texture *tx = &sc->tex[f->texture];
+        const alb_scene_texture *tx = &sc->tex[f->texture];
         unsigned size = 1u << tx->log2size;
         unsigned iu = (unsigned)((u - floor(u)) * size) & (size - 1);
         unsigned iv = (unsigned)((w - floor(w)) * size) & (size - 1);
@@ -220,7 +294,7 @@ static hit cast(const ref_frame *rf, double x, double y)
     return h;
 }
 
-static double fogged(const scene_t *s, const ref_face *f, double c, double fogc, double z)
+static double fogged(const alb_scene *s, const ref_face *f, double c, double fogc, double z)
 {
     if (!s->fog || !f->face->fog)
         return c;
@@ -228,18 +302,18 @@ static double fogged(const scene_t *s, const ref_face *f, double c, double fogc,
     return fogc + (c - fogc) * vis;
 }
 
-void ref_fog_point(const scene_t *s, const ref_face *f, double z, double rgb[3])
+void ref_fog_point(const alb_scene *s, const ref_face *f, double z, double rgb[3])
 {
     for (int ch = 0; ch < 3; ch++)
         rgb[ch] = fogged(s, f, rgb[ch], s->fog_rgb[ch], z);
 }
 
-int ref_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *out)
+int ref_render(const alb_scene *s, const alb_profile *p, unsigned frame, alb_frame *out)
 {
     ref_frame rf;
     if (ref_prepare(s, p, frame, &rf))
         return -1;
-    if (frame_alloc(out, p->width, p->height, false)) {
+    if (alb_frame_alloc(out, p->width, p->height, false)) {
         ref_frame_free(&rf);
         return -1;
     }
@@ -278,9 +352,9 @@ int ref_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *ou
             size_t i = (size_t)y * p->width + x;
             for (int ch = 0; ch < 3; ch++)
                 out->rgb[3 * i + ch] = (uint16_t)floor(sum[ch] / (n * n) / 255 * top + 0.5);
-            out->face[i] = best >= 0 ? rf.faces[best].id : FRAME_NO_FACE;
+            out->face[i] = best >= 0 ? rf.faces[best].id : ALB_FRAME_NO_FACE;
             out->depth[i] = best >= 0 ? (uint32_t)fmin(floor(s->near * best_q * (dmax + 1)), dmax) : 0;
-            out->level[i] = FRAME_NO_LEVEL;
+            out->level[i] = ALB_FRAME_NO_LEVEL;
             out->coverage[i] = (uint16_t)covered;
         }
     ref_frame_free(&rf);

@@ -7,8 +7,8 @@
 #include "ref.h"
 #include "scenegen.h"
 #include "stress.h"
-#include "../emu/sim.h"
-#include "../gp/gp.h"
+#include "albatros/sim.h"
+#include "albatros/gp.h"
 
 #include <errno.h>
 #include <math.h>
@@ -40,7 +40,7 @@ const double *sweep_severities(unsigned i) { return i < NFAMILIES ? families[i].
  * does (docs/stability.md). */
 static const struct {
     const char *name;
-    const char *sets;        /* profile_set assignments, space separated */
+    const char *sets;        /* alb_profile_set assignments, space separated */
     int edge_delta;          /* added to edge_frac_bits */
 } vp_configs[] = {
     {"vp", "", 0},
@@ -56,16 +56,16 @@ static const struct {
 };
 #define NVP (sizeof vp_configs / sizeof vp_configs[0])
 
-static int config_profile(unsigned k, const profile_t *base, profile_t *q)
+static int config_profile(unsigned k, const alb_profile *base, alb_profile *q)
 {
     char buf[128], err[200];
     *q = *base;
     snprintf(buf, sizeof buf, "%s", vp_configs[k].sets);
     for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
-        if (profile_set(q, tok, err, sizeof err))
+        if (alb_profile_set(q, tok, err, sizeof err))
             return -1;
     q->edge_frac_bits = (unsigned)((int)q->edge_frac_bits + vp_configs[k].edge_delta);
-    return profile_check(q, err, sizeof err);
+    return alb_profile_check(q, err, sizeof err);
 }
 
 static double now_ms(void)
@@ -77,29 +77,29 @@ static double now_ms(void)
 
 /* ---- rendering ---- */
 
-static int keep_first(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
+static int keep_first(void *ctx, const alb_frame *f, const alb_vp_stats *vs, const alb_sim_counters *sc)
 {
     (void)vs, (void)sc;
-    frame_t *out = ctx;
-    return out->face ? 0 : frame_copy(out, f);
+    alb_frame *out = ctx;
+    return out->face ? 0 : alb_frame_copy(out, f);
 }
 
 /* Frame 0 through GP and VP at a fidelity; -1 if the GP refuses the scene. */
-static int vp_render(const scene_t *s, const profile_t *p, fidelity fid, frame_t *out)
+static int vp_render(const alb_scene *s, const alb_profile *p, alb_fidelity fid, alb_frame *out)
 {
-    diag_t d;
-    diag_init(&d, NULL);
-    gp_t *gp = NULL;
-    ws_buf b;
-    ws_buf_init(&b);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_gp *gp = NULL;
+    alb_ws_buf b;
+    alb_ws_buf_init(&b);
     memset(out, 0, sizeof *out);
-    sim_options o = {.fid = fid, .threads = 1};
-    int rc = gp_create(&gp, s, p, &d) || gp_run(gp, &b, NULL, &d) ||
-             sim_run(p, b.w, b.n, "sweep", &o, keep_first, out, &d) || !out->face;
-    gp_destroy(gp);
-    ws_buf_free(&b);
+    alb_sim_options o = {.fid = fid, .threads = 1};
+    int rc = alb_gp_create(&gp, s, p, &d) || alb_gp_run(gp, &b, NULL, &d) ||
+             alb_sim_run(p, b.w, b.n, "sweep", &o, keep_first, out, &d) || !out->face;
+    alb_gp_destroy(gp);
+    alb_ws_buf_free(&b);
     if (rc && out->face)
-        frame_free(out);
+        alb_frame_free(out);
     return rc ? -1 : 0;
 }
 
@@ -110,17 +110,17 @@ typedef struct {
 
 /* Configuration k (methods first, then vp_configs) on one scene; the host
  * time is the best of `reps` runs. */
-static void measure(unsigned k, const scene_t *s, const profile_t *base, fidelity fid, unsigned reps,
+static void measure(unsigned k, const alb_scene *s, const alb_profile *base, alb_fidelity fid, unsigned reps,
                     point *pt)
 {
     unsigned nm;
     const method *m = methods_all(&nm);
-    profile_t q = *base;
+    alb_profile q = *base;
     if (k >= nm && config_profile(k - nm, base, &q)) {
         pt->failed++;
         return;
     }
-    frame_t ref, got;
+    alb_frame ref, got;
     if (ref_render(s, &q, 0, &ref)) {
         pt->failed++;
         return;
@@ -129,7 +129,7 @@ static void measure(unsigned k, const scene_t *s, const profile_t *base, fidelit
     int rc = 0;
     for (unsigned r = 0; r < reps && !rc; r++) {
         if (r)
-            frame_free(&got);
+            alb_frame_free(&got);
         double t0 = now_ms();
         rc = k < nm ? m[k].render(s, &q, 0, &got) : vp_render(s, &q, fid, &got);
         ms = fmin(ms, now_ms() - t0);
@@ -137,15 +137,15 @@ static void measure(unsigned k, const scene_t *s, const profile_t *base, fidelit
     if (rc) {
         pt->failed++;
     } else {
-        frame_diff df;
-        frame_compare(&ref, &got, &df);
+        alb_frame_diff df;
+        alb_frame_compare(&ref, &got, &df);
         pt->face_pct += 100.0 * (double)df.face_diff / (double)df.pixels;
         pt->psnr += isinf(df.psnr) ? 99 : df.psnr;
         pt->ms += ms;
         pt->runs++;
-        frame_free(&got);
+        alb_frame_free(&got);
     }
-    frame_free(&ref);
+    alb_frame_free(&ref);
 }
 
 static unsigned config_count(void)
@@ -174,7 +174,7 @@ static void write_point(FILE *out, const char *family, unsigned step, double sev
 
 #define CSV_HEADER "family,step,severity,config,face_diff_pct,psnr_db,ms_per_frame,failed\n"
 
-int sweep_family_run(const char *family, const profile_t *p, unsigned seeds, FILE *out,
+int sweep_family_run(const char *family, const alb_profile *p, unsigned seeds, FILE *out,
                      const sweep_progress *progress)
 {
     double t0 = now_ms();
@@ -191,12 +191,12 @@ int sweep_family_run(const char *family, const profile_t *p, unsigned seeds, FIL
             point pt = {0, 0, 0, 0, 0};
             for (uint64_t seed = 1; seed <= seeds; seed++) {
                 char *text = stress_scene(family, sev, seed);
-                scene_t s;
-                diag_t d;
-                diag_init(&d, NULL);
-                if (text && !scene_parse(text, strlen(text), family, &s, &d)) {
-                    measure(k, &s, p, FIDELITY_FUNCTIONAL, 1, &pt);
-                    scene_free(&s);
+                alb_scene s;
+                alb_diag d;
+                alb_diag_init(&d, NULL);
+                if (text && !alb_scene_parse(text, strlen(text), family, &s, &d)) {
+                    measure(k, &s, p, ALB_FIDELITY_FUNCTIONAL, 1, &pt);
+                    alb_scene_free(&s);
                 } else {
                     pt.failed++;
                 }
@@ -221,18 +221,18 @@ int sweep_family_run(const char *family, const profile_t *p, unsigned seeds, FIL
 
 /* The exact reference as one more point of the chart: its error is 0 by
  * definition, its time the best of `reps` renders. */
-static void time_reference(const scene_t *s, const profile_t *p, unsigned reps, point *pt)
+static void time_reference(const alb_scene *s, const alb_profile *p, unsigned reps, point *pt)
 {
     double ms = INFINITY;
     for (unsigned r = 0; r < reps; r++) {
-        frame_t ref;
+        alb_frame ref;
         double t0 = now_ms();
         if (ref_render(s, p, 0, &ref)) {
             pt->failed++;
             return;
         }
         ms = fmin(ms, now_ms() - t0);
-        frame_free(&ref);
+        alb_frame_free(&ref);
     }
     pt->ms += ms;
     pt->runs++;
@@ -248,7 +248,7 @@ static void speed_progress(const sweep_progress *progress, unsigned k, unsigned 
                 *fid ? " " : "", fid);
 }
 
-int sweep_speed_run(const profile_t *p, FILE *out, const sweep_progress *progress)
+int sweep_speed_run(const alb_profile *p, FILE *out, const sweep_progress *progress)
 {
     /* the scenes: 8 random ones and every family at its second severity
      * (docs/stability.md) */
@@ -267,35 +267,35 @@ int sweep_speed_run(const profile_t *p, FILE *out, const sweep_progress *progres
     for (unsigned k = 0; k < nc; k++) {
         unsigned nfid = k == nm ? 3 : 1;   /* the default VP at every fidelity */
         for (unsigned fi = 0; fi < nfid; fi++) {
-            fidelity fid = fi == 0 ? FIDELITY_FUNCTIONAL : fi == 1 ? FIDELITY_TIMED : FIDELITY_CYCLE;
+            alb_fidelity fid = fi == 0 ? ALB_FIDELITY_FUNCTIONAL : fi == 1 ? ALB_FIDELITY_TIMED : ALB_FIDELITY_CYCLE;
             point pt = {0, 0, 0, 0, 0};
             for (unsigned i = 0; i < nt; i++) {
-                scene_t s;
-                diag_t d;
-                diag_init(&d, NULL);
-                if (texts[i] && !scene_parse(texts[i], strlen(texts[i]), "speed", &s, &d)) {
+                alb_scene s;
+                alb_diag d;
+                alb_diag_init(&d, NULL);
+                if (texts[i] && !alb_scene_parse(texts[i], strlen(texts[i]), "speed", &s, &d)) {
                     measure(k, &s, p, fid, 3, &pt);
-                    scene_free(&s);
+                    alb_scene_free(&s);
                 } else {
                     pt.failed++;
                 }
             }
             fprintf(out, "%s,%s,%u,%.4f,%.3f,%u\n", config_name(k),
-                    k < nm ? "-" : fidelity_name(fid), pt.runs,
+                    k < nm ? "-" : alb_fidelity_name(fid), pt.runs,
                     pt.runs ? pt.face_pct / pt.runs : 0.0, pt.runs ? pt.ms / pt.runs : 0.0,
                     pt.failed);
             speed_progress(progress, k, nc + 1, config_name(k),
-                           k < nm ? "" : fidelity_name(fid));
+                           k < nm ? "" : alb_fidelity_name(fid));
         }
     }
     point pt = {0, 0, 0, 0, 0};   /* last, the exact reference itself */
     for (unsigned i = 0; i < nt; i++) {
-        scene_t s;
-        diag_t d;
-        diag_init(&d, NULL);
-        if (texts[i] && !scene_parse(texts[i], strlen(texts[i]), "speed", &s, &d)) {
+        alb_scene s;
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        if (texts[i] && !alb_scene_parse(texts[i], strlen(texts[i]), "speed", &s, &d)) {
             time_reference(&s, p, 3, &pt);
-            scene_free(&s);
+            alb_scene_free(&s);
         } else {
             pt.failed++;
         }

@@ -6,7 +6,7 @@
 #ifndef ALBATROS_SWEEP_H
 #define ALBATROS_SWEEP_H
 
-#include "../common/profile.h"
+#include "albatros/profile.h"
 
 #include <stdbool.h>
 #include <stdio.h>
@@ -29,11 +29,11 @@ typedef struct {
 /* One family: every configuration at every severity, seeds 1..seeds;
  * CSV rows to out (with a header); the last column counts the seeds that
  * failed to render. */
-int sweep_family_run(const char *family, const profile_t *p, unsigned seeds, FILE *out,
+int sweep_family_run(const char *family, const alb_profile *p, unsigned seeds, FILE *out,
                      const sweep_progress *progress);
 /* Speed against accuracy: every configuration, the VP's three fidelities
  * and the exact reference itself on a fixed set of scenes; CSV rows to out. */
-int sweep_speed_run(const profile_t *p, FILE *out, const sweep_progress *progress);
+int sweep_speed_run(const alb_profile *p, FILE *out, const sweep_progress *progress);
 
 /* Read the CSVs of dir and write stability.csv, stability.md and
  * stability.png there, and speed.md and speed.png if dir has a speed.csv

@@ -16,11 +16,11 @@ enum { U_SHADE = 1, U_TEXTURE = 2, U_FOG = 4 };
 
 unsigned vp_face_units(const vp_face_setup *fs)
 {
-    return (fs->flags & WS_FACE_SHADE ? U_SHADE : 0) |
-           (fs->flags & WS_FACE_TEXTURE ? U_TEXTURE : 0) | (fs->flags & WS_FACE_FOG ? U_FOG : 0);
+    return (fs->flags & ALB_WS_FACE_SHADE ? U_SHADE : 0) |
+           (fs->flags & ALB_WS_FACE_TEXTURE ? U_TEXTURE : 0) | (fs->flags & ALB_WS_FACE_FOG ? U_FOG : 0);
 }
 
-void vp_flat_colour(const vp_t *vp, const vp_face_setup *fs, uint16_t rgb[3])
+void vp_flat_colour(const alb_vp *vp, const vp_face_setup *fs, uint16_t rgb[3])
 {
     const unsigned fi = vp->prof.shade_frac_bits;
     const uint64_t top = (1u << vp->prof.colour_bits) - 1;
@@ -28,10 +28,25 @@ void vp_flat_colour(const vp_t *vp, const vp_face_setup *fs, uint16_t rgb[3])
         rgb[ch] = units_output((uint64_t)fs->rgb[ch] * 0xFF << fi, top, fi);
 }
 
+/* Ties in the depth store (equal d, 0 < d < max: two faces in one depth
+ * step, the earlier kept; ties at the saturated max are depth_saturated's):
+ * counted, and the one at the lowest sample index kept for the warning of
+ * docs/vp.md §4 — the same sample whatever the tiling. */
+static void note_ties(alb_vp *vp, uint64_t ties, size_t idx, uint32_t lost)
+{
+    if (!vp->st.depth_ties || idx < vp->st.tie_sample) {
+        vp->st.tie_sample = idx;
+        vp->st.tie_kept = vp->s_face[idx];
+        vp->st.tie_lost = lost;
+        vp->st.tie_depth = vp->s_depth[idx];
+    }
+    vp->st.depth_ties += ties;
+}
+
 /* The samples of cell k for a face using `units`; a constant at each call
  * site, so every test of it below folds away. */
 static inline __attribute__((always_inline)) void
-fill_cell(vp_t *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned units)
+fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned units)
 {
     const uint32_t cw = 1u << k->wl, ch = 1u << k->hl;
     const unsigned fi = vp->prof.shade_frac_bits, rb = vp->prof.recip_bits, lg = fs->tex_log2;
@@ -46,7 +61,8 @@ fill_cell(vp_t *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned un
     uint16_t *const s_rgb = vp->s_rgb;
     /* counted locally: the stores below are through uint8_t, which may alias
      * anything, and would make the compiler reload vp->st each sample */
-    uint64_t underflow = 0, saturated = 0, written = 0;
+    uint64_t underflow = 0, saturated = 0, written = 0, ties = 0;
+    size_t tie_idx = SIZE_MAX;
 
     /* every form stepped exactly along the rows: N(c + 1, r) = N(c, r) + step_c */
     int64_t z0 = units_form_at(&fs->depth, k->c0, k->r0);
@@ -97,6 +113,8 @@ fill_cell(vp_t *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned un
                             out[i] = units_fog_blend(out[i], vp->fog_rgb[i], vis, fi);
                     }
                 }
+            } else if (dv != 0 && dv == s_depth[idx] && dv != (uint32_t)dmax && ties++ == 0) {
+                tie_idx = idx;   /* raster order within the cell: the first is the lowest */
             }
             nz += fs->depth.step_c;
             if (units & U_SHADE)
@@ -114,10 +132,13 @@ fill_cell(vp_t *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned un
     vp->st.depth_underflow += underflow;
     vp->st.depth_saturated += saturated;
     vp->st.samples_written += written;
+    if (ties)
+        note_ties(vp, ties, tie_idx, id);
 }
 
+
 /* Every unit on: the same walk, each written sample through vp_shade_sample. */
-static void fill_all_units(vp_t *vp, const vp_face_setup *fs, const vp_cell *k)
+static void fill_all_units(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
 {
     const uint32_t cw = 1u << k->wl, ch = 1u << k->hl;
     vp->st.samples_covered += (uint64_t)cw * ch;
@@ -128,6 +149,9 @@ static void fill_all_units(vp_t *vp, const vp_face_setup *fs, const vp_cell *k)
             uint32_t dv = vp_depth_value(vp, nz, fs->depth.exp);
             vp->st.depth_underflow += dv == 0 && nz > 0;
             vp->st.depth_saturated += dv == (uint32_t)(((uint64_t)1 << vp->prof.depth_bits) - 1);
+            if (dv != 0 && dv == vp->s_depth[idx] &&
+                dv != (uint32_t)(((uint64_t)1 << vp->prof.depth_bits) - 1))
+                note_ties(vp, 1, idx, fs->id);
             if (dv == 0 || dv <= vp->s_depth[idx])
                 continue;
             vp->st.samples_written++;
@@ -139,7 +163,7 @@ static void fill_all_units(vp_t *vp, const vp_face_setup *fs, const vp_cell *k)
 }
 
 #define FILL_UNITS(n) \
-    static void fill_##n(vp_t *vp, const vp_face_setup *fs, const vp_cell *k) \
+    static void fill_##n(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k) \
     { \
         fill_cell(vp, fs, k, n); \
     }
@@ -147,11 +171,11 @@ FILL_UNITS(0) FILL_UNITS(1) FILL_UNITS(2) FILL_UNITS(3)
 FILL_UNITS(4) FILL_UNITS(5) FILL_UNITS(6) FILL_UNITS(7)
 #undef FILL_UNITS
 
-static void (*const fill_for_units[8])(vp_t *, const vp_face_setup *, const vp_cell *) = {
+static void (*const fill_for_units[8])(alb_vp *, const vp_face_setup *, const vp_cell *) = {
     fill_0, fill_1, fill_2, fill_3, fill_4, fill_5, fill_6, fill_7,
 };
 
-void vp_fill(vp_t *vp, const vp_face_setup *fs, const vp_cell *k)
+void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
 {
     if (vp->prof.all_units) {
         fill_all_units(vp, fs, k);

@@ -1,11 +1,13 @@
-/* frame.c — allocation of frames and the depth-to-distance conversion. */
-#include "frame.h"
+/* frame.c — a frame's planes: allocation, copy, and the count of pixels
+ * where two frames differ.  Integers only, as everything in vp/: the output
+ * stage's floating point (the EXR Z distance, compare's error measures) is
+ * in emu/frame_out.c (docs/number-formats.md §0). */
+#include "albatros/frame.h"
 
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-int frame_alloc(frame_t *f, unsigned width, unsigned height, bool with_cycles)
+int alb_frame_alloc(alb_frame *f, unsigned width, unsigned height, bool with_cycles)
 {
     size_t n = (size_t)width * height;
     memset(f, 0, sizeof *f);
@@ -19,13 +21,13 @@ int frame_alloc(frame_t *f, unsigned width, unsigned height, bool with_cycles)
     f->cycles = with_cycles ? calloc(n, sizeof *f->cycles) : NULL;
     if (!f->rgb || !f->depth || !f->face || !f->level || !f->coverage ||
         (with_cycles && !f->cycles)) {
-        frame_free(f);
+        alb_frame_free(f);
         return -1;
     }
     return 0;
 }
 
-void frame_free(frame_t *f)
+void alb_frame_free(alb_frame *f)
 {
     free(f->rgb);
     free(f->depth);
@@ -39,9 +41,9 @@ void frame_free(frame_t *f)
     f->coverage = NULL;
 }
 
-int frame_copy(frame_t *dst, const frame_t *src)
+int alb_frame_copy(alb_frame *dst, const alb_frame *src)
 {
-    if (frame_alloc(dst, src->width, src->height, src->cycles != NULL))
+    if (alb_frame_alloc(dst, src->width, src->height, src->cycles != NULL))
         return -1;
     size_t n = (size_t)src->width * src->height;
     memcpy(dst->rgb, src->rgb, 3 * n * sizeof *dst->rgb);
@@ -59,41 +61,7 @@ int frame_copy(frame_t *dst, const frame_t *src)
     return 0;
 }
 
-float frame_z(const frame_t *f, uint32_t d)
-{
-    if (d == 0)
-        return INFINITY;
-    /* one correctly rounded double division, then one rounding to float */
-    return (float)((double)f->near / ldexp((double)d, -(int)f->depth_bits));
-}
-
-void frame_compare(const frame_t *a, const frame_t *b, frame_diff *r)
-{
-    memset(r, 0, sizeof *r);
-    size_t n = (size_t)a->width * a->height;
-    double sq = 0, sum = 0;
-    r->pixels = n;
-    for (size_t i = 0; i < n; i++) {
-        r->face_diff += a->face[i] != b->face[i];
-        r->coverage_diff += a->coverage[i] != b->coverage[i];
-        bool differs = false;
-        for (int ch = 0; ch < 3; ch++) {
-            int d = (int)a->rgb[3 * i + ch] - (int)b->rgb[3 * i + ch];
-            unsigned ad = (unsigned)(d < 0 ? -d : d);
-            differs |= ad != 0;
-            if (ad > r->max_error)
-                r->max_error = ad;
-            sum += ad;
-            sq += (double)d * d;
-        }
-        r->colour_diff += differs;
-    }
-    r->mean_error = sum / (3.0 * (double)n);
-    double peak = ldexp(1, (int)a->colour_bits) - 1, mse = sq / (3.0 * (double)n);
-    r->psnr = mse > 0 ? 10 * log10(peak * peak / mse) : INFINITY;
-}
-
-size_t frame_count_differences(const frame_t *a, const frame_t *b)
+size_t alb_frame_count_differences(const alb_frame *a, const alb_frame *b)
 {
     if (a->width != b->width || a->height != b->height || a->colour_bits != b->colour_bits ||
         a->depth_bits != b->depth_bits || a->aa_levels != b->aa_levels)
@@ -105,4 +73,41 @@ size_t frame_count_differences(const frame_t *a, const frame_t *b)
                 a->level[i] != b->level[i] || a->coverage[i] != b->coverage[i] ||
                 (a->cycles && b->cycles && a->cycles[i] != b->cycles[i]);
     return diff;
+}
+
+bool alb_frame_first_diff(const alb_frame *a, const alb_frame *b, size_t *at,
+                          const char **channel, uint64_t *va, uint64_t *vb, size_t *count)
+{
+    size_t n = (size_t)a->width * a->height, found = 0;
+    for (size_t i = 0; i < n; i++) {
+        const char *ch = NULL;
+        uint64_t x = 0, y = 0;
+        static const char *const rgb[3] = {"vp.R", "vp.G", "vp.B"};
+        if (a->face[i] != b->face[i])
+            ch = "face.id", x = a->face[i], y = b->face[i];
+        for (int c = 0; c < 3 && !ch; c++)
+            if (a->rgb[3 * i + c] != b->rgb[3 * i + c])
+                ch = rgb[c], x = a->rgb[3 * i + c], y = b->rgb[3 * i + c];
+        if (!ch && a->depth[i] != b->depth[i])
+            ch = "vp.depth", x = a->depth[i], y = b->depth[i];
+        if (!ch && a->level[i] != b->level[i])
+            ch = "vp.level", x = a->level[i], y = b->level[i];
+        if (!ch && a->coverage[i] != b->coverage[i])
+            ch = "vp.coverage", x = a->coverage[i], y = b->coverage[i];
+        if (!ch && a->cycles && b->cycles && a->cycles[i] != b->cycles[i])
+            ch = "vp.cycles", x = a->cycles[i], y = b->cycles[i];
+        if (!ch)
+            continue;
+        if (!found++) {
+            *at = i;
+            *channel = ch;
+            *va = x;
+            *vb = y;
+            if (!count)
+                return true;
+        }
+    }
+    if (count)
+        *count = found;
+    return found > 0;
 }

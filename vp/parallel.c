@@ -19,20 +19,20 @@
 #include <string.h>
 #include <unistd.h>
 
-unsigned vp_cores(void)
+unsigned alb_vp_cores(void)
 {
     /* the cores taskset, numactl or a batch system left us, not all online */
     cpu_set_t set;
     long n = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set)
                                                          : sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1 : n > VP_MAX_THREADS ? VP_MAX_THREADS : (unsigned)n;
+    return n < 1 ? 1 : n > ALB_VP_MAX_THREADS ? ALB_VP_MAX_THREADS : (unsigned)n;
 }
 
-int vp_set_threads(vp_t *vp, unsigned n)
+int alb_vp_set_threads(alb_vp *vp, unsigned n)
 {
     vp_flush_batch(vp);
-    n = n ? n : vp_cores();
-    vp->threads = n > VP_MAX_THREADS ? VP_MAX_THREADS : n;
+    n = n ? n : alb_vp_cores();
+    vp->threads = n > ALB_VP_MAX_THREADS ? ALB_VP_MAX_THREADS : n;
     if (vp->threads > 1 && !vp->batch) {
         vp->batch = malloc(VP_BATCH * sizeof *vp->batch);
         if (!vp->batch) {
@@ -46,21 +46,29 @@ int vp_set_threads(vp_t *vp, unsigned n)
     return 0;
 }
 
-unsigned vp_threads(const vp_t *vp) { return vp->threads ? vp->threads : 1; }
+unsigned alb_vp_threads(const alb_vp *vp) { return vp->threads ? vp->threads : 1; }
 
-void vp_stats_add(vp_stats *dst, const vp_stats *src)
+void vp_stats_add(alb_vp_stats *dst, const alb_vp_stats *src)
 {
-    for (unsigned l = 0; l < VP_MAX_LEVELS; l++)
+    for (unsigned l = 0; l < ALB_VP_MAX_LEVELS; l++)
         dst->cells[l] += src->cells[l];
 #define ADD(f) dst->f += src->f;
     ADD(cells_inside) ADD(cells_outside) ADD(cells_split) ADD(samples_tested)
     ADD(samples_covered) ADD(samples_written) ADD(depth_saturated) ADD(depth_underflow)
     ADD(faces) ADD(edges) ADD(faces_shaded) ADD(faces_textured) ADD(faces_fogged)
 #undef ADD
+    /* the tie at the lowest sample: the same whichever tiles drew it */
+    if (src->depth_ties && (!dst->depth_ties || src->tie_sample < dst->tie_sample)) {
+        dst->tie_sample = src->tie_sample;
+        dst->tie_kept = src->tie_kept;
+        dst->tie_lost = src->tie_lost;
+        dst->tie_depth = src->tie_depth;
+    }
+    dst->depth_ties += src->depth_ties;
 }
 
 typedef struct {
-    vp_t *vp;
+    alb_vp *vp;
     vp_cell tiles[VP_MAX_TILES];
     unsigned ntiles;
     atomic_uint next;         /* the next tile to take */
@@ -68,7 +76,7 @@ typedef struct {
 
 typedef struct {
     job *j;
-    vp_t local;               /* the VP's state, with statistics of its own */
+    alb_vp local;               /* the VP's state, with statistics of its own */
 } worker;
 
 static void *work(void *arg)
@@ -93,7 +101,7 @@ static void *work(void *arg)
 
 /* The tiles: the cells of the first level with at least 8 per thread (for
  * balance; threads take them as they finish), at most VP_MAX_TILES. */
-static void make_tiles(const vp_t *vp, job *j)
+static void make_tiles(const alb_vp *vp, job *j)
 {
     unsigned want = 8 * vp->threads, l = 0, wl = vp->lw, hl = vp->lh;
     while (l < vp->p && (1u << ((vp->lw - wl) + (vp->lh - hl))) < want &&
@@ -108,14 +116,14 @@ static void make_tiles(const vp_t *vp, job *j)
             j->tiles[j->ntiles++] = (vp_cell){c, r, (uint8_t)wl, (uint8_t)hl, (uint8_t)l, 0};
 }
 
-void vp_flush_batch(vp_t *vp)
+void vp_flush_batch(alb_vp *vp)
 {
     if (!vp->nbatch)
         return;
     job *j = malloc(sizeof *j);
     worker *wk = calloc(vp->threads, sizeof *wk);
-    pthread_t tid[VP_MAX_THREADS];
-    bool started[VP_MAX_THREADS] = {false};
+    pthread_t tid[ALB_VP_MAX_THREADS];
+    bool started[ALB_VP_MAX_THREADS] = {false};
     unsigned nw = j && wk ? vp->threads : 0;
     if (j) {
         j->vp = vp;
@@ -158,7 +166,7 @@ void vp_flush_batch(vp_t *vp)
 
 typedef struct {
     vp_row_fn fn;
-    vp_t *vp;
+    alb_vp *vp;
     void *ctx;
     uint32_t rows, chunk;
     atomic_uint next;
@@ -176,17 +184,17 @@ static void *row_work(void *arg)
     }
 }
 
-void vp_parallel_rows(vp_t *vp, uint32_t rows, vp_row_fn fn, void *ctx)
+void vp_parallel_rows(alb_vp *vp, uint32_t rows, vp_row_fn fn, void *ctx)
 {
-    unsigned nt = vp_threads(vp);
+    unsigned nt = alb_vp_threads(vp);
     if (nt <= 1 || rows < 2 * nt) {
         fn(vp, ctx, 0, rows);
         return;
     }
     row_job j = {fn, vp, ctx, rows, (rows + 4 * nt - 1) / (4 * nt), 0};
     atomic_init(&j.next, 0);
-    pthread_t tid[VP_MAX_THREADS];
-    bool started[VP_MAX_THREADS] = {false};
+    pthread_t tid[ALB_VP_MAX_THREADS];
+    bool started[ALB_VP_MAX_THREADS] = {false};
     for (unsigned i = 1; i < nt; i++)
         started[i] = pthread_create(&tid[i], NULL, row_work, &j) == 0;
     row_work(&j);

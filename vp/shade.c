@@ -6,7 +6,7 @@
 
 #include <stdlib.h>
 
-uint32_t vp_depth_value(const vp_t *vp, int64_t n, int exp)
+uint32_t vp_depth_value(const alb_vp *vp, int64_t n, int exp)
 {
     return units_depth(n, units_depth_shift(vp, exp), ((int64_t)1 << vp->prof.depth_bits) - 1);
 }
@@ -25,7 +25,7 @@ vp_recip vp_reciprocal(int64_t n, unsigned rb)
  * division above, one table read per sample. */
 #define ROM_MAX_BITS 16
 
-int vp_recip_rom_init(vp_t *vp)
+int vp_recip_rom_init(alb_vp *vp)
 {
     unsigned rb = vp->prof.recip_bits;
     if (rb > ROM_MAX_BITS)
@@ -39,14 +39,14 @@ int vp_recip_rom_init(vp_t *vp)
     return 0;
 }
 
-vp_recip vp_reciprocal_rom(const vp_t *vp, int64_t n) { return units_recip(vp, n); }
+vp_recip vp_reciprocal_rom(const alb_vp *vp, int64_t n) { return units_recip(vp, n); }
 
 int64_t vp_ratio(int64_t num, int e_num, vp_recip r, int e_den, unsigned rb, int frac)
 {
     return units_ratio(num, e_num, r, e_den, rb, frac);
 }
 
-uint16_t vp_scale_colour8(const vp_t *vp, unsigned c8)
+uint16_t vp_scale_colour8(const alb_vp *vp, unsigned c8)
 {
     /* 0..255 to 0..2^CB - 1, round half up */
     uint32_t top = (1u << vp->prof.colour_bits) - 1;
@@ -58,7 +58,7 @@ uint16_t vp_scale_colour8(const vp_t *vp, unsigned c8)
  * and the face's flags select which results count.  The fill loops of fill.c
  * evaluate only the units a face uses; `all_units=1` makes the VP run this
  * instead, and the pixels must not change (tests/test_vp_features.c). */
-void vp_shade_sample(const vp_t *vp, const vp_face_setup *fs, int64_t nz, int64_t col,
+void vp_shade_sample(const alb_vp *vp, const vp_face_setup *fs, int64_t nz, int64_t col,
                      int64_t row, uint16_t rgb[3])
 {
     static const uint32_t white = 0xFFFFFF;
@@ -77,9 +77,9 @@ void vp_shade_sample(const vp_t *vp, const vp_face_setup *fs, int64_t nz, int64_
     uint32_t fetched = texels[((size_t)v << lg) + u];
     int64_t vis = units_fog_visibility(&vp->frame, vp_ratio(1, (int)vp->p, rc, ez, rb, 8), one);
 
-    int64_t intensity = fs->flags & WS_FACE_SHADE ? shaded : one;
-    uint32_t texel = fs->flags & WS_FACE_TEXTURE ? fetched : white;
-    bool fog = vp->frame.fog && (fs->flags & WS_FACE_FOG);
+    int64_t intensity = fs->flags & ALB_WS_FACE_SHADE ? shaded : one;
+    uint32_t texel = fs->flags & ALB_WS_FACE_TEXTURE ? fetched : white;
+    bool fog = vp->frame.fog && (fs->flags & ALB_WS_FACE_FOG);
     const uint64_t top = (1u << vp->prof.colour_bits) - 1;
     for (int ch = 0; ch < 3; ch++) {
         uint64_t m = (uint64_t)fs->rgb[ch] * (texel >> (16 - 8 * ch) & 0xFF) * (uint64_t)intensity;

@@ -17,7 +17,7 @@ static inline int64_t units_form_at(const vp_form_fn *f, int64_t c, int64_t r)
 
 /* The shift from a depth form's N to the store: near/Z = N 2^(exp - P),
  * stored as unsigned 0.depth_bits. */
-static inline int units_depth_shift(const vp_t *vp, int exp)
+static inline int units_depth_shift(const alb_vp *vp, int exp)
 {
     return exp - (int)vp->p + (int)vp->prof.depth_bits;
 }
@@ -33,7 +33,7 @@ static inline uint32_t units_depth(int64_t n, int sh, int64_t max)
 }
 
 /* 1/n for n > 0 through the reciprocal ROM (or the divider, wider units). */
-static inline vp_recip units_recip(const vp_t *vp, int64_t n)
+static inline vp_recip units_recip(const alb_vp *vp, int64_t n)
 {
     unsigned rb = vp->prof.recip_bits;
     if (!vp->recip_rom)
@@ -77,7 +77,7 @@ static inline unsigned units_fraction(int64_t num, int e_num, vp_recip r, int e_
 
 /* Fog visibility in 0..one of a sample at distance zq (Z/near, 24.8):
  * linear between the frame's fog near and far, truncated. */
-static inline int64_t units_fog_visibility(const ws_frame *fr, int64_t zq, int64_t one)
+static inline int64_t units_fog_visibility(const alb_ws_frame *fr, int64_t zq, int64_t one)
 {
     if (zq <= fr->fog_near)
         return one;

@@ -10,14 +10,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-alb_err vp_create(vp_t **out, const profile_t *prof, diag_t *d)
+alb_err alb_vp_create(alb_vp **out, const alb_profile *prof, alb_diag *d)
 {
     char msg[256];
-    if (profile_check(prof, msg, sizeof msg))
-        return diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "%s", msg);
-    vp_t *vp = calloc(1, sizeof *vp);
+    if (alb_profile_check(prof, msg, sizeof msg))
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "%s", msg);
+    alb_vp *vp = calloc(1, sizeof *vp);
     if (!vp)
-        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
+        return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
     vp->prof = *prof;
     vp->lw = fix_log2(prof->width) + prof->aa_levels;
     vp->lh = fix_log2(prof->height) + prof->aa_levels;
@@ -30,19 +30,19 @@ alb_err vp_create(vp_t **out, const profile_t *prof, diag_t *d)
     vp->s_level = malloc(n * sizeof *vp->s_level);
     vp->s_rgb = malloc(3 * n * sizeof *vp->s_rgb);
     if (!vp->s_depth || !vp->s_face || !vp->s_level || !vp->s_rgb || vp_recip_rom_init(vp)) {
-        vp_destroy(vp);
-        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for a %ux%u sample store",
+        alb_vp_destroy(vp);
+        return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for a %ux%u sample store",
                        vp->sw, vp->sh);
     }
     *out = vp;
     return ALB_OK;
 }
 
-void vp_destroy(vp_t *vp)
+void alb_vp_destroy(alb_vp *vp)
 {
     if (!vp)
         return;
-    for (unsigned i = 0; i < WS_MAX_TEXTURES; i++)
+    for (unsigned i = 0; i < ALB_WS_MAX_TEXTURES; i++)
         free(vp->tex[i]);
     free(vp->recip_rom);
     free(vp->batch);
@@ -53,11 +53,11 @@ void vp_destroy(vp_t *vp)
     free(vp);
 }
 
-const vp_stats *vp_stats_get(const vp_t *vp) { return &vp->st; }
+const alb_vp_stats *alb_vp_stats_get(const alb_vp *vp) { return &vp->st; }
 
-int vp_frame_alloc(const vp_t *vp, frame_t *f, bool with_cycles)
+int alb_vp_frame_alloc(const alb_vp *vp, alb_frame *f, bool with_cycles)
 {
-    if (frame_alloc(f, vp->prof.width, vp->prof.height, with_cycles))
+    if (alb_frame_alloc(f, vp->prof.width, vp->prof.height, with_cycles))
         return -1;
     f->colour_bits = vp->prof.colour_bits;
     f->depth_bits = vp->prof.depth_bits;
@@ -66,10 +66,10 @@ int vp_frame_alloc(const vp_t *vp, frame_t *f, bool with_cycles)
     return 0;
 }
 
-alb_err vp_config(vp_t *vp, const ws_config *c, diag_t *d)
+alb_err alb_vp_config(alb_vp *vp, const alb_ws_config *c, alb_diag *d)
 {
     if (c->edge_frac_bits != vp->prof.edge_frac_bits || c->coef_bits != vp->prof.coef_bits)
-        return diag_at(d, ALB_ERR_CONFIG, "", 0, 0,
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0,
                        "the stream's formats (edge_frac_bits=%u coef_bits=%u) differ from the "
                        "profile's (%u, %u): use --set edge_frac_bits=%u --set coef_bits=%u",
                        c->edge_frac_bits, c->coef_bits, vp->prof.edge_frac_bits,
@@ -79,12 +79,12 @@ alb_err vp_config(vp_t *vp, const ws_config *c, diag_t *d)
     return ALB_OK;
 }
 
-alb_err vp_texture(vp_t *vp, const ws_texture *t, diag_t *d)
+alb_err alb_vp_texture(alb_vp *vp, const alb_ws_texture *t, alb_diag *d)
 {
     size_t n = (size_t)1 << (2 * t->log2size);
     uint32_t *mem = malloc(n * sizeof *mem);
     if (!mem)
-        return diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for texture %u", t->id);
+        return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for texture %u", t->id);
     memcpy(mem, t->texels, n * sizeof *mem);
     free(vp->tex[t->id]);
     vp->tex[t->id] = mem;
@@ -93,18 +93,18 @@ alb_err vp_texture(vp_t *vp, const ws_texture *t, diag_t *d)
 }
 
 /* Sample rows [r0, r1): no surface, the background colour. */
-static void clear_rows(vp_t *vp, void *ctx, uint32_t r0, uint32_t r1)
+static void clear_rows(alb_vp *vp, void *ctx, uint32_t r0, uint32_t r1)
 {
     (void)ctx;
     size_t a = (size_t)r0 * vp->sw, n = (size_t)(r1 - r0) * vp->sw;
     memset(vp->s_depth + a, 0, n * sizeof *vp->s_depth);
     memset(vp->s_face + a, 0xFF, n * sizeof *vp->s_face);
-    memset(vp->s_level + a, FRAME_NO_LEVEL, n);
+    memset(vp->s_level + a, ALB_FRAME_NO_LEVEL, n);
     for (size_t i = a; i < a + n; i++)
         memcpy(vp->s_rgb + 3 * i, vp->bg, sizeof vp->bg);
 }
 
-void vp_frame_begin(vp_t *vp, const ws_frame *f)
+void alb_vp_frame_begin(alb_vp *vp, const alb_ws_frame *f)
 {
     vp->frame = *f;
     memset(&vp->st, 0, sizeof vp->st);
@@ -117,7 +117,7 @@ void vp_frame_begin(vp_t *vp, const ws_frame *f)
 
 /* ---- set-up of edges and forms (docs/vp.md §2, §3) ---- */
 
-void vp_edge_setup(const vp_t *vp, const ws_edge *e, vp_edge_fn *fn)
+void vp_edge_setup(const alb_vp *vp, const alb_ws_edge *e, vp_edge_fn *fn)
 {
     /* With the intercepts q1, q2 (3.F after the +3 shift) a vertical edge is
      * at x_e(y) = X1 + (X2 - X1)(y + 1)/2.  Scaled by S_H 2^F, its position
@@ -147,7 +147,7 @@ void vp_edge_setup(const vp_t *vp, const ws_edge *e, vp_edge_fn *fn)
     }
 }
 
-void vp_form_setup(const vp_t *vp, const ws_form *f, vp_form_fn *fn)
+void vp_form_setup(const alb_vp *vp, const alb_ws_form *f, vp_form_fn *fn)
 {
     /* Sample (c, r) is at X = (2c + 1 - S_W) 2^(P - lw), Y = (S_H - 2r - 1)
      * 2^(P - lh) in units of 2^-P; N = mA X + mB Y + mC 2^P exactly. */
@@ -196,7 +196,7 @@ static bool sample_inside(const vp_edge_fn *e, uint64_t active, uint32_t c, uint
     return true;
 }
 
-void vp_walk_begin(vp_walk *w, const vp_t *vp, const vp_loaded_face *f)
+void vp_walk_begin(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f)
 {
     w->e = f->e;
     w->top = 0;
@@ -205,7 +205,7 @@ void vp_walk_begin(vp_walk *w, const vp_t *vp, const vp_loaded_face *f)
                                    f->n == 64 ? ~0ull : (1ull << f->n) - 1};
 }
 
-void vp_walk_begin_tile(vp_walk *w, const vp_t *vp, const vp_loaded_face *f, const vp_cell *tile)
+void vp_walk_begin_tile(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile)
 {
     vp_walk_begin(w, vp, f);
     w->clipped = true;
@@ -226,7 +226,7 @@ static bool owns(const vp_walk *w, const vp_cell *k)
     return !w->clipped || (k->c0 - t->c0 < (1u << t->wl) && k->r0 - t->r0 < (1u << t->hl));
 }
 
-bool vp_walk_next(vp_t *vp, vp_walk *w, vp_step *step)
+bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
 {
     if (!w->top)
         return false;
@@ -278,7 +278,7 @@ bool vp_walk_next(vp_t *vp, vp_walk *w, vp_step *step)
     return true;
 }
 
-alb_err vp_load_face(vp_t *vp, const ws_face *f, vp_loaded_face *out, diag_t *d)
+alb_err vp_load_face(alb_vp *vp, const alb_ws_face *f, vp_loaded_face *out, alb_diag *d)
 {
     vp_face_setup *fs = &out->fs;
     memset(fs, 0, sizeof *fs);
@@ -287,11 +287,11 @@ alb_err vp_load_face(vp_t *vp, const ws_face *f, vp_loaded_face *out, diag_t *d)
     fs->rgb[0] = (uint8_t)(f->rgb >> 16), fs->rgb[1] = (uint8_t)(f->rgb >> 8),
     fs->rgb[2] = (uint8_t)f->rgb;
     vp_form_setup(vp, &f->depth, &fs->depth);
-    if (f->flags & WS_FACE_SHADE)
+    if (f->flags & ALB_WS_FACE_SHADE)
         vp_form_setup(vp, &f->shade, &fs->shade);
-    if (f->flags & WS_FACE_TEXTURE) {
+    if (f->flags & ALB_WS_FACE_TEXTURE) {
         if (!vp->tex[f->texture])
-            return diag_at(d, ALB_ERR_STREAM, "", 0, 0,
+            return alb_diag_at(d, ALB_ERR_STREAM, "", 0, 0,
                            "face %u uses texture %u, which no TEXTURE packet loaded", f->id,
                            f->texture);
         vp_form_setup(vp, &f->tex_u, &fs->tex_u);
@@ -307,16 +307,16 @@ alb_err vp_load_face(vp_t *vp, const ws_face *f, vp_loaded_face *out, diag_t *d)
     return ALB_OK;
 }
 
-void vp_count_face(vp_t *vp, const vp_loaded_face *f)
+void vp_count_face(alb_vp *vp, const vp_loaded_face *f)
 {
     vp->st.faces++;
     vp->st.edges += f->n;
-    vp->st.faces_shaded += (f->fs.flags & WS_FACE_SHADE) != 0;
-    vp->st.faces_textured += (f->fs.flags & WS_FACE_TEXTURE) != 0;
-    vp->st.faces_fogged += vp->frame.fog && (f->fs.flags & WS_FACE_FOG);
+    vp->st.faces_shaded += (f->fs.flags & ALB_WS_FACE_SHADE) != 0;
+    vp->st.faces_textured += (f->fs.flags & ALB_WS_FACE_TEXTURE) != 0;
+    vp->st.faces_fogged += vp->frame.fog && (f->fs.flags & ALB_WS_FACE_FOG);
 }
 
-alb_err vp_face(vp_t *vp, const ws_face *f, diag_t *d)
+alb_err alb_vp_face(alb_vp *vp, const alb_ws_face *f, alb_diag *d)
 {
     if (vp->batch) {
         /* threaded: load now (the stream's order of errors), draw in batches */
@@ -345,9 +345,9 @@ alb_err vp_face(vp_t *vp, const ws_face *f, diag_t *d)
 /* ---- output stage ---- */
 
 /* Pixel rows [y0, y1) of out from their 4^aa samples. */
-static void resolve_rows(vp_t *vp, void *ctx, uint32_t y0, uint32_t y1)
+static void resolve_rows(alb_vp *vp, void *ctx, uint32_t y0, uint32_t y1)
 {
-    frame_t *out = ctx;
+    alb_frame *out = ctx;
     unsigned aa = vp->prof.aa_levels, n = 1u << aa;
     for (unsigned y = y0; y < y1; y++)
         for (unsigned x = 0; x < vp->prof.width; x++) {
@@ -362,7 +362,7 @@ static void resolve_rows(vp_t *vp, void *ctx, uint32_t y0, uint32_t y1)
                     size_t i = (size_t)((y << aa) + sy) * vp->sw + (x << aa) + sx;
                     for (int ch = 0; ch < 3; ch++)
                         sum[ch] += vp->s_rgb[3 * i + ch];
-                    covered += vp->s_face[i] != FRAME_NO_FACE;
+                    covered += vp->s_face[i] != ALB_FRAME_NO_FACE;
                     if (vp->s_depth[i] > best) {
                         best = vp->s_depth[i];
                         best_idx = i;
@@ -378,7 +378,7 @@ static void resolve_rows(vp_t *vp, void *ctx, uint32_t y0, uint32_t y1)
         }
 }
 
-void vp_frame_end(vp_t *vp, frame_t *out)
+void alb_vp_frame_end(alb_vp *vp, alb_frame *out)
 {
     vp_flush_batch(vp);
     unsigned aa = vp->prof.aa_levels;
@@ -392,63 +392,63 @@ void vp_frame_end(vp_t *vp, frame_t *out)
         memcpy(out->face, vp->s_face, np * sizeof *out->face);
         memcpy(out->level, vp->s_level, np);
         for (size_t i = 0; i < np; i++)
-            out->coverage[i] = vp->s_face[i] != FRAME_NO_FACE;
+            out->coverage[i] = vp->s_face[i] != ALB_FRAME_NO_FACE;
         return;
     }
     vp_parallel_rows(vp, vp->prof.height, resolve_rows, out);
 }
 
-alb_err vp_run_stream(vp_t *vp, const uint32_t *w, size_t n, const char *name,
-                      vp_frame_sink sink, void *ctx, diag_t *d)
+alb_err alb_vp_run_stream(alb_vp *vp, const uint32_t *w, size_t n, const char *name,
+                      alb_vp_frame_sink sink, void *ctx, alb_diag *d)
 {
-    ws_reader r;
-    ws_event *ev = malloc(sizeof *ev);
-    frame_t frame;
+    alb_ws_reader r;
+    alb_ws_event *ev = malloc(sizeof *ev);
+    alb_frame frame;
     memset(&frame, 0, sizeof frame);
     if (!ev)
-        return diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
-    ws_reader_init(&r, w, n, name);
+        return alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
+    alb_ws_reader_init(&r, w, n, name);
     r.max_faces = vp->prof.frame_faces;
     alb_err e = ALB_OK;
     bool refused = false;     /* by the VP, not by the decoder: ev is that packet */
     while (!e && !r.ended) {
         refused = false;
-        if ((e = ws_next(&r, ev, d)))
+        if ((e = alb_ws_next(&r, ev, d)))
             break;
         refused = true;
         switch (ev->kind) {
-        case WS_EV_CONFIG:
-            if ((e = vp_config(vp, &ev->u.config, d)))
+        case ALB_WS_EV_CONFIG:
+            if ((e = alb_vp_config(vp, &ev->u.config, d)))
                 break;
-            if (vp_frame_alloc(vp, &frame, false))
-                e = diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory for a frame");
+            if (alb_vp_frame_alloc(vp, &frame, false))
+                e = alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory for a frame");
             break;
-        case WS_EV_TEXTURE:
-            e = vp_texture(vp, &ev->u.texture, d);
+        case ALB_WS_EV_TEXTURE:
+            e = alb_vp_texture(vp, &ev->u.texture, d);
             break;
-        case WS_EV_FRAME:
-            vp_frame_begin(vp, &ev->u.frame);
+        case ALB_WS_EV_FRAME:
+            alb_vp_frame_begin(vp, &ev->u.frame);
             break;
-        case WS_EV_FACE:
-            e = vp_face(vp, &ev->u.face, d);
+        case ALB_WS_EV_FACE:
+            e = alb_vp_face(vp, &ev->u.face, d);
             break;
-        case WS_EV_FRAME_END:
-            vp_frame_end(vp, &frame);
+        case ALB_WS_EV_FRAME_END:
+            alb_vp_frame_end(vp, &frame);
             if (sink && sink(ctx, &frame, &vp->st))
                 e = ALB_ERR_IO;
             break;
-        case WS_EV_END:
+        case ALB_WS_EV_END:
             break;
         }
     }
-    if (e && refused && (ev->kind == WS_EV_CONFIG || ev->kind == WS_EV_FACE) && d->offset < 0 &&
+    if (e && refused && (ev->kind == ALB_WS_EV_CONFIG || ev->kind == ALB_WS_EV_FACE) && d->offset < 0 &&
         !d->line) {
         /* a packet the decoder accepted but this VP cannot take: say where */
         char msg[sizeof d->msg];
         memcpy(msg, d->msg, sizeof msg);
-        diag_off(d, e, name, (long long)ev->first * 4, "word %zu: %s", ev->first, msg);
+        alb_diag_off(d, e, name, (long long)ev->first * 4, "word %zu: %s", ev->first, msg);
     }
-    frame_free(&frame);
+    alb_frame_free(&frame);
     free(ev);
     return e;
 }

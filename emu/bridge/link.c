@@ -1,10 +1,38 @@
 /* link.c — packet codec of the host side of the bridge. */
-#include "link.h"
+#include "albatros/link.h"
+#include "../../firmware/proto.h"
 
 #include <stdlib.h>
 #include <string.h>
+#ifdef ALB_NO_EXTERNAL
+/* Built without external libraries (make crosscheck's musl build,
+ * docs/golden-vectors.md): no zlib, so the firmware's CRC-32, which gives
+ * the same values, under zlib's name. */
+typedef unsigned long uLong;
+typedef uint8_t Bytef;
+static uLong crc32_z(uLong crc, const Bytef *p, size_t n)
+{
+    while (n) {
+        uint16_t k = n > 0x8000 ? 0x8000 : (uint16_t)n;
+        crc = proto_crc32((uint32_t)crc, p, k);
+        p += k;
+        n -= k;
+    }
+    return crc;
+}
+#else
+#include <zlib.h>
+#endif
 
-size_t link_encode(uint8_t *out, uint8_t type, uint32_t seq, const uint8_t *payload, uint32_t len)
+/* The protocol's CRC-32 (docs/usb-protocol.md) is zlib's: the same
+ * polynomial, presets and chaining as the firmware's own (firmware/crc32.c,
+ * written for the 8051), computed here by the library every host has. */
+static uint32_t crc_of(const uint8_t *p, size_t n)
+{
+    return (uint32_t)crc32_z(0, p, n);
+}
+
+size_t alb_link_encode(uint8_t *out, uint8_t type, uint32_t seq, const uint8_t *payload, uint32_t len)
 {
     out[0] = PROTO_MAGIC0, out[1] = PROTO_MAGIC1, out[2] = PROTO_MAGIC2, out[3] = PROTO_MAGIC3;
     out[PROTO_OFF_TYPE] = type;
@@ -14,26 +42,20 @@ size_t link_encode(uint8_t *out, uint8_t type, uint32_t seq, const uint8_t *payl
     PROTO_PUT32(out + PROTO_OFF_LEN, len);
     if (len)
         memcpy(out + PROTO_HEADER, payload, len);
-    uint32_t crc = 0;
-    size_t n = PROTO_HEADER + len, done = 0;
-    while (done < n) {   /* proto_crc32 takes 16-bit lengths (the 8051's) */
-        uint16_t piece = (uint16_t)(n - done > 0x8000 ? 0x8000 : n - done);
-        crc = proto_crc32(crc, out + done, piece);
-        done += piece;
-    }
-    PROTO_PUT32(out + n, crc);
+    size_t n = PROTO_HEADER + len;
+    PROTO_PUT32(out + n, crc_of(out, n));
     return n + PROTO_TRAILER;
 }
 
-void link_rx_init(link_rx *rx) { memset(rx, 0, sizeof *rx); }
+void alb_link_rx_init(alb_link_rx *rx) { memset(rx, 0, sizeof *rx); }
 
-void link_rx_free(link_rx *rx)
+void alb_link_rx_free(alb_link_rx *rx)
 {
     free(rx->buf);
     memset(rx, 0, sizeof *rx);
 }
 
-int link_rx_feed(link_rx *rx, const uint8_t *data, size_t len)
+int alb_link_rx_feed(alb_link_rx *rx, const uint8_t *data, size_t len)
 {
     if (rx->start && rx->start == rx->len)
         rx->start = rx->len = 0;
@@ -65,18 +87,7 @@ static bool is_magic(const uint8_t *p)
            p[3] == PROTO_MAGIC3;
 }
 
-static uint32_t crc_of(const uint8_t *p, size_t n)
-{
-    uint32_t crc = 0;
-    for (size_t done = 0; done < n;) {
-        uint16_t piece = (uint16_t)(n - done > 0x8000 ? 0x8000 : n - done);
-        crc = proto_crc32(crc, p + done, piece);
-        done += piece;
-    }
-    return crc;
-}
-
-int link_rx_next(link_rx *rx, link_packet *p)
+int alb_link_rx_next(alb_link_rx *rx, alb_link_packet *p)
 {
     if (!rx->buf)
         return 0;   /* nothing fed yet (and no buffer to point into) */
@@ -133,25 +144,27 @@ int link_rx_next(link_rx *rx, link_packet *p)
     }
 }
 
-uint32_t link_frame_crc(const uint16_t *rgb, size_t pixels)
+uint32_t alb_link_frame_crc(const uint16_t *rgb, size_t pixels)
 {
+    uLong crc = crc32_z(0, NULL, 0);
+    const uint16_t probe = 1;
+    if (*(const uint8_t *)&probe)   /* little-endian: the store is the byte sequence */
+        return (uint32_t)crc32_z(crc, (const Bytef *)rgb, 6 * pixels);
     uint8_t chunk[3 * 2 * 256];
-    uint32_t crc = 0;
-    size_t i = 0;
-    while (i < pixels) {
+    for (size_t i = 0; i < pixels;) {
         size_t n = pixels - i < 256 ? pixels - i : 256;
         for (size_t k = 0; k < 3 * n; k++) {
             uint16_t v = rgb[3 * i + k];
             chunk[2 * k] = (uint8_t)v;
             chunk[2 * k + 1] = (uint8_t)(v >> 8);
         }
-        crc = proto_crc32(crc, chunk, (uint16_t)(6 * n));
+        crc = crc32_z(crc, chunk, 6 * n);
         i += n;
     }
-    return crc;
+    return (uint32_t)crc;
 }
 
-void link_rgb888(const uint16_t *rgb, size_t pixels, unsigned colour_bits, uint8_t *out)
+void alb_link_rgb888(const uint16_t *rgb, size_t pixels, unsigned colour_bits, uint8_t *out)
 {
     uint32_t top = (1u << colour_bits) - 1;
     for (size_t i = 0; i < 3 * pixels; i++)
@@ -160,7 +173,7 @@ void link_rgb888(const uint16_t *rgb, size_t pixels, unsigned colour_bits, uint8
 
 static unsigned get16(const uint8_t *p) { return (unsigned)p[0] | (unsigned)p[1] << 8; }
 
-int link_info_decode(const uint8_t *rep, link_info *out)
+int alb_link_info_decode(const uint8_t *rep, alb_link_info *out)
 {
     memset(out, 0, sizeof *out);
     if (memcmp(rep + PROTO_INFO_MAGIC, "ALBI", 4))
@@ -187,12 +200,12 @@ static const char *const error_names[][2] = {
 };
 #define N_ERROR_NAMES (sizeof error_names / sizeof error_names[0])
 
-const char *link_error_name(uint32_t code)
+const char *alb_link_error_name(uint32_t code)
 {
     return error_names[code < N_ERROR_NAMES ? code : 0][0];
 }
 
-const char *link_error_key(uint32_t code)
+const char *alb_link_error_key(uint32_t code)
 {
     return error_names[code < N_ERROR_NAMES ? code : 0][1];
 }

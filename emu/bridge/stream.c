@@ -2,13 +2,15 @@
  * stream's preamble, then frames in WORDS packets no more than `window`
  * frames ahead of the last RESULT; RESULTs compared with the emulator; on a
  * board ERROR the first unconfirmed frame is RESUMEd and resent; a missing
- * RESULT is asked for once with QUERY, then the board has stopped answering.
+ * RESULT is asked for once with QUERY, behind zero bytes that complete any
+ * packet the board holds half-received, then the board has stopped answering.
  * Payloads are as long as the board's INFO report allows.  Every loss is
  * counted, the first problem described, and the first loss on the link named
  * by the packet and what it carried (the streamer remembers what it sent). */
-#include "stream.h"
-#include "link.h"
-#include "../../common/words.h"
+#include "albatros/stream.h"
+#include "../../firmware/proto.h"
+#include "albatros/link.h"
+#include "albatros/words.h"
 
 #include <stdarg.h>
 #include <stdlib.h>
@@ -28,21 +30,22 @@ typedef struct {
 #define SENT_RING 4096   /* packets remembered: the window's 16 frames at any payload */
 
 typedef struct {
-    transport_t *t;
+    alb_transport *t;
     const uint32_t *w;
     size_t n;
-    stream_frame *f;
+    alb_stream_frame *f;
     unsigned nf;
-    const stream_opts *o;
-    stream_report *r;
-    link_rx rx;
+    const alb_stream_opts *o;
+    alb_stream_report *r;
+    alb_link_rx rx;
     uint32_t seq;
-    uint8_t *pkt;             /* encode buffer */
+    uint8_t *pkt;             /* encode buffer: zero padding, then a packet */
     size_t max;               /* payload in use (board_payload) */
+    size_t board_max;         /* the board's largest payload (its INFO report) */
     sent_packet *sent;        /* SENT_RING, indexed by seq */
     bool need_resume, failed;
     bool gone;                /* the device disconnected; o->reattach will be tried */
-    bool can_reattach;        /* stream_run, with o->reattach */
+    bool can_reattach;        /* alb_stream_run, with o->reattach */
     unsigned next;            /* next frame to send */
     /* a READBACK in progress */
     int rb_frame;
@@ -53,7 +56,7 @@ typedef struct {
     uint32_t status[PROTO_STATUS_BYTES / 4];
 } streamer;
 
-void stream_opts_default(stream_opts *o)
+void alb_stream_opts_default(alb_stream_opts *o)
 {
     memset(o, 0, sizeof *o);
     o->timeout_ms = 2000;
@@ -149,24 +152,33 @@ static bool may_reattach(streamer *s, const char *doing, uint32_t seq)
     return true;
 }
 
-static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32_t len)
+/* One packet, after `pad` zero bytes (at most PAD_MAX) in the same write:
+ * the largest packet rounded up to whole USB packets. */
+#define PAD_MAX ((PROTO_MAX_PAYLOAD + PROTO_HEADER + PROTO_TRAILER + PROTO_BULK_MAXPKT - 1) / \
+                 PROTO_BULK_MAXPKT * PROTO_BULK_MAXPKT)
+
+static int send_padded(streamer *s, size_t pad, uint8_t type, const uint8_t *payload, uint32_t len)
 {
     if (s->gone)
         return -1;
     if (stopped(s))
         return -1;
     *sent_at(s, s->seq) = (sent_packet){s->seq, type, true, len >= 4 ? PROTO_GET32(payload) : 0, 0};
-    size_t n = link_encode(s->pkt, type, s->seq++, payload, len);
-    tr_status st = s->t->ops->write(s->t, s->pkt, n);
-    if (st == TR_OK)
+    memset(s->pkt, 0, pad);
+    size_t n = pad + alb_link_encode(s->pkt + pad, type, s->seq++, payload, len);
+    /* one packet a transfer: a packet then starts a USB packet, where the
+     * FX2 firmware parses it in place (firmware/fx2/main.c); a padding is a
+     * whole number of USB packets, so the packet behind it starts one too */
+    alb_tr_status st = s->t->ops->write(s->t, s->pkt, n);
+    if (st == ALB_TR_OK)
         st = s->t->ops->flush(s->t);
     if (stopped(s))
         return -1;
-    if (st != TR_OK) {
-        if (st == TR_GONE && may_reattach(s, "sending", s->seq - 1))
+    if (st != ALB_TR_OK) {
+        if (st == ALB_TR_GONE && may_reattach(s, "sending", s->seq - 1))
             return -1;
         problem(s, "link failed while sending packet %u (%s): %s", (unsigned)(s->seq - 1),
-                st == TR_GONE ? "device disconnected" : "I/O error", s->t->error);
+                st == ALB_TR_GONE ? "device disconnected" : "I/O error", s->t->error);
         s->failed = true;
         return -1;
     }
@@ -175,11 +187,39 @@ static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32
     return 0;
 }
 
+static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32_t len)
+{
+    return send_padded(s, 0, type, payload, len);
+}
+
 static int send_u32(streamer *s, uint8_t type, uint32_t v)
 {
     uint8_t p[4];
     PROTO_PUT32(p, v);
     return send_packet(s, type, p, 4);
+}
+
+/* QUERY for a RESULT that did not come.  The board may be waiting for the
+ * rest of a packet cut short (the last before the silence): with nothing
+ * behind it, the QUERY's own bytes would only fill that packet, fail its CRC
+ * and be lost with it.  So the QUERY goes behind zero bytes enough to
+ * complete any packet the board can hold (its largest payload, header and
+ * CRC): a packet held is completed, fails its CRC (ERROR BAD_CRC) and the
+ * board resynchronises; the zeros are garbage to it (no magic), and the
+ * QUERY is read as usual — its sequence number then shows the lost packet
+ * as a gap, and the frame is resumed (docs/usb-protocol.md, "Errors"). */
+static size_t flush_bytes(const streamer *s)
+{
+    size_t pad = s->board_max + PROTO_HEADER + PROTO_TRAILER;
+    pad = (pad + PROTO_BULK_MAXPKT - 1) / PROTO_BULK_MAXPKT * PROTO_BULK_MAXPKT;
+    return pad < PAD_MAX ? pad : PAD_MAX;
+}
+
+static int send_query(streamer *s, uint32_t frame)
+{
+    uint8_t p[4];
+    PROTO_PUT32(p, frame);
+    return send_padded(s, flush_bytes(s), PROTO_T_QUERY, p, 4);
 }
 
 /* The payload every board takes: one high-speed bulk packet less header and
@@ -194,18 +234,19 @@ static int send_u32(streamer *s, uint8_t type, uint32_t v)
 static int board_payload(streamer *s, size_t least, bool words)
 {
     uint8_t rep[PROTO_HID_REPORT + 1] = {PROTO_HID_INFO};
-    link_info info;
+    alb_link_info info;
     if (s->t->ops->hid_get(s->t, rep, PROTO_HID_REPORT)) {
         note(s, "the board's INFO report (HID report 1) could not be read (%s): payloads of %u "
                 "bytes, which every board takes", s->t->error, SAFE_PAYLOAD);
         memset(&info, 0, sizeof info);
         info.max_payload = SAFE_PAYLOAD;
-    } else if (link_info_decode(rep, &info)) {
+    } else if (alb_link_info_decode(rep, &info)) {
         problem(s, "the device's INFO report lacks the ALBI magic: not an albatros board?");
         s->failed = true;
         return -1;
     }
     size_t max = info.max_payload;
+    s->board_max = max > PROTO_MAX_PAYLOAD ? PROTO_MAX_PAYLOAD : max;
     if (max > s->t->max_payload)
         max = s->t->max_payload;
     if (max > PROTO_MAX_PAYLOAD)
@@ -257,7 +298,7 @@ static unsigned first_unconfirmed(const streamer *s)
     return i;
 }
 
-static void on_result(streamer *s, const link_packet *p)
+static void on_result(streamer *s, const alb_link_packet *p)
 {
     if (p->len < PROTO_RESULT_BYTES)
         return;
@@ -267,7 +308,7 @@ static void on_result(streamer *s, const link_packet *p)
         problem(s, "the board reported frame %u, which the stream does not have", number);
         return;
     }
-    stream_frame *f = &s->f[i];
+    alb_stream_frame *f = &s->f[i];
     uint32_t crc = PROTO_GET32(p->payload + PROTO_RESULT_CRC);
     uint64_t cyc = PROTO_GET32(p->payload + PROTO_RESULT_CYC_LO) |
                    (uint64_t)PROTO_GET32(p->payload + PROTO_RESULT_CYC_HI) << 32;
@@ -299,13 +340,13 @@ static void on_result(streamer *s, const link_packet *p)
                 (unsigned long long)cyc, (unsigned long long)f->cycles);
 }
 
-static void on_error(streamer *s, const link_packet *p)
+static void on_error(streamer *s, const alb_link_packet *p)
 {
     if (p->len < 16)
         return;
     uint32_t code = PROTO_GET32(p->payload), seq = PROTO_GET32(p->payload + 4);
     uint32_t expected = PROTO_GET32(p->payload + 8), detail = PROTO_GET32(p->payload + 12);
-    s->r->board_errors[code < STREAM_ERROR_CODES ? code : 0]++;
+    s->r->board_errors[code < ALB_STREAM_ERROR_CODES ? code : 0]++;
     /* name the packet concerned: for a gap the first one missing (ERROR
      * fields: firmware/core.c), else the one the board refused */
     char what[200], text[300];
@@ -316,7 +357,7 @@ static void on_error(streamer *s, const link_packet *p)
     } else {
         describe(s, seq, what, sizeof what);
         snprintf(text, sizeof text, "board: %s at %s (expected %u, detail %u)",
-                 link_error_name(code), what, expected, detail);
+                 alb_link_error_name(code), what, expected, detail);
     }
     note(s, "%s", text);
     if (!s->r->first_link_error[0])
@@ -325,11 +366,11 @@ static void on_error(streamer *s, const link_packet *p)
         s->need_resume = true;
 }
 
-static void on_pixels(streamer *s, const link_packet *p)
+static void on_pixels(streamer *s, const alb_link_packet *p)
 {
     if (p->len < 12 || s->rb_frame < 0)
         return;
-    const stream_frame *f = &s->f[s->rb_frame];
+    const alb_stream_frame *f = &s->f[s->rb_frame];
     uint32_t first = PROTO_GET32(p->payload + 4), count = PROTO_GET32(p->payload + 8);
     size_t npix = (size_t)f->width * f->height;
     if ((uint64_t)count * 6 + 12 != p->len || first + (uint64_t)count > npix)
@@ -349,7 +390,7 @@ static void on_pixels(streamer *s, const link_packet *p)
     s->rb_got += count;
 }
 
-static void on_status(streamer *s, const link_packet *p)
+static void on_status(streamer *s, const alb_link_packet *p)
 {
     if (p->len < PROTO_STATUS_BYTES)
         return;
@@ -358,7 +399,7 @@ static void on_status(streamer *s, const link_packet *p)
     s->have_status = true;
 }
 
-static void dispatch(streamer *s, const link_packet *p)
+static void dispatch(streamer *s, const alb_link_packet *p)
 {
     switch (p->type) {
     case PROTO_T_RESULT: on_result(s, p); break;
@@ -379,22 +420,22 @@ static bool pump(streamer *s, unsigned timeout_ms)
         return false;
     for (;;) {
         size_t got = 0;
-        tr_status st = s->t->ops->read(s->t, buf, sizeof buf, &got, any ? 0 : timeout_ms);
+        alb_tr_status st = s->t->ops->read(s->t, buf, sizeof buf, &got, any ? 0 : timeout_ms);
         if (stopped(s))
             return any;
-        if (st == TR_GONE && may_reattach(s, "reading", s->seq - 1))
+        if (st == ALB_TR_GONE && may_reattach(s, "reading", s->seq - 1))
             return any;
-        if (st == TR_GONE || st == TR_ERROR) {
+        if (st == ALB_TR_GONE || st == ALB_TR_ERROR) {
             problem(s, "link failed while reading from the board: %s", s->t->error);
             s->failed = true;
             return any;
         }
         if (!got)
             break;
-        if (link_rx_feed(&s->rx, buf, got))
+        if (alb_link_rx_feed(&s->rx, buf, got))
             break;
-        link_packet p;
-        while (link_rx_next(&s->rx, &p) == 1) {
+        alb_link_packet p;
+        while (alb_link_rx_next(&s->rx, &p) == 1) {
             any = true;
             dispatch(s, &p);
         }
@@ -406,7 +447,7 @@ static bool pump(streamer *s, unsigned timeout_ms)
 /* Ask a board for a bad frame's store and name its first wrong pixel. */
 static void readback(streamer *s, unsigned i)
 {
-    stream_frame *f = &s->f[i];
+    alb_stream_frame *f = &s->f[i];
     if (!f->rgb)
         return;
     s->rb_frame = (int)i;
@@ -485,13 +526,13 @@ static void finish(streamer *s, double t0)
                  (unsigned long long)s->rx.crc_errors, (unsigned long long)s->rx.garbage,
                  (unsigned long long)s->rx.seq_gaps);
     s->r->seconds = now() - t0;
-    link_rx_free(&s->rx);
+    alb_link_rx_free(&s->rx);
     free(s->pkt);
     free(s->sent);
 }
 
 /* A streamer for t, its buffers allocated (s->failed if not). */
-static void start(streamer *s, transport_t *t, const stream_opts *o, stream_report *r)
+static void start(streamer *s, alb_transport *t, const alb_stream_opts *o, alb_stream_report *r)
 {
     memset(s, 0, sizeof *s);
     memset(r, 0, sizeof *r);
@@ -499,8 +540,8 @@ static void start(streamer *s, transport_t *t, const stream_opts *o, stream_repo
     s->o = o;
     s->r = r;
     s->rb_frame = -1;
-    link_rx_init(&s->rx);
-    s->pkt = malloc(PROTO_HEADER + PROTO_MAX_PAYLOAD + PROTO_TRAILER);
+    alb_link_rx_init(&s->rx);
+    s->pkt = malloc(PAD_MAX + PROTO_HEADER + PROTO_MAX_PAYLOAD + PROTO_TRAILER);
     s->sent = calloc(SENT_RING, sizeof *s->sent);
     if (!s->pkt || !s->sent) {
         problem(s, "out of memory");
@@ -514,9 +555,8 @@ static void start(streamer *s, transport_t *t, const stream_opts *o, stream_repo
 static void reattach(streamer *s, size_t preamble)
 {
     s->gone = false;
-    s->r->reattaches++;
     note(s, "the board disconnected: waiting for it to come back (%u of at most %u)",
-         s->r->reattaches, s->o->reattach_max);
+         s->r->reattaches + 1, s->o->reattach_max);
     char err[600] = "";
     s->t = s->o->reattach(s->o->reattach_ctx, s->t, err, sizeof err);
     if (!s->t) {
@@ -524,6 +564,7 @@ static void reattach(streamer *s, size_t preamble)
         s->failed = true;
         return;
     }
+    s->r->reattaches++;   /* counted once it is back: the report says "came back" */
     /* what the old link left half-read is not the new board's */
     s->rx.start = s->rx.len = 0;
     s->rx.have_seq = false;
@@ -535,16 +576,16 @@ static void reattach(streamer *s, size_t preamble)
     s->next = 0;
 }
 
-uint64_t stream_board_errors(const stream_report *r)
+uint64_t alb_stream_board_errors(const alb_stream_report *r)
 {
     uint64_t n = 0;
-    for (unsigned c = 0; c < STREAM_ERROR_CODES; c++)
+    for (unsigned c = 0; c < ALB_STREAM_ERROR_CODES; c++)
         n += r->board_errors[c];
     return n;
 }
 
-int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames, unsigned nframes,
-               const stream_opts *o, stream_report *r)
+int alb_stream_run(alb_transport *t, const uint32_t *w, size_t n, alb_stream_frame *frames, unsigned nframes,
+               const alb_stream_opts *o, alb_stream_report *r)
 {
     streamer s;
     double t0 = now();
@@ -556,6 +597,7 @@ int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames
     s.can_reattach = o->reattach != NULL;
     size_t preamble = nframes ? frames[0].first_word : n;
     bool end_sent = false, queried = false;
+    double wait_from = 0;     /* when the host began to wait for the missing RESULT */
     if (!s.failed && !board_payload(&s, 4, true) && send_packet(&s, PROTO_T_RESET, NULL, 0) == 0)
         send_words(&s, 0, preamble);
     while (!s.failed && !stopped(&s)) {
@@ -588,14 +630,23 @@ int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames
         }
         if (first_unconfirmed(&s) == nframes) {
             /* a PING after the last packet: a loss of the stream's tail (no
-             * frame in it) still shows as a sequence gap, reported */
+             * frame in it) still shows as a sequence gap, reported.  A tail
+             * cut short would swallow the PING as it swallows a QUERY, so
+             * without a STATUS the PING goes again behind the padding */
+            s.have_status = false;
             if (!send_packet(&s, PROTO_T_PING, NULL, 0))
                 pump(&s, o->timeout_ms);
+            if (!s.have_status && !s.failed && !s.gone && !stopped(&s) &&
+                !send_padded(&s, flush_bytes(&s), PROTO_T_PING, NULL, 0))
+                pump(&s, o->timeout_ms);
+            if (!s.have_status && !s.failed && !s.gone && !stopped(&s))
+                note(&s, "the board did not answer the closing PING (every frame was confirmed)");
             break;
         }
         if (o->progress && o->log)
             fprintf(o->log, "\r%u/%u frames confirmed, %.1f MB sent", s.r->frames, nframes,
                     (double)s.r->bytes / 1e6);
+        double waiting = now();
         if (pump(&s, o->timeout_ms)) {
             queried = false;
             continue;
@@ -606,15 +657,20 @@ int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames
             continue;
         unsigned i = first_unconfirmed(&s);
         if (queried) {
-            problem(&s, "the board stopped answering: no RESULT for frame %u within %u ms after "
-                        "sending up to frame %u", frames[i].number, o->timeout_ms,
-                    s.next ? frames[s.next - 1].number : 0);
+            /* the time the host really waited: a board read returns early
+             * when the transport knows nothing can come (the simulated
+             * board answers at once or not at all) */
+            problem(&s, "the board stopped answering: no RESULT for frame %u in %.2f s after "
+                        "sending up to frame %u and a QUERY (each read waits up to %u ms)",
+                    frames[i].number, now() - wait_from, s.next ? frames[s.next - 1].number : 0,
+                    o->timeout_ms);
             s.failed = true;
             break;
         }
         s.r->queries++;
         queried = true;
-        send_u32(&s, PROTO_T_QUERY, frames[i].number);
+        wait_from = waiting;
+        send_query(&s, frames[i].number);
     }
     if (!s.failed && o->readback)
         for (unsigned i = 0; i < nframes && !s.failed; i++)
@@ -629,23 +685,23 @@ int stream_run(transport_t *t, const uint32_t *w, size_t n, stream_frame *frames
     return r->matched == nframes ? 0 : 1;
 }
 
-int stream_frames(const uint32_t *w, size_t n, stream_frame **frames, unsigned *nframes)
+int alb_stream_frames(const uint32_t *w, size_t n, alb_stream_frame **frames, unsigned *nframes)
 {
-    ws_reader rd;
-    ws_event *ev = malloc(sizeof *ev);
-    diag_t d;
-    diag_init(&d, NULL);
-    stream_frame *f = NULL;
+    alb_ws_reader rd;
+    alb_ws_event *ev = malloc(sizeof *ev);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_stream_frame *f = NULL;
     unsigned nf = 0;
     int rc = ev ? 0 : -1;
-    ws_reader_init(&rd, w, n, "stream");
+    alb_ws_reader_init(&rd, w, n, "stream");
     while (!rc && !rd.ended) {
-        if (ws_next(&rd, ev, &d)) {
+        if (alb_ws_next(&rd, ev, &d)) {
             rc = -1;
             break;
         }
-        if (ev->kind == WS_EV_FRAME) {
-            stream_frame *nfp = realloc(f, (nf + 1) * sizeof *nfp);
+        if (ev->kind == ALB_WS_EV_FRAME) {
+            alb_stream_frame *nfp = realloc(f, (nf + 1) * sizeof *nfp);
             if (!nfp) {
                 rc = -1;
                 break;
@@ -656,7 +712,7 @@ int stream_frames(const uint32_t *w, size_t n, stream_frame **frames, unsigned *
             f[nf].first_word = ev->first;
             nf++;
         }
-        if (ev->kind == WS_EV_FRAME_END)
+        if (ev->kind == ALB_WS_EV_FRAME_END)
             f[nf - 1].end_word = ev->first + ev->count;
     }
     free(ev);
@@ -673,7 +729,7 @@ int stream_frames(const uint32_t *w, size_t n, stream_frame **frames, unsigned *
 
 /* One frame's tiles: strips as tall as a payload holds (narrower than the
  * frame only if one row does not fit). */
-static void send_tiles(streamer *s, const stream_tiles_frame *f, uint8_t *buf, size_t max)
+static void send_tiles(streamer *s, const alb_stream_tiles_frame *f, uint8_t *buf, size_t max)
 {
     size_t per_row = (max - 12) / 3;
     unsigned tw = f->width < per_row ? f->width : (unsigned)per_row;
@@ -696,8 +752,8 @@ static void send_tiles(streamer *s, const stream_tiles_frame *f, uint8_t *buf, s
         }
 }
 
-int stream_tiles(transport_t *t, const stream_tiles_frame *frames, unsigned nframes,
-                 const stream_opts *o, stream_report *r)
+int alb_stream_tiles(alb_transport *t, const alb_stream_tiles_frame *frames, unsigned nframes,
+                 const alb_stream_opts *o, alb_stream_report *r)
 {
     streamer s;
     double t0 = now();

@@ -2,16 +2,16 @@
  * bridge's fault-injection tests: corrupted bytes either way, dropped,
  * truncated, duplicated and swapped packets, a board that falls silent, a device that
  * disconnects.  Each write call is one packet (the streamer writes so).  A
- * kind may strike several times: tr_faults holds a few n for each. */
-#include "transport.h"
+ * kind may strike several times: alb_tr_faults holds a few n for each. */
+#include "albatros/transport.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 typedef struct {
-    transport_t *inner;
-    tr_faults f;
+    alb_transport *inner;
+    alb_tr_faults f;
     uint64_t bytes_out, packets_out, bytes_in;
     uint8_t *held;            /* a packet held back for a swap */
     size_t held_len;
@@ -21,7 +21,7 @@ typedef struct {
 /* n is one of a kind's entries (0: unused, never matches: n counts from 1) */
 static bool listed(const uint64_t *each, uint64_t n)
 {
-    for (unsigned i = 0; i < TR_FAULTS_EACH; i++)
+    for (unsigned i = 0; i < ALB_TR_FAULTS_EACH; i++)
         if (each[i] && each[i] == n)
             return true;
     return false;
@@ -31,39 +31,39 @@ static bool listed(const uint64_t *each, uint64_t n)
 static void corrupt_bytes(const uint64_t *each, uint64_t before, uint8_t *buf, size_t len,
                           uint8_t mask)
 {
-    for (unsigned i = 0; i < TR_FAULTS_EACH; i++)
+    for (unsigned i = 0; i < ALB_TR_FAULTS_EACH; i++)
         if (each[i] > before && each[i] <= before + len)
             buf[each[i] - before - 1] ^= mask;
 }
 
-static tr_status pass(transport_t *t, faulty *z, const uint8_t *data, size_t len)
+static alb_tr_status pass(alb_transport *t, faulty *z, const uint8_t *data, size_t len)
 {
-    tr_status s = z->inner->ops->write(z->inner, data, len);
+    alb_tr_status s = z->inner->ops->write(z->inner, data, len);
     if (s)
         snprintf(t->error, sizeof t->error, "%s", z->inner->error);
     return s;
 }
 
-static tr_status f_write(transport_t *t, const uint8_t *data, size_t len)
+static alb_tr_status f_write(alb_transport *t, const uint8_t *data, size_t len)
 {
     faulty *z = t->impl;
     if (z->gone) {
         snprintf(t->error, sizeof t->error, "writing to the board: device disconnected");
-        return TR_GONE;
+        return ALB_TR_GONE;
     }
     uint64_t n = ++z->packets_out;
     uint8_t *copy = malloc(len ? len : 1);
     if (!copy)
-        return TR_ERROR;
+        return ALB_TR_ERROR;
     memcpy(copy, data, len);
     corrupt_bytes(z->f.corrupt_byte, z->bytes_out, copy, len, 0x10);
     z->bytes_out += len;
-    tr_status s = TR_OK;
+    alb_tr_status s = ALB_TR_OK;
     if (z->f.disconnect_after && z->bytes_out >= z->f.disconnect_after) {
         z->gone = true;
         free(copy);
         snprintf(t->error, sizeof t->error, "writing to the board: device disconnected");
-        return TR_GONE;
+        return ALB_TR_GONE;
     }
     if (listed(z->f.drop_packet, n)) {
         /* lost on the wire */
@@ -76,7 +76,7 @@ static tr_status f_write(transport_t *t, const uint8_t *data, size_t len)
          * so swap=N with swap=N+1 swaps N and N+1 only */
         z->held = copy;
         z->held_len = len;
-        return TR_OK;
+        return ALB_TR_OK;
     } else {
         s = pass(t, z, copy, len);
         if (!s && listed(z->f.duplicate_packet, n))
@@ -91,54 +91,54 @@ static tr_status f_write(transport_t *t, const uint8_t *data, size_t len)
     return s;
 }
 
-static tr_status f_flush(transport_t *t)
+static alb_tr_status f_flush(alb_transport *t)
 {
     faulty *z = t->impl;
-    return z->gone ? TR_GONE : z->inner->ops->flush(z->inner);
+    return z->gone ? ALB_TR_GONE : z->inner->ops->flush(z->inner);
 }
 
-static tr_status f_read(transport_t *t, uint8_t *buf, size_t cap, size_t *got, unsigned timeout_ms)
+static alb_tr_status f_read(alb_transport *t, uint8_t *buf, size_t cap, size_t *got, unsigned timeout_ms)
 {
     faulty *z = t->impl;
     *got = 0;
     if (z->gone) {
         snprintf(t->error, sizeof t->error, "reading from the board: device disconnected");
-        return TR_GONE;
+        return ALB_TR_GONE;
     }
     if (z->f.silence_after && z->bytes_in >= z->f.silence_after)
-        return TR_TIMEOUT;
+        return ALB_TR_TIMEOUT;
     size_t room = cap;
     if (z->f.silence_after && z->bytes_in + room > z->f.silence_after)
         room = (size_t)(z->f.silence_after - z->bytes_in);
-    tr_status s = z->inner->ops->read(z->inner, buf, room, got, timeout_ms);
+    alb_tr_status s = z->inner->ops->read(z->inner, buf, room, got, timeout_ms);
     corrupt_bytes(z->f.corrupt_reply, z->bytes_in, buf, *got, 0x04);
     z->bytes_in += *got;
     return s;
 }
 
-static tr_status f_hid_get(transport_t *t, uint8_t *buf, size_t len)
+static alb_tr_status f_hid_get(alb_transport *t, uint8_t *buf, size_t len)
 {
     faulty *z = t->impl;
     if (z->gone)
-        return TR_GONE;
-    tr_status s = z->inner->ops->hid_get(z->inner, buf, len);
+        return ALB_TR_GONE;
+    alb_tr_status s = z->inner->ops->hid_get(z->inner, buf, len);
     if (s)
         snprintf(t->error, sizeof t->error, "%s", z->inner->error);
     return s;
 }
 
-static tr_status f_hid_set(transport_t *t, const uint8_t *buf, size_t len)
+static alb_tr_status f_hid_set(alb_transport *t, const uint8_t *buf, size_t len)
 {
     faulty *z = t->impl;
     if (z->gone)
-        return TR_GONE;
-    tr_status s = z->inner->ops->hid_set(z->inner, buf, len);
+        return ALB_TR_GONE;
+    alb_tr_status s = z->inner->ops->hid_set(z->inner, buf, len);
     if (s)
         snprintf(t->error, sizeof t->error, "%s", z->inner->error);
     return s;
 }
 
-static void f_close(transport_t *t)
+static void f_close(alb_transport *t)
 {
     faulty *z = t->impl;
     z->inner->ops->close(z->inner);
@@ -147,12 +147,12 @@ static void f_close(transport_t *t)
     free(t);
 }
 
-static const transport_ops fault_ops = {"faulty", f_write, f_flush, f_read, f_hid_get, f_hid_set,
+static const alb_transport_ops fault_ops = {"faulty", f_write, f_flush, f_read, f_hid_get, f_hid_set,
                                         f_close};
 
-transport_t *transport_faulty(transport_t *inner, const tr_faults *f)
+alb_transport *alb_transport_faulty(alb_transport *inner, const alb_tr_faults *f)
 {
-    transport_t *t = calloc(1, sizeof *t);
+    alb_transport *t = calloc(1, sizeof *t);
     faulty *z = calloc(1, sizeof *z);
     if (!t || !z) {
         free(t);

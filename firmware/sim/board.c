@@ -2,14 +2,14 @@
  * packets; its HAL feeds the word stream to this project's VP (the timed
  * model, whose pixels and cycles equal the cycle model's) as it arrives, and
  * reports each frame's CRC and cycle count back through the core at its
- * FRAME_END.  The model keeps its state between packets (sim_feed), so a
+ * FRAME_END.  The model keeps its state between packets (alb_sim_feed), so a
  * frame's cycles are those of the whole stream up to it at the cost of the
  * frame alone; a RESUME runs the kept part of the stream again. */
 #include "board.h"
 #include "../core.h"
-#include "../../common/words.h"
-#include "../../emu/bridge/link.h"
-#include "../../emu/sim.h"
+#include "albatros/words.h"
+#include "albatros/link.h"
+#include "albatros/sim.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,7 +18,7 @@
 #define SIM_MAX_PAYLOAD PROTO_MAX_PAYLOAD
 
 struct sim_board {
-    profile_t prof;
+    alb_profile prof;
     fw_core core;
     fw_hal hal;
     uint8_t *rxbuf;
@@ -28,7 +28,7 @@ struct sim_board {
     /* the word stream the VP has accepted */
     uint32_t *w;
     size_t n, cap;
-    sim_feed *feed;           /* the VP, fed w[0, n) so far; NULL before a RESET */
+    alb_sim_feed *feed;           /* the VP, fed w[0, n) so far; NULL before a RESET */
     bool replaying;           /* RESUME: the kept stream again, no results */
     bool in_error;
     /* the last frame, for a flipped-bit fault */
@@ -69,7 +69,7 @@ static void hal_send(void *ctx, const uint8_t *data, uint16_t len)
     b->tx_len += len;
 }
 
-static int take_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
+static int take_frame(void *ctx, const alb_frame *f, const alb_vp_stats *vs, const alb_sim_counters *sc)
 {
     sim_board *b = ctx;
     /* the sink sees every frame of the prefix; the last one counts, and is
@@ -85,7 +85,7 @@ static int take_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim
         rgb[3 * ((size_t)b->flip_y * f->width + b->flip_x) + b->flip_ch % 3] ^=
             (uint16_t)(1u << (b->flip_bit % 16));
     *k = (struct kept_frame){f->number, rgb, npix};
-    b->result_crc = link_frame_crc(rgb, npix);
+    b->result_crc = alb_link_frame_crc(rgb, npix);
     b->result_frame = f->number;
     b->result_cycles = sc->cycles;
     b->result_faces = (uint32_t)vs->faces;
@@ -94,7 +94,7 @@ static int take_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim
 }
 
 /* At each FRAME_END: the result to the host, the store kept for READBACK. */
-static int board_frame(void *ctx, const frame_t *f, const vp_stats *vs, const sim_counters *sc)
+static int board_frame(void *ctx, const alb_frame *f, const alb_vp_stats *vs, const alb_sim_counters *sc)
 {
     sim_board *b = ctx;
     if (b->replaying)
@@ -115,9 +115,9 @@ static void feed(sim_board *b)
 {
     if (b->in_error)
         return;
-    diag_t d;
-    diag_init(&d, NULL);
-    if (!b->feed || sim_feed_words(b->feed, b->w, b->n, &d)) {
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    if (!b->feed || alb_sim_feed_words(b->feed, b->w, b->n, &d)) {
         fw_vp_error(&b->core, (uint32_t)(b->feed && d.offset >= 0 ? (size_t)d.offset / 4 : b->n));
         b->in_error = true;
     }
@@ -129,11 +129,11 @@ static void feed(sim_board *b)
 static void hal_restart(void *ctx, uint8_t full)
 {
     sim_board *b = ctx;
-    b->n = full || !b->feed ? 0 : sim_feed_frame_start(b->feed);
-    sim_feed_close(b->feed);
-    diag_t d;
-    diag_init(&d, NULL);
-    if (sim_feed_open(&b->feed, &b->prof, "board", board_frame, b, &d))
+    b->n = full || !b->feed ? 0 : alb_sim_feed_frame_start(b->feed);
+    alb_sim_feed_close(b->feed);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    if (alb_sim_feed_open(&b->feed, &b->prof, "board", board_frame, b, &d))
         b->feed = NULL;
     b->in_error = false;
     b->replaying = true;
@@ -206,7 +206,7 @@ const uint8_t *sim_board_display(const sim_board *b, uint32_t *frame, uint64_t *
     return b->display;
 }
 
-sim_board *sim_board_create(const profile_t *p, char *err, size_t errlen)
+sim_board *sim_board_create(const alb_profile *p, char *err, size_t errlen)
 {
     sim_board *b = calloc(1, sizeof *b);
     if (b) {
@@ -247,7 +247,7 @@ void sim_board_destroy(sim_board *b)
     free(b->display);
     free(b->tx);
     free(b->w);
-    sim_feed_close(b->feed);
+    alb_sim_feed_close(b->feed);
     for (unsigned i = 0; i < 4; i++)
         free(b->kept[i].rgb);
     free(b);

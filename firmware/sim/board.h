@@ -5,14 +5,16 @@
 #ifndef ALBATROS_SIM_BOARD_H
 #define ALBATROS_SIM_BOARD_H
 
-#include "../../common/profile.h"
+#include "albatros/profile.h"
+
+#include "albatros/transport.h"
 
 #include <stddef.h>
 #include <stdint.h>
 
 typedef struct sim_board sim_board;
 
-sim_board *sim_board_create(const profile_t *p, char *err, size_t errlen);
+sim_board *sim_board_create(const alb_profile *p, char *err, size_t errlen);
 void sim_board_destroy(sim_board *b);
 /* The largest payload the board accepts (and announces in INFO), at most
  * PROTO_MAX_PAYLOAD: a board like the FX2, which takes 492 bytes.  Longer
@@ -34,5 +36,17 @@ const uint8_t *sim_board_display(const sim_board *b, uint32_t *frame, uint64_t *
  * in frame `frame`'s frame store before its CRC. */
 void sim_board_flip(sim_board *b, uint32_t frame, unsigned x, unsigned y, unsigned ch,
                     unsigned bit);
+
+/* The transport to a simulated board in this process (transport.c): bytes
+ * written are its bulk OUT, its answers are read back as bulk IN.  p: the
+ * VP it runs (the profile with every --set and --size the emulator runs
+ * with); max_payload: the largest payload it accepts and announces in INFO
+ * (0: PROTO_MAX_PAYLOAD; the FX2 firmware takes 492, one USB packet less
+ * header and CRC). */
+alb_transport *sim_board_transport(const alb_profile *p, size_t max_payload, char *err,
+                                   size_t errlen);
+/* The simulated board behind such a transport (fault injection); NULL for
+ * any other transport. */
+sim_board *sim_board_of(alb_transport *t);
 
 #endif

@@ -2,18 +2,19 @@
  * set-up, clipping to the view pyramid, scan conversion, depth store values
  * and shading through the reference. */
 #include "common.h"
+#include "../../common/vec3.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-int mth_begin(mth_ctx *c, const scene_t *s, const profile_t *p, unsigned frame, frame_t *out)
+int mth_begin(mth_ctx *c, const alb_scene *s, const alb_profile *p, unsigned frame, alb_frame *out)
 {
     memset(c, 0, sizeof *c);
     if (p->aa_levels != 0 || frame >= s->nframes)
         return -1;   /* the methods sample pixel centres only */
     if (ref_prepare(s, p, frame, &c->rf))
         return -1;
-    if (frame_alloc(out, p->width, p->height, false)) {
+    if (alb_frame_alloc(out, p->width, p->height, false)) {
         ref_frame_free(&c->rf);
         return -1;
     }
@@ -31,8 +32,8 @@ int mth_begin(mth_ctx *c, const scene_t *s, const profile_t *p, unsigned frame, 
         /* the reference's rounding of the background into the frame store */
         for (int ch = 0; ch < 3; ch++)
             out->rgb[3 * i + ch] = (uint16_t)floor(s->background[ch] / 255.0 * c->colour_top + 0.5);
-        out->face[i] = FRAME_NO_FACE;
-        out->level[i] = FRAME_NO_LEVEL;
+        out->face[i] = ALB_FRAME_NO_FACE;
+        out->level[i] = ALB_FRAME_NO_LEVEL;
     }
     return 0;
 }
@@ -41,7 +42,7 @@ int mth_end(mth_ctx *c, bool ok)
 {
     ref_frame_free(&c->rf);
     if (!ok && c->out)
-        frame_free(c->out);
+        alb_frame_free(c->out);
     return ok ? 0 : -1;
 }
 
@@ -64,7 +65,7 @@ void mth_put(mth_ctx *c, int col, int row, unsigned fi, double q)
         c->out->rgb[3 * i + ch] = (uint16_t)floor(rgb[ch] / 255 * c->colour_top + 0.5);
     c->out->face[i] = f->id;
     c->out->depth[i] = mth_depth(c, q);
-    c->out->level[i] = FRAME_NO_LEVEL;
+    c->out->level[i] = ALB_FRAME_NO_LEVEL;
     c->out->coverage[i] = 1;
 }
 

@@ -8,6 +8,7 @@
 #define ALBATROS_METHODS_COMMON_H
 
 #include "../methods.h"
+#include "../../common/vec3.h"
 #include "../ref.h"
 
 #include <math.h>
@@ -18,7 +19,7 @@
  * and a one-line summary; tools/methods.c lists them. */
 #define MTH_METHOD(id)                                                       \
     extern const char mth_##id##_summary[];                                       \
-    int mth_##id##_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *out)
+    int mth_##id##_render(const alb_scene *s, const alb_profile *p, unsigned frame, alb_frame *out)
 MTH_METHOD(zbuffer);
 MTH_METHOD(scanline_zbuffer);
 MTH_METHOD(watkins);
@@ -29,13 +30,13 @@ MTH_METHOD(raycast);
 
 /* Clipping a convex polygon by the four planes of the view pyramid adds at
  * most one vertex per plane. */
-#define MTH_MAX_VERTICES (SCENE_MAX_FACE_VERTICES + 4)
+#define MTH_MAX_VERTICES (ALB_SCENE_MAX_FACE_VERTICES + 4)
 
 /* One method's run over one frame. */
 typedef struct {
-    const scene_t *s;
-    const profile_t *p;
-    frame_t *out;
+    const alb_scene *s;
+    const alb_profile *p;
+    alb_frame *out;
     ref_frame rf;            /* the front faces, in stream order */
     unsigned w, h;
     double depth_one;        /* 2^depth_bits: the depth store's unit */
@@ -45,7 +46,7 @@ typedef struct {
 /* Set up a run: checks (aa_levels 0, frame exists), prepares the faces,
  * allocates *out and fills it with the background.  -1 on failure (nothing
  * to free). */
-int mth_begin(mth_ctx *c, const scene_t *s, const profile_t *p, unsigned frame, frame_t *out);
+int mth_begin(mth_ctx *c, const alb_scene *s, const alb_profile *p, unsigned frame, alb_frame *out);
 /* Finish a run; on failure (ok false) the frame is freed too.  Returns 0 if
  * ok, else -1, so that a method can end with `return mth_end(&c, ok);`. */
 int mth_end(mth_ctx *c, bool ok);

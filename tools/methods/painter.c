@@ -14,6 +14,7 @@
  * interpenetrating faces are ordered by one point of their overlap, so the
  * part beyond the line of intersection is wrong. */
 #include "common.h"
+#include "../../common/vec3.h"
 
 #include <stdlib.h>
 
@@ -197,7 +198,7 @@ static bool sort_far_first(pt_run *r)
     return true;
 }
 
-int mth_painter_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *out)
+int mth_painter_render(const alb_scene *s, const alb_profile *p, unsigned frame, alb_frame *out)
 {
     pt_run r = {0};
     if (mth_begin(&r.c, s, p, frame, out))

@@ -17,7 +17,7 @@
 #include <stdlib.h>
 
 typedef struct {
-    float pu[SCENE_MAX_FACE_VERTICES], pv[SCENE_MAX_FACE_VERTICES];   /* kept axes */
+    float pu[ALB_SCENE_MAX_FACE_VERTICES], pv[ALB_SCENE_MAX_FACE_VERTICES];   /* kept axes */
     unsigned n;
     int u, v;                /* which two of x, y, z are kept */
     float nx, ny, nz, d;     /* plane N.P = d, observer space */
@@ -27,7 +27,7 @@ static float axis(const float p[3], int k) { return p[k]; }
 
 static void prepare(const ref_face *rf, rc_face *f)
 {
-    float p[SCENE_MAX_FACE_VERTICES][3];
+    float p[ALB_SCENE_MAX_FACE_VERTICES][3];
     f->n = rf->n;
     for (unsigned k = 0; k < f->n; k++)
         p[k][0] = (float)rf->v[k].x, p[k][1] = (float)rf->v[k].y, p[k][2] = (float)rf->v[k].z;
@@ -88,7 +88,7 @@ static long cast(const mth_ctx *c, const rc_face *face, double x, double y, floa
     return best;
 }
 
-int mth_raycast_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *out)
+int mth_raycast_render(const alb_scene *s, const alb_profile *p, unsigned frame, alb_frame *out)
 {
     mth_ctx c;
     if (mth_begin(&c, s, p, frame, out))

@@ -111,8 +111,8 @@ static void scan_rows(sl_run *r)
     }
 }
 
-int mth_scanline_zbuffer_render(const scene_t *s, const profile_t *p, unsigned frame,
-                                frame_t *out)
+int mth_scanline_zbuffer_render(const alb_scene *s, const alb_profile *p, unsigned frame,
+                                alb_frame *out)
 {
     sl_run r = {0};
     if (mth_begin(&r.c, s, p, frame, out))

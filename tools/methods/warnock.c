@@ -179,7 +179,7 @@ static bool prepare(wn_run *r, unsigned levels)
     return true;
 }
 
-int mth_warnock_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *out)
+int mth_warnock_render(const alb_scene *s, const alb_profile *p, unsigned frame, alb_frame *out)
 {
     wn_run r = {0};
     if (mth_begin(&r.c, s, p, frame, out))

@@ -152,7 +152,7 @@ static void scan_row(wk_run *r, int row)
         r->ael[k]->x += r->ael[k]->dx;
 }
 
-static int watkins_run(const scene_t *s, const profile_t *p, unsigned frame, frame_t *out,
+static int watkins_run(const alb_scene *s, const alb_profile *p, unsigned frame, alb_frame *out,
                        bool split)
 {
     wk_run r = {0};
@@ -177,13 +177,13 @@ static int watkins_run(const scene_t *s, const profile_t *p, unsigned frame, fra
     return mth_end(&r.c, ok);
 }
 
-int mth_watkins_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *out)
+int mth_watkins_render(const alb_scene *s, const alb_profile *p, unsigned frame, alb_frame *out)
 {
     return watkins_run(s, p, frame, out, true);
 }
 
-int mth_watkins_nosplit_render(const scene_t *s, const profile_t *p, unsigned frame,
-                               frame_t *out)
+int mth_watkins_nosplit_render(const alb_scene *s, const alb_profile *p, unsigned frame,
+                               alb_frame *out)
 {
     return watkins_run(s, p, frame, out, false);
 }

@@ -30,7 +30,7 @@ static void zb_span(void *ctx, int row, int c0, int c1)
     }
 }
 
-int mth_zbuffer_render(const scene_t *s, const profile_t *p, unsigned frame, frame_t *out)
+int mth_zbuffer_render(const alb_scene *s, const alb_profile *p, unsigned frame, alb_frame *out)
 {
     mth_ctx c;
     if (mth_begin(&c, s, p, frame, out))
