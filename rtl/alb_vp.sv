@@ -192,7 +192,7 @@ module alb_vp #(
     logic [31:0]                  fog_near, fog_far;
     logic [FILL_RATE*DEPTH_BITS-1:0] zr_data, zw_data;
     logic [FILL_RATE-1:0]         zw_en;
-    alb_pipe #(.RATE(FILL_RATE), .LW(LW), .LH(LH), .DB(DEPTH_BITS), .COLB(COLOUR_BITS),
+    alb_pipe #(.RATE(FILL_RATE), .CB(COEF_BITS), .LW(LW), .LH(LH), .DB(DEPTH_BITS), .COLB(COLOUR_BITS),
                .RB(RECIP_BITS), .FI(SHADE_FRAC_BITS), .DIV_LAT(DIVIDER_LATENCY),
                .SHADE_LAT(SHADE_LATENCY), .TEX_WORDS(TEX_WORDS)) u_pipe (
         .clk, .rst, .lane_v, .lane_x, .lane_y, .setup(fill_setup), .level(fill_level), .fog_on,

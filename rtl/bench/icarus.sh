@@ -30,7 +30,7 @@ if "$albatros" gp --help 2>&1 | grep -q -- --memh; then
 else   # one 8-digit hex word a line, from the little-endian stream
     od -An -v -tx4 -w4 "$dir/s.stream" | tr -d ' ' > "$dir/words.memh"
 fi
-"$albatros" vp "$dir/s.stream" "$@" --fidelity cycle --events "$dir/model.log" -q
+"$albatros" vp "$dir/s.stream" "$@" --fidelity cycle --events "$dir/model.log" -q 2> "$dir/vp.out"
 awk -v dir="$dir" '
     $2 == "push"  { printf "%08x\n", $1 > (dir "/pushes.memh"); nw++ }
     $2 == "write" { printf "%08x%04x%04x%08x%04x%04x%04x%08x%02x\n", $1, $3, $4, $5, $6, $7, $8, $9, $10 > (dir "/writes.memh"); nwr++ }
@@ -38,7 +38,7 @@ awk -v dir="$dir" '
     END { printf "+nwords=%d +nwrites=%d +nframes=%d\n", nw, nwr, nf > (dir "/counts") }
 ' "$dir/model.log"
 touch "$dir/writes.memh" "$dir/frames.memh"
-cmp -s <(awk '$2 == "push" { print substr($4, 3) }' "$dir/model.log") "$dir/words.memh" || {
+cmp -s <(awk '$2 == "push" { print substr($4, 3) }' "$dir/model.log") <(grep -v '^//' "$dir/words.memh") || {
     echo "icarus.sh: the model's pushes are not the stream's words" >&2; exit 1; }
 width=$("$rtl/profile-params.sh" --albatros "$albatros" --format shell "$@" | sed -n 's/^WIDTH=//p')
 mapfile -t params < <("$rtl/profile-params.sh" --albatros "$albatros" --format icarus \
