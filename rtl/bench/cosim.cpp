@@ -1,13 +1,16 @@
 // cosim.cpp — the Verilator bench of the VP RTL (rtl/README.md): drives the
 // RTL's FIFO write port at the cycles of the model's `push` events, emulates
 // the external frame-store memory (rtl/bench/alb_frame_mem.sv), and compares
-// the RTL's events with the model's event log (albatros vp STREAM --fidelity
-// cycle --events FILE) cycle by cycle through the scoreboard.  At the first
-// divergence it prints the cycle, unit, event, expected and actual, and runs
-// again with a waveform of the cycles before it.
+// the RTL's events with the model's cycle by cycle through the scoreboard.
+// The model's events come from its event log (albatros vp STREAM --fidelity
+// cycle --events FILE), or from libalbatros in this process, stepped a clock
+// at a time beside the RTL (docs/cosim.md).  At the first divergence it prints
+// the cycle, unit, event, expected and actual, and runs again with a waveform
+// of the cycles before it.
 //
-//   cosim --events MODEL.log [--stream S.stream] [--log RTL.log] [--vcd F.vcd]
-//         [--window N] [--trace-all F.vcd] [--json]
+//   cosim --events MODEL.log [--stream S.stream] [options]
+//   cosim --model PROFILE [--set KEY=VALUE ...] --stream S.stream [options]
+//   options: [--log RTL.log] [--vcd F.vcd] [--window N] [--trace-all F.vcd] [--json]
 //
 // Exit status: 0 every event and CRC matched, 1 a divergence (or an RTL
 // error), 2 bad usage or input.
@@ -16,6 +19,10 @@
 #include "scoreboard.h"
 #include "verilated.h"
 #include "verilated_vcd_c.h"
+
+extern "C" {   // the public headers have no C++ guards of their own
+#include <albatros/model.h>
+}
 
 #include <cerrno>
 #include <chrono>
@@ -45,8 +52,21 @@ template <typename T> uint64_t bits(const T &v, unsigned lo, unsigned w)
     return w >= 64 ? r : r & ((1ull << w) - 1);
 }
 
-// The model's event log, read a cycle at a time.
-class LogReader {
+// Where the model's events come from, a cycle at a time.
+class EventSource {
+public:
+    virtual ~EventSource() = default;
+    virtual bool failed() const = 0;
+    virtual const std::string &error() const = 0;
+    // No event after the last one taken.
+    virtual bool done() const = 0;
+    virtual uint64_t last_cycle() const = 0;
+    // The events of cycle t, pushes included (cycles before t taken already).
+    virtual void take(uint64_t t, std::vector<Event> &out) = 0;
+};
+
+// The model's event log (albatros ... --events FILE).
+class LogReader : public EventSource {
 public:
     bool open(const char *path)
     {
@@ -57,13 +77,11 @@ public:
         advance();
         return true;
     }
-    bool failed() const { return !error_.empty(); }
-    const std::string &error() const { return error_; }
-    bool done() const { return eof_; }
-    uint64_t next_cycle() const { return next_.cycle; }
-    uint64_t last_cycle() const { return last_; }
-    // The events of cycle t (those before it must have been taken).
-    void take(uint64_t t, std::vector<Event> &out)
+    bool failed() const override { return !error_.empty(); }
+    const std::string &error() const override { return error_; }
+    bool done() const override { return eof_; }
+    uint64_t last_cycle() const override { return last_; }
+    void take(uint64_t t, std::vector<Event> &out) override
     {
         out.clear();
         while (!eof_ && !failed() && next_.cycle == t) {
@@ -105,6 +123,87 @@ private:
     Event next_;
     uint64_t last_ = 0, lineno_ = 0;
     bool eof_ = false, have_ = false;
+};
+
+// The cycle model of libalbatros in this process (include/albatros/model.h):
+// its GP output stage is the producer, every event recorded, one clock a call.
+class ModelSource : public EventSource {
+public:
+    ~ModelSource() override { alb_model_destroy(m_); }
+    bool open(const char *profile, const std::vector<const char *> &sets,
+              const std::vector<uint32_t> &words)
+    {
+        alb_model_config c;
+        alb_model_config_default(&c);
+        c.events = ALB_EV_ALL;
+        c.name = "the stream";
+        std::vector<const char *> ov(sets);
+        ov.push_back(nullptr);
+        alb_diag d;
+        alb_diag_init(&d, nullptr);
+        if (alb_model_open(&m_, profile, ov.data(), &c, &d)) {
+            error_ = std::string("the model: ") + d.msg;
+            return false;
+        }
+        if (alb_model_push(m_, words.data(), words.size()) != words.size()) {
+            error_ = std::string("the model took only part of the stream: ") +
+                     alb_model_error(m_);
+            return false;
+        }
+        return true;
+    }
+    bool failed() const override { return !error_.empty(); }
+    const std::string &error() const override { return error_; }
+    bool done() const override { return alb_model_done(m_); }
+    uint64_t last_cycle() const override { return last_; }
+    void take(uint64_t t, std::vector<Event> &out) override
+    {
+        out.clear();
+        if (alb_model_done(m_))
+            return;
+        if (alb_model_cycle(m_) != t || alb_model_step(m_, 1)) {
+            error_ = std::string("the model at cycle ") + std::to_string(t) + ": " +
+                     alb_model_error(m_);
+            return;
+        }
+        const alb_event *ev;
+        size_t n = alb_model_events(m_, &ev);
+        for (size_t i = 0; i < n; i++)
+            out.push_back(convert(ev[i]));
+        alb_model_consume(m_, n);
+        if (n)
+            last_ = t;
+    }
+
+private:
+    static Event convert(const alb_event &a)
+    {
+        Event e;
+        e.cycle = a.cycle;
+        e.kind = __builtin_ctz(a.kind);      // ALB_EV_PUSH ... ALB_EV_FRAME: bits 0 .. 8
+        auto set = [&](std::initializer_list<uint64_t> f) {
+            int i = 0;
+            for (uint64_t x : f)
+                e.f[i++] = x;
+        };
+        switch (e.kind) {
+        case EV_PUSH:
+        case EV_POP: set({a.index, a.word}); break;
+        case EV_LOAD: set({a.face, a.slot, a.edges}); break;
+        case EV_START:
+        case EV_END: set({a.face, a.slot}); break;
+        case EV_CELL: set({a.face, a.x, a.y, a.wl, a.hl, a.level, a.result, a.edges}); break;
+        case EV_FILL: set({a.face, a.x, a.y, a.wl, a.hl, a.level}); break;
+        case EV_WRITE:
+            set({a.x, a.y, a.depth, a.rgb[0], a.rgb[1], a.rgb[2], a.face, a.level});
+            break;
+        default: set({a.number, a.cycles, a.crc}); break;
+        }
+        return e;
+    }
+    alb_model *m_ = nullptr;
+    std::string error_;
+    uint64_t last_ = 0;
 };
 
 // The RTL's log in the model's format: lines held back from a frame event
@@ -169,7 +268,8 @@ private:
 
 struct Options {
     const char *events = nullptr, *stream = nullptr, *log = nullptr, *vcd = nullptr;
-    const char *trace_all = nullptr;
+    const char *trace_all = nullptr, *profile = nullptr;
+    std::vector<const char *> sets;
     uint64_t window = 200;
     bool json = false;
 };
@@ -268,12 +368,25 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
            uint64_t to, bool write_log)
 {
     Result r;
-    LogReader model;
-    if (!model.open(o.events)) {
-        r.status = Result::INPUT;
-        r.message = std::string(o.events) + ": cannot open: " + std::strerror(errno);
-        return r;
+    std::unique_ptr<EventSource> source;
+    if (o.profile) {
+        auto ms = std::make_unique<ModelSource>();
+        if (!ms->open(o.profile, o.sets, *stream)) {
+            r.status = Result::INPUT;
+            r.message = ms->error();
+            return r;
+        }
+        source = std::move(ms);
+    } else {
+        auto log = std::make_unique<LogReader>();
+        if (!log->open(o.events)) {
+            r.status = Result::INPUT;
+            r.message = std::string(o.events) + ": cannot open: " + std::strerror(errno);
+            return r;
+        }
+        source = std::move(log);
     }
+    EventSource &model = *source;
     LogWriter log;
     if (write_log && !log.open(o.log)) {
         r.status = Result::INPUT;
@@ -409,8 +522,9 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
 int usage()
 {
     std::fprintf(stderr,
-                 "usage: cosim --events MODEL.log [--stream S.stream] [--log RTL.log]\n"
-                 "             [--vcd FAIL.vcd] [--window N] [--trace-all T.vcd] [--json]\n");
+                 "usage: cosim --events MODEL.log [--stream S.stream] [options]\n"
+                 "       cosim --model PROFILE [--set KEY=VALUE ...] --stream S.stream [options]\n"
+                 "options: [--log RTL.log] [--vcd FAIL.vcd] [--window N] [--trace-all T.vcd] [--json]\n");
     return 2;
 }
 
@@ -435,6 +549,10 @@ int main(int argc, char **argv)
             o.trace_all = v;
         else if (a == "--window" && (v = value()))
             o.window = std::strtoull(v, nullptr, 10);
+        else if (a == "--model" && (v = value()))
+            o.profile = v;
+        else if (a == "--set" && (v = value()))
+            o.sets.push_back(v);
         else if (a == "--json")
             o.json = true;
         else {
@@ -442,7 +560,7 @@ int main(int argc, char **argv)
             return usage();
         }
     }
-    if (!o.events)
+    if (!o.events == !o.profile || (o.profile && !o.stream) || (!o.sets.empty() && !o.profile))
         return usage();
     std::vector<uint32_t> words;
     if (o.stream) {
