@@ -2,7 +2,7 @@
 # top Makefile.  The Verilator benches are built per parameter set into
 # $(BUILD)/rtl/ by tests/cosim.sh (rtl/bench/verilate.sh) and reused while
 # the RTL is unchanged.
-.PHONY: cosim cosim-quick rtl-lint
+.PHONY: cosim cosim-quick rtl-lint rtl-synth
 
 # everything: every golden vector, 200+ random scenes over the odd parameter
 # sets, the stress families, three profiles, Icarus, the planted mutations
@@ -15,3 +15,8 @@ cosim-quick: $(ALBATROS)
 
 rtl-lint:
 	verilator --lint-only -Wall -Irtl --top-module alb_vp rtl/alb_*.sv
+
+# yosys's generic synthesis of the whole VP (a small member), checked for
+# latches: slow (tens of minutes), so not part of make cosim
+rtl-synth:
+	@bash tests/cosim.sh $(BUILD) --synth

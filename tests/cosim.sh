@@ -1,17 +1,19 @@
 #!/usr/bin/env bash
-# cosim.sh [BUILD] [--all] — the reference RTL (rtl/) held against the cycle
-# model: lint and synthesis checks, then streams through both, every event of
+# cosim.sh [BUILD] [--all | --synth] — the reference RTL (rtl/) held against the
+# cycle model: lint and synthesis checks, then streams through both, every event of
 # docs/cosim.md compared cycle by cycle (rtl/bench/cosim.cpp), and the Icarus
 # bench.  Without --all a fast subset (make test); --all is make cosim: every
 # golden vector, 200+ random scenes over the odd parameter sets, the stress
-# families, three profiles, and the planted mutations.  Ends with
+# families, three profiles, and the planted mutations; --synth is make
+# rtl-synth, yosys's generic synthesis of the whole VP alone.  Ends with
 # "N passed, N failed".  A divergence leaves its waveform in BUILD/cosim/.
 set -u
-build=build all=0
+build=build all=0 synth=0
 for a in "$@"; do
     case $a in
         --all) all=1 ;;
-        -*) echo "usage: cosim.sh [BUILD] [--all]" >&2; exit 2 ;;
+        --synth) synth=1 ;;
+        -*) echo "usage: cosim.sh [BUILD] [--all | --synth]" >&2; exit 2 ;;
         *) build=$a ;;
     esac
 done
@@ -50,7 +52,7 @@ lint() {   # NAME PROFILE-ARGS...
 }
 
 synth_check() {   # FULL: yosys: no latches anywhere, no multiplier in the classifier
-    local full=$1 log=$out/yosys.log script
+    local full=$1 log=$out/yosys.log script what
     # a small member: the checks are about structure, not size; -defer, so
     # yosys never elaborates the default 2^15-word reciprocal ROM
     local chp="-chparam RECIP_BITS 8 -chparam TEX_WORDS 64 -chparam FIFO_DEPTH 4 -chparam FILL_RATE 2"
@@ -79,6 +81,13 @@ synth_check() {   # FULL: yosys: no latches anywhere, no multiplier in the class
         bad "yosys: the classifier (alb_engine) has adders and no multiplier" "$log"
     fi
 }
+
+if ((synth)); then   # make rtl-synth: the generic synthesis alone
+    synth_check 1
+    echo "$pass passed, $fail failed"
+    [[ $fail -eq 0 ]]
+    exit
+fi
 
 # ---- co-simulation ----
 
@@ -178,7 +187,7 @@ lint a512 a512
 lint odd t32 --set aa=2 --set fill_rate=1 --set edge_units=1 --set face_slots=1 \
     --set fifo_depth=2 --set divider_latency=0 --set shade_latency=0 --set fill_queue=1
 lint wide a256 --set width=512 --set height=128 --set fill_rate=8 --set edge_units=3
-synth_check "$all"
+synth_check 0
 
 if model t32 t32; then
     cosim_scene ties t32 rtl/bench/scenes/ties.scene --profile t32
@@ -192,6 +201,19 @@ for v in shared-edges textured-far-plane moving-lit; do
     cosim_vector vector- "$v"
 done
 icarus icarus-ties rtl/bench/scenes/ties.scene --profile t32
+
+# malformed streams: the RTL's error output names the error and its word
+while IFS='|' read -r file prof want; do
+    file=$(echo $file) prof=$(echo $prof) want=$(echo $want)
+    [[ -z $file || $file == \#* ]] && continue
+    model "$prof" "$prof" || continue
+    if "$build/rtl/$prof/cosim" --stream "tests/data/malformed/$file" --expect-error "$want" \
+        > "$out/malformed-$file.out" 2>&1; then
+        ok "malformed $file: $(sed 's/^cosim: //' "$out/malformed-$file.out")"
+    else
+        bad "malformed $file" "$out/malformed-$file.out"
+    fi
+done < rtl/bench/malformed.txt
 
 if ((all)); then
     # every golden vector (three profiles: a256, a512, a1024x512)

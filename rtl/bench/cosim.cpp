@@ -10,6 +10,7 @@
 //
 //   cosim --events MODEL.log [--stream S.stream] [options]
 //   cosim --model PROFILE [--set KEY=VALUE ...] --stream S.stream [options]
+//   cosim --stream S.stream --expect-error CODE@WORD      (a malformed stream)
 //   options: [--log RTL.log] [--vcd F.vcd] [--window N] [--trace-all F.vcd] [--json]
 //
 // Exit status: 0 every event and CRC matched, 1 a divergence (or an RTL
@@ -268,7 +269,7 @@ private:
 
 struct Options {
     const char *events = nullptr, *stream = nullptr, *log = nullptr, *vcd = nullptr;
-    const char *trace_all = nullptr, *profile = nullptr;
+    const char *trace_all = nullptr, *profile = nullptr, *expect_error = nullptr;
     std::vector<const char *> sets;
     uint64_t window = 200;
     bool json = false;
@@ -519,11 +520,58 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
     return r;
 }
 
+// --expect-error CODE@WORD: the stream pushed as fast as the FIFO takes it,
+// no model; the RTL must report error CODE at word WORD (a malformed stream).
+int expect_error(const std::vector<uint32_t> &words, unsigned code, uint64_t word)
+{
+    auto ctx = std::make_unique<VerilatedContext>();
+    auto top = std::make_unique<Valb_bench_top>(ctx.get());
+    top->clk = 0;
+    top->rst = 1;
+    top->in_valid = 0;
+    top->eval();
+    for (int i = 0; i < 2; i++) {
+        top->clk = 1;
+        top->eval();
+        top->clk = 0;
+        top->eval();
+    }
+    top->rst = 0;
+    size_t next = 0;
+    uint64_t t = 0, idle = 0;
+    for (; !top->error && idle < 100000; t++) {
+        top->eval();
+        top->in_valid = next < words.size() && !top->in_full;
+        top->in_data = top->in_valid ? words[next] : 0;
+        top->eval();
+        if (top->error)
+            break;
+        next += top->in_valid;
+        idle = next < words.size() ? 0 : idle + 1;
+        top->clk = 1;
+        top->eval();
+        top->clk = 0;
+    }
+    top->final();
+    if (!top->error) {
+        std::printf("cosim: no error in %" PRIu64 " cycles; expected error %u (%s) at word %" PRIu64
+                    "\n", t, code, error_name(code), word);
+        return 1;
+    }
+    bool ok = top->error_code == code && top->error_word == word;
+    std::printf("cosim: error %u (%s) at word %u in cycle %" PRIu64 "%s\n", top->error_code,
+                error_name(top->error_code), top->error_word, t,
+                ok ? "" : (", expected error " + std::to_string(code) + " at word " +
+                           std::to_string(word)).c_str());
+    return ok ? 0 : 1;
+}
+
 int usage()
 {
     std::fprintf(stderr,
                  "usage: cosim --events MODEL.log [--stream S.stream] [options]\n"
                  "       cosim --model PROFILE [--set KEY=VALUE ...] --stream S.stream [options]\n"
+                 "       cosim --stream S.stream --expect-error CODE@WORD\n"
                  "options: [--log RTL.log] [--vcd FAIL.vcd] [--window N] [--trace-all T.vcd] [--json]\n");
     return 2;
 }
@@ -553,6 +601,8 @@ int main(int argc, char **argv)
             o.profile = v;
         else if (a == "--set" && (v = value()))
             o.sets.push_back(v);
+        else if (a == "--expect-error" && (v = value()))
+            o.expect_error = v;
         else if (a == "--json")
             o.json = true;
         else {
@@ -560,7 +610,9 @@ int main(int argc, char **argv)
             return usage();
         }
     }
-    if (!o.events == !o.profile || (o.profile && !o.stream) || (!o.sets.empty() && !o.profile))
+    if (o.expect_error ? (o.events || o.profile || !o.stream)
+                       : (!o.events == !o.profile || (o.profile && !o.stream)) ||
+        (!o.sets.empty() && !o.profile))
         return usage();
     std::vector<uint32_t> words;
     if (o.stream) {
@@ -570,6 +622,16 @@ int main(int argc, char **argv)
             std::fprintf(stderr, "cosim: %s\n", err.c_str());
             return 2;
         }
+    }
+    if (o.expect_error) {
+        unsigned code;
+        unsigned long long word;
+        char extra;
+        if (std::sscanf(o.expect_error, "%u@%llu%c", &code, &word, &extra) != 2) {
+            std::fprintf(stderr, "cosim: --expect-error %s: expected CODE@WORD\n", o.expect_error);
+            return 2;
+        }
+        return expect_error(words, code, word);
     }
     const std::vector<uint32_t> *stream = o.stream ? &words : nullptr;
     Result r = run(o, stream, o.trace_all, 0, UINT64_MAX, true);
