@@ -19,6 +19,7 @@ for a in "$@"; do
 done
 bin=$build/albatros
 out=$build/cosim
+export ALB_LIB=$build/lib     # the benches link this build's libalbatros
 mkdir -p "$out"
 pass=0 fail=0
 ok() { pass=$((pass + 1)); echo "ok   $1"; }
@@ -264,6 +265,13 @@ if ((all)); then
         done
     fi
     icarus icarus-random "$out/t32-random-1/s.scene" --profile t32
+    # the second simulator on the small golden vectors (a256, one frame each
+    # but moving-lit's four)
+    for v in sliver-none sliver-albatros sliver-box sliver-bisector shared-edges obj-cube \
+             bound-at-most-two textured-far-plane moving-lit; do
+        mapfile -t prof < <(vector_profile "$v")
+        icarus "icarus-$v" "test-vectors/$v/expected.stream" "${prof[@]}"
+    done
     # the planted bugs: each must make the bench fail at its event
     if bash rtl/bench/mutations.sh --albatros "$bin" --dir "$out/mutations" > "$out/mutations.out" 2>&1; then
         ok "mutations: $(tail -n 1 "$out/mutations.out")"

@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
-# icarus.sh — run a scene through the model and the RTL under Icarus Verilog
-# (rtl/bench/tb_icarus.sv):
+# icarus.sh — run a scene or a word stream through the model and the RTL under
+# Icarus Verilog (rtl/bench/tb_icarus.sv):
 #
-#   rtl/bench/icarus.sh [--albatros BIN] [--dir DIR] SCENE PROFILE-ARGS...
+#   rtl/bench/icarus.sh [--albatros BIN] [--dir DIR] SCENE|STREAM PROFILE-ARGS...
 #
-# The GP's words as $readmemh text (albatros gp --memh, or converted here when
-# that option is missing), the push cycles, writes, frames and CRCs from the
-# model's event log (albatros vp --fidelity cycle --events).  Ends with the
-# bench's "icarus: PASS ..." line; exit status 0 only on PASS.
+# The GP's words as $readmemh text (albatros gp --memh, or converted here from
+# a .stream), the push cycles, writes, frames and CRCs from the model's event
+# log (albatros vp --fidelity cycle --events).  Ends with the bench's
+# "icarus: PASS ..." line; exit status 0 only on PASS.
 set -euo pipefail
 albatros=build/albatros dir=
 while [[ $# -gt 0 ]]; do
@@ -24,11 +24,11 @@ rtl=$(dirname "$here")
 [[ -n $dir ]] || dir=$(mktemp -d)
 mkdir -p "$dir"
 
-"$albatros" gp "$scene" "$@" -o "$dir/s.stream" > "$dir/gp.out" 2>&1
-if "$albatros" gp --help 2>&1 | grep -q -- --memh; then
-    "$albatros" gp "$scene" "$@" --memh "$dir/words.memh" > /dev/null 2>&1
-else   # one 8-digit hex word a line, from the little-endian stream
+if [[ $scene == *.stream ]]; then   # one 8-digit hex word a line, from the little-endian file
+    cp "$scene" "$dir/s.stream"
     od -An -v -tx4 -w4 "$dir/s.stream" | tr -d ' ' > "$dir/words.memh"
+else
+    "$albatros" gp "$scene" "$@" -o "$dir/s.stream" --memh "$dir/words.memh" > "$dir/gp.out" 2>&1
 fi
 "$albatros" vp "$dir/s.stream" "$@" --fidelity cycle --events "$dir/model.log" -q 2> "$dir/vp.out"
 awk -v dir="$dir" '

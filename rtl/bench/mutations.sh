@@ -20,6 +20,8 @@ rtl=$(dirname "$here")
 [[ -n $dir ]] || dir=$(mktemp -d)
 mkdir -p "$dir"
 albatros=$(realpath "$albatros")
+# the mutants' benches link this tree's library and headers
+export ALB_ROOT=$(dirname "$rtl") ALB_LIB=$(dirname "$albatros")/lib
 
 # name | file | sed script | profile --set ... | scene | expected unit/event
 mutations=(

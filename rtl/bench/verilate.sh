@@ -1,22 +1,26 @@
 #!/bin/sh
 # verilate.sh — build (or reuse) the Verilator bench for one parameter set:
 #
-#   ALB_LIB=build/lib rtl/bench/verilate.sh DIR [-GNAME=VALUE ...]
+#   [ALB_ROOT=TREE] [ALB_LIB=DIR] rtl/bench/verilate.sh DIR [-GNAME=VALUE ...]
 #
 # DIR/cosim is the bench (rtl/bench/cosim.cpp over rtl/ and the memory model),
-# linked with libalbatros from ALB_LIB (default: build/lib of this tree); it is
-# rebuilt only when the parameters changed or a source is newer, so a
-# parameter set costs one Verilator build per change of the RTL.
+# linked with libalbatros from ALB_LIB (default TREE/build/lib) and its headers
+# from TREE/include (TREE: the tree holding this rtl/, or ALB_ROOT for a copy
+# of rtl/ elsewhere); it is rebuilt only when the parameters changed or a
+# source is newer, so a parameter set costs one Verilator build per change of
+# the RTL.
 set -eu
 [ $# -ge 1 ] || { echo "usage: verilate.sh DIR [-GNAME=VALUE ...]" >&2; exit 2; }
 dir=$1
 shift
 here=$(cd "$(dirname "$0")" && pwd)
 rtl=$(dirname "$here")
-top=$(dirname "$rtl")
-lib=$(realpath "${ALB_LIB:-$top/build/lib}")
-[ -e "$lib/libalbatros.so" ] || {
-    echo "verilate.sh: $lib/libalbatros.so is missing: build the library first (make)" >&2; exit 1; }
+top=${ALB_ROOT:-$(dirname "$rtl")}
+lib=${ALB_LIB:-$top/build/lib}
+[ -e "$lib/libalbatros.so" ] && [ -e "$top/include/albatros/model.h" ] || {
+    echo "verilate.sh: $lib/libalbatros.so or $top/include/albatros/model.h is missing:" \
+         "build the library first (make), or set ALB_ROOT and ALB_LIB" >&2; exit 1; }
+lib=$(realpath "$lib")
 mkdir -p "$dir"
 params=$(printf '%s\n' "$lib" "$@")
 if [ -x "$dir/cosim" ] && [ -f "$dir/params" ] && [ "$(cat "$dir/params")" = "$params" ] &&
