@@ -61,7 +61,8 @@ for m in "${mutations[@]}"; do
     fi
     "$albatros" gp "$dir/$scene.scene" --profile "${prof[@]}" -o "$work/s.stream" > /dev/null 2>&1 &&
         "$albatros" vp "$work/s.stream" --profile "${prof[@]}" --fidelity cycle \
-            --events "$work/model.log" -q || { echo "mutation $name: the model failed"; continue; }
+            --events "$work/model.log" -q 2> "$work/vp.out" ||
+        { echo "mutation $name: the model failed"; continue; }
     "$work/model/cosim" --events "$work/model.log" --stream "$work/s.stream" \
         --vcd "$work/divergence.vcd" --window 50 > "$work/cosim.out" 2>&1
     rc=$?
