@@ -28,7 +28,7 @@ LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm -pthread $(EXTRA_LD
 
 COMMON_SRC := common/diag.c common/file.c common/profile.c common/words.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
-VP_SRC     := vp/vp.c vp/fill.c vp/parallel.c vp/shade.c vp/frame.c
+VP_SRC     := vp/vp.c vp/fill.c vp/store.c vp/parallel.c vp/shade.c vp/frame.c
 SINK_SRC   := emu/exr.c emu/preview.c emu/sim.c emu/sim_timed.c emu/sim_cycle.c emu/vcd.c \
               emu/model.c
 BRIDGE_SRC := emu/bridge/link.c emu/bridge/stream.c emu/bridge/transport_fault.c \

@@ -470,7 +470,8 @@ static void engine_tick(sim_cycle *m, int64_t t, uint64_t queue_start)
             return;
         e->busy = true;
         e->slot = m->faces_started % m->p->face_slots;
-        vp_count_face(m->vp, &s->face);
+        if ((m->err = vp_begin_face(m->vp, &s->face, m->d)))
+            return;
         vp_walk_begin(&e->walk, m->vp, &s->face);
         event_face(m, ALB_EV_START, t, s, e->slot);
         engine_next(m, t);   /* the first step starts this cycle */
@@ -539,6 +540,7 @@ static void fill_noted(sim_cycle *m, const queued_cell *qc, int64_t t)
     const alb_vp *vp = m->vp;
     const uint32_t *depth = vp->s_depth;
     const size_t sw = vp->sw;
+    vp_touch_tiles(m->vp, k);   /* the depths before: the store's, not a stale frame's */
     for (uint32_t i = 0; i < n; i++)
         pt->won[i] = depth[(size_t)(k->r0 + i / cw) * sw + k->c0 + i % cw];
     vp_fill(m->vp, &qc->fs, k);
@@ -554,10 +556,12 @@ static void fill_noted(sim_cycle *m, const queued_cell *qc, int64_t t)
         pw->at = t + (int64_t)(i / m->p->fill_rate) + (int64_t)m->latency - 1;
         pw->x = k->c0 + i % cw;
         pw->y = k->r0 + i / cw;
+        /* what the last stage writes: the face's depth, id, level and the
+         * colour the output stage gives the sample */
         pw->depth = depth[idx];
-        pw->face = vp->s_face[idx];
-        pw->level = vp->s_level[idx];
-        memcpy(pw->rgb, vp->s_rgb + 3 * idx, sizeof pw->rgb);
+        pw->face = qc->fs.id;
+        pw->level = k->level;
+        vp_sample_colour(vp, &qc->fs, pw->x, pw->y, pw->rgb);
     }
 }
 

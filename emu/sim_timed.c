@@ -101,14 +101,16 @@ static void word_times(timed *t, int64_t compute, int64_t ready)
 }
 
 /* The engine and fill unit on one loaded face, from cycle `start`. */
-static void run_face(timed *t, const vp_loaded_face *lf, int64_t loaded)
+static alb_err run_face(timed *t, vp_loaded_face *lf, int64_t loaded, alb_diag *d)
 {
     const alb_profile *p = t->p;
     int64_t now = max64(max64(loaded + 1, t->engine_free), t->first_face_of_frame ? t->frame_start : 0);
     t->first_face_of_frame = false;
     vp_walk w;
     vp_step step;
-    vp_count_face(t->vp, lf);
+    alb_err e = vp_begin_face(t->vp, lf, d);
+    if (e)
+        return e;
     vp_walk_begin(&w, t->vp, lf);
     while (vp_walk_next(t->vp, &w, &step)) {
         uint64_t c = step_cycles(step.edges, p->edge_units);
@@ -142,6 +144,7 @@ static void run_face(timed *t, const vp_loaded_face *lf, int64_t loaded)
     t->slot_free[t->faces % p->face_slots] = now;
     t->faces++;
     t->drain = max64(t->drain, t->frame_last);
+    return ALB_OK;
 }
 
 /* Hand retired frames to the sink once no later word can add to their
@@ -272,7 +275,7 @@ static alb_err timed_event(timed *t, const alb_ws_event *ev, vp_loaded_face *lf,
         break;
     case ALB_WS_EV_FACE:
         if (!(e = vp_load_face(t->vp, &ev->u.face, lf, d)))
-            run_face(t, lf, t->last_pop);
+            e = run_face(t, lf, t->last_pop, d);
         break;
     case ALB_WS_EV_FRAME_END:
         e = frame_end(t, t->last_pop, d);

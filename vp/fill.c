@@ -1,163 +1,181 @@
 /* fill.c — the fill unit: the samples of a cell that every edge of a face
- * holds, through the depth test into the sample store, shaded.
+ * holds, through the depth test into the sample store (docs/vp.md §4).  A
+ * sample nearer than the store's takes the face's depth and tag; its colour
+ * is the output stage's (store.c), so the fill is the same for every face.
  *
- * A face uses some of the shading units — intensity (eq. 7), texture, fog —
- * and most faces of most scenes use few: a flat face's colour is one
- * constant.  So the loop is compiled once per combination of units, the
- * units a face does not use absent from it, and the forms it does use
- * stepped by addition along the cell's rows.  The arithmetic is that of
- * units.h either way; `all_units=1` (docs/profiles.md) runs every unit for
- * every sample instead (vp_shade_sample), with the same pixels. */
+ * Depth is a linear form, so over a cell its extremes are at two corners.
+ * A cell whose depths all lie inside the store's range — none saturates at
+ * `near`, none underflows to 0 — is filled by the fast row loop, which needs
+ * no per-sample test but the depth comparison (SIMD where the host has it);
+ * any other cell by the plain loop, which decides each sample through the
+ * depth unit.  Both give the same bits (tests/test_fill.c). */
 #include "units.h"
 
 #include <string.h>
 
-enum { U_SHADE = 1, U_TEXTURE = 2, U_FOG = 4 };
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
-unsigned vp_face_units(const vp_face_setup *fs)
+typedef struct {
+    uint64_t written, underflow, saturated;
+} fill_counts;
+
+/* The plain loop over one row: each sample through the depth unit. */
+static inline void row_plain(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz,
+                             int sh, int64_t dmax, uint32_t t, fill_counts *k, const bool tags)
 {
-    return (fs->flags & ALB_WS_FACE_SHADE ? U_SHADE : 0) |
-           (fs->flags & ALB_WS_FACE_TEXTURE ? U_TEXTURE : 0) | (fs->flags & ALB_WS_FACE_FOG ? U_FOG : 0);
+    for (uint32_t i = 0; i < n; i++, z += dz) {
+        uint32_t dv = units_depth(z, sh, dmax);
+        k->underflow += dv == 0 && z > 0;
+        k->saturated += dv == (uint32_t)dmax;
+        /* a later face wins only if strictly nearer: equal depths keep the
+         * earlier face (docs/vp.md §4); 0, no surface, never wins */
+        if (dv > depth[i]) {
+            depth[i] = dv;
+            if (tags)
+                tag[i] = t;
+            k->written++;
+        }
+    }
 }
 
-void vp_flat_colour(const alb_vp *vp, const vp_face_setup *fs, uint16_t rgb[3])
+/* The fast loop over one row whose depths z + i dz all lie in the store's
+ * range: the stored depth is then z >> sr << sl exactly (one of the shifts
+ * is 0).  Returns the samples written. */
+static inline uint32_t row_fast(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz,
+                                unsigned sr, unsigned sl, uint32_t t, const bool tags)
 {
-    const unsigned fi = vp->prof.shade_frac_bits;
-    const uint64_t top = (1u << vp->prof.colour_bits) - 1;
-    for (int ch = 0; ch < 3; ch++)
-        rgb[ch] = units_output((uint64_t)fs->rgb[ch] * 0xFF << fi, top, fi);
-}
-
-/* The samples of cell k for a face using `units`; a constant at each call
- * site, so every test of it below folds away. */
-static inline __attribute__((always_inline)) void
-fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned units)
-{
-    const uint32_t cw = 1u << k->wl, ch = 1u << k->hl;
-    const unsigned fi = vp->prof.shade_frac_bits, rb = vp->prof.recip_bits, lg = fs->tex_log2;
-    const int64_t one = (int64_t)1 << fi;
-    const int ez = fs->depth.exp, dsh = units_depth_shift(vp, ez);
-    const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
-    const uint64_t top = (1u << vp->prof.colour_bits) - 1;
-    const uint32_t id = fs->id;
-    const uint8_t level = k->level;
-    uint32_t *const s_depth = vp->s_depth, *const s_face = vp->s_face;
-    uint8_t *const s_level = vp->s_level;
-    uint16_t *const s_rgb = vp->s_rgb;
-    /* counted locally: the stores below are through uint8_t, which may alias
-     * anything, and would make the compiler reload vp->st each sample */
-    uint64_t underflow = 0, saturated = 0, written = 0;
-
-    /* every form stepped exactly along the rows: N(c + 1, r) = N(c, r) + step_c */
-    int64_t z0 = units_form_at(&fs->depth, k->c0, k->r0);
-    int64_t s0 = units & U_SHADE ? units_form_at(&fs->shade, k->c0, k->r0) : 0;
-    int64_t u0 = units & U_TEXTURE ? units_form_at(&fs->tex_u, k->c0, k->r0) : 0;
-    int64_t v0 = units & U_TEXTURE ? units_form_at(&fs->tex_v, k->c0, k->r0) : 0;
-    for (uint32_t r = 0; r < ch; r++) {
-        size_t idx = (size_t)(k->r0 + r) * vp->sw + k->c0;
-        int64_t nz = z0, ns = s0, nu = u0, nv = v0;
-        for (uint32_t c = 0; c < cw; c++, idx++) {
-            uint32_t dv = units_depth(nz, dsh, dmax);
-            underflow += dv == 0 && nz > 0;
-            saturated += dv == (uint32_t)dmax;
-            /* a later face wins only if strictly nearer: equal depths keep
-             * the earlier face (docs/vp.md §4); 0 is "no surface" */
-            if (dv != 0 && dv > s_depth[idx]) {
-                written++;
-                s_depth[idx] = dv;
-                s_face[idx] = id;
-                s_level[idx] = level;
-                uint16_t *out = s_rgb + 3 * idx;
-                if (!(units & (U_SHADE | U_TEXTURE))) {
-                    memcpy(out, fs->flat, sizeof fs->flat);
-                }
-                if (units) {
-                    vp_recip rc = units_recip(vp, nz);
-                    if (units & (U_SHADE | U_TEXTURE)) {
-                        int64_t intensity = one;
-                        if (units & U_SHADE)
-                            intensity = fix_clamp(
-                                units_ratio(ns, fs->shade.exp, rc, ez, rb, (int)fi), 0, one);
-                        uint32_t texel = 0xFFFFFF;
-                        if (units & U_TEXTURE) {
-                            unsigned u = units_fraction(nu, fs->tex_u.exp, rc, ez, rb, lg);
-                            unsigned v = units_fraction(nv, fs->tex_v.exp, rc, ez, rb, lg);
-                            texel = fs->texels[((size_t)v << lg) + u];
-                        }
-                        for (int i = 0; i < 3; i++)
-                            out[i] = units_output((uint64_t)fs->rgb[i] *
-                                                      (texel >> (16 - 8 * i) & 0xFF) *
-                                                      (uint64_t)intensity,
-                                                  top, fi);
-                    }
-                    if (units & U_FOG) {
-                        int64_t zq = units_ratio(1, (int)vp->p, rc, ez, rb, 8);
-                        int64_t vis = units_fog_visibility(&vp->frame, zq, one);
-                        for (int i = 0; i < 3; i++)
-                            out[i] = units_fog_blend(out[i], vp->fog_rgb[i], vis, fi);
-                    }
-                }
+    uint32_t i = 0, written = 0;
+#if defined(__SSE2__)
+    /* four samples a step: their depths in two registers of two 64-bit
+     * lanes, shifted, narrowed to 32 bits, compared unsigned (by flipping
+     * the sign bits) and merged where they win */
+    if (n >= 4) {
+        const __m128i step = _mm_set1_epi64x(4 * dz), vsr = _mm_cvtsi32_si128((int)sr),
+                      vsl = _mm_cvtsi32_si128((int)sl), sign = _mm_set1_epi32(INT32_MIN),
+                      vt = _mm_set1_epi32((int)t);
+        __m128i lo = _mm_set_epi64x(z + dz, z), hi = _mm_set_epi64x(z + 3 * dz, z + 2 * dz);
+        __m128i won = _mm_setzero_si128();
+        for (; i + 4 <= n; i += 4) {
+            __m128i a = _mm_sll_epi64(_mm_srl_epi64(lo, vsr), vsl);
+            __m128i b = _mm_sll_epi64(_mm_srl_epi64(hi, vsr), vsl);
+            __m128i dv = _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b),
+                                                         _MM_SHUFFLE(2, 0, 2, 0)));
+            __m128i *dp = (__m128i *)(void *)(depth + i);
+            __m128i old = _mm_loadu_si128(dp);
+            __m128i win = _mm_cmpgt_epi32(_mm_xor_si128(dv, sign), _mm_xor_si128(old, sign));
+            _mm_storeu_si128(dp, _mm_or_si128(_mm_and_si128(win, dv), _mm_andnot_si128(win, old)));
+            if (tags) {
+                __m128i *tp = (__m128i *)(void *)(tag + i);
+                __m128i ot = _mm_loadu_si128(tp);
+                _mm_storeu_si128(tp, _mm_or_si128(_mm_and_si128(win, vt), _mm_andnot_si128(win, ot)));
             }
-            nz += fs->depth.step_c;
-            if (units & U_SHADE)
-                ns += fs->shade.step_c;
-            if (units & U_TEXTURE)
-                nu += fs->tex_u.step_c, nv += fs->tex_v.step_c;
+            won = _mm_sub_epi32(won, win);
+            lo = _mm_add_epi64(lo, step);
+            hi = _mm_add_epi64(hi, step);
         }
-        z0 += fs->depth.step_r;
-        if (units & U_SHADE)
-            s0 += fs->shade.step_r;
-        if (units & U_TEXTURE)
-            u0 += fs->tex_u.step_r, v0 += fs->tex_v.step_r;
+        uint32_t lanes[4];
+        _mm_storeu_si128((__m128i *)(void *)lanes, won);
+        written = lanes[0] + lanes[1] + lanes[2] + lanes[3];
+        z += (int64_t)i * dz;
     }
-    vp->st.samples_covered += (uint64_t)cw * ch;
-    vp->st.depth_underflow += underflow;
-    vp->st.depth_saturated += saturated;
-    vp->st.samples_written += written;
+#endif
+    for (; i < n; i++, z += dz) {
+        uint32_t dv = (uint32_t)(((uint64_t)z >> sr) << sl);
+        bool win = dv > depth[i];
+        depth[i] = win ? dv : depth[i];
+        if (tags)
+            tag[i] = win ? t : tag[i];
+        written += win;
+    }
+    return written;
 }
 
-/* Every unit on: the same walk, each written sample through vp_shade_sample. */
-static void fill_all_units(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
+uint32_t vp_fill_row_fast(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz,
+                          unsigned sr, unsigned sl, uint32_t t)
 {
-    const uint32_t cw = 1u << k->wl, ch = 1u << k->hl;
-    vp->st.samples_covered += (uint64_t)cw * ch;
-    for (uint32_t r = k->r0; r < k->r0 + ch; r++)
-        for (uint32_t c = k->c0; c < k->c0 + cw; c++) {
-            size_t idx = (size_t)r * vp->sw + c;
-            int64_t nz = units_form_at(&fs->depth, c, r);
-            uint32_t dv = vp_depth_value(vp, nz, fs->depth.exp);
-            vp->st.depth_underflow += dv == 0 && nz > 0;
-            vp->st.depth_saturated += dv == (uint32_t)(((uint64_t)1 << vp->prof.depth_bits) - 1);
-            if (dv == 0 || dv <= vp->s_depth[idx])
-                continue;
-            vp->st.samples_written++;
-            vp->s_depth[idx] = dv;
-            vp->s_face[idx] = fs->id;
-            vp->s_level[idx] = k->level;
-            vp_shade_sample(vp, fs, nz, c, r, vp->s_rgb + 3 * idx);
-        }
+    return tag ? row_fast(depth, tag, n, z, dz, sr, sl, t, true)
+               : row_fast(depth, NULL, n, z, dz, sr, sl, t, false);
 }
 
-#define FILL_UNITS(n) \
-    static void fill_##n(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k) \
-    { \
-        fill_cell(vp, fs, k, n); \
+/* The samples of cell k for face fs; `tags` a constant at each call site. */
+static inline __attribute__((always_inline)) void
+fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k, const bool tags)
+{
+    vp_touch(vp, k);
+    const uint32_t cw = 1u << k->wl, ch = 1u << k->hl, t = fs->tag | k->level;
+    const int sh = units_depth_shift(vp, fs->depth.exp);
+    const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
+    const int64_t dc = fs->depth.step_c, dr = fs->depth.step_r;
+    int64_t z = units_form_at(&fs->depth, k->c0, k->r0);
+    /* the depth form's extremes over the cell, at two of its corners */
+    const int64_t ec = (int64_t)(cw - 1) * dc, er = (int64_t)(ch - 1) * dr;
+    const int64_t zmin = z + (ec < 0 ? ec : 0) + (er < 0 ? er : 0);
+    const int64_t zmax = z + (ec > 0 ? ec : 0) + (er > 0 ? er : 0);
+    uint32_t *depth = vp->s_depth + (size_t)k->r0 * vp->sw + k->c0;
+    uint32_t *tag = tags ? vp->s_tag + (size_t)k->r0 * vp->sw + k->c0 : NULL;
+    fill_counts n = {0, 0, 0};
+    if (!vp->plain_fill && zmin > 0 && units_depth(zmin, sh, dmax) > 0 &&
+        units_depth(zmax, sh, dmax) < (uint32_t)dmax) {
+        /* every sample in range: z > 0, so the shifts are exact */
+        const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
+        for (uint32_t r = 0; r < ch; r++, z += dr, depth += vp->sw) {
+            n.written += row_fast(depth, tag, cw, z, dc, sr, sl, t, tags);
+            if (tags)
+                tag += vp->sw;
+        }
+    } else {
+        for (uint32_t r = 0; r < ch; r++, z += dr, depth += vp->sw) {
+            row_plain(depth, tag, cw, z, dc, sh, dmax, t, &n, tags);
+            if (tags)
+                tag += vp->sw;
+        }
     }
-FILL_UNITS(0) FILL_UNITS(1) FILL_UNITS(2) FILL_UNITS(3)
-FILL_UNITS(4) FILL_UNITS(5) FILL_UNITS(6) FILL_UNITS(7)
-#undef FILL_UNITS
+    vp->st.samples_covered += (uint64_t)cw * ch;
+    vp->st.depth_underflow += n.underflow;
+    vp->st.depth_saturated += n.saturated;
+    vp->st.samples_written += n.written;
+}
 
-static void (*const fill_for_units[8])(alb_vp *, const vp_face_setup *, const vp_cell *) = {
-    fill_0, fill_1, fill_2, fill_3, fill_4, fill_5, fill_6, fill_7,
-};
+static void fill_tagged(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
+{
+    fill_cell(vp, fs, k, true);
+}
+
+static void fill_depth_only(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
+{
+    fill_cell(vp, fs, k, false);
+}
+
+/* A single sample (the engine's SAMPLE_IN cells, the most numerous): the
+ * plain loop without the cell's set-up. */
+static void fill_sample(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
+{
+    vp_touch(vp, k);
+    const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
+    const int64_t z = units_form_at(&fs->depth, k->c0, k->r0);
+    const size_t idx = (size_t)k->r0 * vp->sw + k->c0;
+    uint32_t dv = units_depth(z, units_depth_shift(vp, fs->depth.exp), dmax);
+    vp->st.samples_covered++;
+    vp->st.depth_underflow += dv == 0 && z > 0;
+    vp->st.depth_saturated += dv == (uint32_t)dmax;
+    if (dv > vp->s_depth[idx]) {
+        vp->s_depth[idx] = dv;
+        if (!vp->depth_only)
+            vp->s_tag[idx] = fs->tag | k->level;
+        vp->st.samples_written++;
+    }
+}
 
 void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
 {
-    if (vp->prof.all_units) {
-        fill_all_units(vp, fs, k);
-        return;
-    }
-    /* fog is a frame's choice as well as the face's */
-    unsigned units = fs->units & (vp->frame.fog ? 7u : (unsigned)~U_FOG & 7u);
-    fill_for_units[units](vp, fs, k);
+    if (!(k->wl | k->hl))
+        fill_sample(vp, fs, k);
+    else if (vp->depth_only)
+        fill_depth_only(vp, fs, k);
+    else
+        fill_tagged(vp, fs, k);
 }
+
+void vp_set_depth_only(alb_vp *vp, bool on) { vp->depth_only = on; }

@@ -24,12 +24,7 @@ alb_err alb_vp_create(alb_vp **out, const alb_profile *prof, alb_diag *d)
     vp->sw = 1u << vp->lw;
     vp->sh = 1u << vp->lh;
     vp->p = vp->lw > vp->lh ? vp->lw : vp->lh;
-    size_t n = (size_t)vp->sw * vp->sh;
-    vp->s_depth = malloc(n * sizeof *vp->s_depth);
-    vp->s_face = malloc(n * sizeof *vp->s_face);
-    vp->s_level = malloc(n * sizeof *vp->s_level);
-    vp->s_rgb = malloc(3 * n * sizeof *vp->s_rgb);
-    if (!vp->s_depth || !vp->s_face || !vp->s_level || !vp->s_rgb || vp_recip_rom_init(vp)) {
+    if (vp_store_init(vp) || vp_scratch_for(vp, 1) || vp_recip_rom_init(vp)) {
         alb_vp_destroy(vp);
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for a %ux%u sample store",
                        vp->sw, vp->sh);
@@ -46,10 +41,8 @@ void alb_vp_destroy(alb_vp *vp)
         free(vp->tex[i]);
     free(vp->recip_rom);
     free(vp->batch);
-    free(vp->s_depth);
-    free(vp->s_face);
-    free(vp->s_level);
-    free(vp->s_rgb);
+    free(vp->scratch);
+    vp_store_free(vp);
     free(vp);
 }
 
@@ -86,22 +79,15 @@ alb_err alb_vp_texture(alb_vp *vp, const alb_ws_texture *t, alb_diag *d)
     if (!mem)
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for texture %u", t->id);
     memcpy(mem, t->texels, n * sizeof *mem);
-    free(vp->tex[t->id]);
+    /* faces of this frame drawn with the old texels are shaded with them
+     * when the frame is resolved */
+    if (vp->tex[t->id] && vp_store_retire_texture(vp, vp->tex[t->id])) {
+        free(mem);
+        return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for texture %u", t->id);
+    }
     vp->tex[t->id] = mem;
     vp->tex_log2[t->id] = t->log2size;
     return ALB_OK;
-}
-
-/* Sample rows [r0, r1): no surface, the background colour. */
-static void clear_rows(alb_vp *vp, void *ctx, uint32_t r0, uint32_t r1)
-{
-    (void)ctx;
-    size_t a = (size_t)r0 * vp->sw, n = (size_t)(r1 - r0) * vp->sw;
-    memset(vp->s_depth + a, 0, n * sizeof *vp->s_depth);
-    memset(vp->s_face + a, 0xFF, n * sizeof *vp->s_face);
-    memset(vp->s_level + a, ALB_FRAME_NO_LEVEL, n);
-    for (size_t i = a; i < a + n; i++)
-        memcpy(vp->s_rgb + 3 * i, vp->bg, sizeof vp->bg);
 }
 
 void alb_vp_frame_begin(alb_vp *vp, const alb_ws_frame *f)
@@ -112,7 +98,8 @@ void alb_vp_frame_begin(alb_vp *vp, const alb_ws_frame *f)
         vp->bg[i] = vp_scale_colour8(vp, f->background >> (16 - 8 * i) & 0xFF);
         vp->fog_rgb[i] = vp_scale_colour8(vp, f->fog_rgb >> (16 - 8 * i) & 0xFF);
     }
-    vp_parallel_rows(vp, vp->sh, clear_rows, NULL);
+    /* the store is cleared tile by tile as the frame's fills reach it */
+    vp_store_begin(vp);
 }
 
 /* ---- set-up of edges and forms (docs/vp.md §2, §3) ---- */
@@ -161,6 +148,16 @@ void vp_form_setup(const alb_vp *vp, const alb_ws_form *f, vp_form_fn *fn)
 }
 
 /* ---- the subdivision engine ---- */
+
+/* Edges in a mask, without the libgcc call __builtin_popcountll makes where
+ * the target has no population-count instruction. */
+static inline unsigned edge_count(uint64_t m)
+{
+    m -= (m >> 1) & 0x5555555555555555ull;
+    m = (m & 0x3333333333333333ull) + ((m >> 2) & 0x3333333333333333ull);
+    m = (m + (m >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+    return (unsigned)((m * 0x0101010101010101ull) >> 56);
+}
 
 /* Classify cell k against its active edges: -1 outside, 1 inside (every
  * edge holds it wholly), 0 crossing; k->active loses the edges that hold it. */
@@ -233,7 +230,7 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
     vp_cell k = w->stack[--w->top];
     bool own = owns(w, &k);
     vp->st.cells[k.level] += own;
-    step->edges = (unsigned)__builtin_popcountll(k.active);
+    step->edges = edge_count(k.active);
     step->cell = k;
     if (k.wl == 0 && k.hl == 0) {
         /* a single sample: decided at its centre */
@@ -307,32 +304,25 @@ alb_err vp_load_face(alb_vp *vp, const alb_ws_face *f, vp_loaded_face *out, alb_
     return ALB_OK;
 }
 
-void vp_count_face(alb_vp *vp, const vp_loaded_face *f)
-{
-    vp->st.faces++;
-    vp->st.edges += f->n;
-    vp->st.faces_shaded += (f->fs.flags & ALB_WS_FACE_SHADE) != 0;
-    vp->st.faces_textured += (f->fs.flags & ALB_WS_FACE_TEXTURE) != 0;
-    vp->st.faces_fogged += vp->frame.fog && (f->fs.flags & ALB_WS_FACE_FOG);
-}
-
 alb_err alb_vp_face(alb_vp *vp, const alb_ws_face *f, alb_diag *d)
 {
     if (vp->batch) {
         /* threaded: load now (the stream's order of errors), draw in batches */
         alb_err err = vp_load_face(vp, f, &vp->batch[vp->nbatch], d);
+        if (!err)
+            err = vp_begin_face(vp, &vp->batch[vp->nbatch], d);
         if (err)
             return err;
-        vp_count_face(vp, &vp->batch[vp->nbatch]);
         if (++vp->nbatch == VP_BATCH)
             vp_flush_batch(vp);
         return ALB_OK;
     }
     vp_loaded_face lf;
     alb_err err = vp_load_face(vp, f, &lf, d);
+    if (!err)
+        err = vp_begin_face(vp, &lf, d);
     if (err)
         return err;
-    vp_count_face(vp, &lf);
     vp_walk w;
     vp_step step;
     vp_walk_begin(&w, vp, &lf);
@@ -344,58 +334,12 @@ alb_err alb_vp_face(alb_vp *vp, const alb_ws_face *f, alb_diag *d)
 
 /* ---- output stage ---- */
 
-/* Pixel rows [y0, y1) of out from their 4^aa samples. */
-static void resolve_rows(alb_vp *vp, void *ctx, uint32_t y0, uint32_t y1)
-{
-    alb_frame *out = ctx;
-    unsigned aa = vp->prof.aa_levels, n = 1u << aa;
-    for (unsigned y = y0; y < y1; y++)
-        for (unsigned x = 0; x < vp->prof.width; x++) {
-            /* the pixel's nearest sample gives depth, face and level (ties:
-             * the first in raster order); colour is the mean of its samples,
-             * rounded half up */
-            uint32_t sum[3] = {0, 0, 0}, best = 0;
-            size_t best_idx = (size_t)(y << aa) * vp->sw + (x << aa);
-            unsigned covered = 0;
-            for (unsigned sy = 0; sy < n; sy++)
-                for (unsigned sx = 0; sx < n; sx++) {
-                    size_t i = (size_t)((y << aa) + sy) * vp->sw + (x << aa) + sx;
-                    for (int ch = 0; ch < 3; ch++)
-                        sum[ch] += vp->s_rgb[3 * i + ch];
-                    covered += vp->s_face[i] != ALB_FRAME_NO_FACE;
-                    if (vp->s_depth[i] > best) {
-                        best = vp->s_depth[i];
-                        best_idx = i;
-                    }
-                }
-            size_t p = (size_t)y * vp->prof.width + x;
-            for (int ch = 0; ch < 3; ch++)
-                out->rgb[3 * p + ch] = (uint16_t)((sum[ch] + (n * n / 2)) >> (2 * aa));
-            out->depth[p] = vp->s_depth[best_idx];
-            out->face[p] = vp->s_face[best_idx];
-            out->level[p] = vp->s_level[best_idx];
-            out->coverage[p] = (uint16_t)covered;
-        }
-}
-
 void alb_vp_frame_end(alb_vp *vp, alb_frame *out)
 {
     vp_flush_batch(vp);
-    unsigned aa = vp->prof.aa_levels;
     out->number = vp->frame.number;
     out->near = vp->cfg.near;
-    if (aa == 0) {
-        /* one sample per pixel: the store is the frame */
-        size_t np = (size_t)vp->prof.width * vp->prof.height;
-        memcpy(out->rgb, vp->s_rgb, 3 * np * sizeof *out->rgb);
-        memcpy(out->depth, vp->s_depth, np * sizeof *out->depth);
-        memcpy(out->face, vp->s_face, np * sizeof *out->face);
-        memcpy(out->level, vp->s_level, np);
-        for (size_t i = 0; i < np; i++)
-            out->coverage[i] = vp->s_face[i] != ALB_FRAME_NO_FACE;
-        return;
-    }
-    vp_parallel_rows(vp, vp->prof.height, resolve_rows, out);
+    vp_store_resolve(vp, out);
 }
 
 alb_err alb_vp_run_stream(alb_vp *vp, const uint32_t *w, size_t n, const char *name,
