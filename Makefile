@@ -102,7 +102,7 @@ help:
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev gnuplot-nox sdcc umockdev
+            libhidapi-dev gnuplot-nox sdcc umockdev libosmesa6-dev
 setup: deps
 	$(MAKE) all
 deps:
@@ -150,8 +150,10 @@ $(ALBATROS): $(EMU_OBJ) $(CLIENT_OBJ) $(LIBALB_A)
 $(COST): $(BUILD)/tools/cost.o $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
-$(BENCH): $(BUILD)/tools/bench.o $(LIB_OBJ)
-	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
+# the bench's peer, Mesa's llvmpipe through OSMesa (tools/peer.c), links
+# into the bench alone
+$(BENCH): $(BUILD)/tools/bench.o $(BUILD)/tools/peer.o $(LIB_OBJ)
+	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) $(shell pkg-config --libs osmesa) -o $@
 
 
 # the FX2 firmware's descriptors, on the host, for tests/usb-umockdev.sh

@@ -264,6 +264,11 @@ static void check_fidelities(const alb_profile *p, const alb_ws_buf *b, const ch
                   (unsigned long long)lt.c[i].cycles, (unsigned long long)lc.c[i].cycles);
         CHECK_MSG(frames_equal(&lt.f[i], &lc.f[i], true), "%s frame %u: timed/cycle frames", what, i);
         CHECK_MSG(frames_equal(&lf.f[i], &lc.f[i], false), "%s frame %u: functional/cycle", what, i);
+        /* the functional engine walks faces its own way (vp_draw_face), the
+         * clocked models step by step: every statistic must agree */
+        CHECK_MSG(!memcmp(&lf.s[i], &lt.s[i], sizeof lf.s[i]) &&
+                      !memcmp(&lc.s[i], &lt.s[i], sizeof lc.s[i]),
+                  "%s frame %u: statistics differ between the fidelities", what, i);
     }
     check_threads(p, b, &lf, what);
     log_free(&lf);

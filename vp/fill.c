@@ -148,30 +148,10 @@ static void fill_depth_only(alb_vp *vp, const vp_face_setup *fs, const vp_cell *
     fill_cell(vp, fs, k, false);
 }
 
-/* A single sample (the engine's SAMPLE_IN cells, the most numerous): the
- * plain loop without the cell's set-up. */
-static void fill_sample(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
-{
-    vp_touch(vp, k);
-    const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
-    const int64_t z = units_form_at(&fs->depth, k->c0, k->r0);
-    const size_t idx = (size_t)k->r0 * vp->sw + k->c0;
-    uint32_t dv = units_depth(z, units_depth_shift(vp, fs->depth.exp), dmax);
-    vp->st.samples_covered++;
-    vp->st.depth_underflow += dv == 0 && z > 0;
-    vp->st.depth_saturated += dv == (uint32_t)dmax;
-    if (dv > vp->s_depth[idx]) {
-        vp->s_depth[idx] = dv;
-        if (!vp->depth_only)
-            vp->s_tag[idx] = fs->tag | k->level;
-        vp->st.samples_written++;
-    }
-}
-
 void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
 {
-    if (!(k->wl | k->hl))
-        fill_sample(vp, fs, k);
+    if (!(k->wl | k->hl))   /* a single sample, the most numerous */
+        units_fill_sample(vp, fs, k->c0, k->r0, k->level);
     else if (vp->depth_only)
         fill_depth_only(vp, fs, k);
     else
@@ -179,3 +159,44 @@ void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
 }
 
 void vp_set_depth_only(alb_vp *vp, bool on) { vp->depth_only = on; }
+
+/* The samples `mask` (bit 4y + x) of the 4 x 4 block at (c0, r0), each
+ * decided at level l, or l - 1 where its bit of `coarse` is set: the plain
+ * loop over the block, the depth stepped along its rows. */
+void vp_fill_block4(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r0, uint16_t mask,
+                    uint16_t coarse, uint8_t l)
+{
+    const vp_cell k = {.c0 = c0, .r0 = r0, .wl = 2, .hl = 2};
+    vp_touch(vp, &k);
+    const int sh = units_depth_shift(vp, fs->depth.exp);
+    const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
+    const int64_t dc = fs->depth.step_c, dr = fs->depth.step_r;
+    const uint32_t t_fine = fs->tag | l, t_coarse = fs->tag | (uint32_t)(l - 1);
+    int64_t z = units_form_at(&fs->depth, c0, r0);
+    uint32_t *depth = vp->s_depth + (size_t)r0 * vp->sw + c0;
+    uint32_t *tag = vp->s_tag + (size_t)r0 * vp->sw + c0;
+    fill_counts n = {0, 0, 0};
+    unsigned covered = 0;
+    for (unsigned y = 0; y < 4; y++, z += dr, depth += vp->sw, tag += vp->sw) {
+        int64_t zc = z;
+        for (unsigned x = 0; x < 4; x++, zc += dc) {
+            unsigned bit = 1u << (4 * y + x);
+            if (!(mask & bit))
+                continue;
+            covered++;
+            uint32_t dv = units_depth(zc, sh, dmax);
+            n.underflow += dv == 0 && zc > 0;
+            n.saturated += dv == (uint32_t)dmax;
+            if (dv > depth[x]) {
+                depth[x] = dv;
+                if (!vp->depth_only)
+                    tag[x] = coarse & bit ? t_coarse : t_fine;
+                n.written++;
+            }
+        }
+    }
+    vp->st.samples_covered += covered;
+    vp->st.depth_underflow += n.underflow;
+    vp->st.depth_saturated += n.saturated;
+    vp->st.samples_written += n.written;
+}

@@ -94,13 +94,7 @@ static void *work(void *arg)
         if (t >= j->ntiles)
             return NULL;
         for (unsigned i = 0; i < j->vp->nbatch; i++) {
-            const vp_loaded_face *f = &j->vp->batch[i];
-            vp_walk w;
-            vp_step step;
-            vp_walk_begin_tile(&w, &wk->local, f, &j->tiles[t]);
-            while (vp_walk_next(&wk->local, &w, &step))
-                if (step.kind == VP_STEP_FILL || step.kind == VP_STEP_SAMPLE_IN)
-                    vp_fill(&wk->local, &f->fs, &step.cell);
+            vp_draw_face_tile(&wk->local, &j->vp->batch[i], &j->tiles[t]);
         }
     }
 }
@@ -121,7 +115,7 @@ static void make_tiles(const alb_vp *vp, job *j)
     j->ntiles = 0;
     for (uint32_t r = 0; r < vp->sh; r += 1u << hl)
         for (uint32_t c = 0; c < vp->sw; c += 1u << wl)
-            j->tiles[j->ntiles++] = (vp_cell){c, r, (uint8_t)wl, (uint8_t)hl, (uint8_t)l, 0};
+            j->tiles[j->ntiles++] = (vp_cell){c, r, (uint8_t)wl, (uint8_t)hl, (uint8_t)l, 0, 0};
 }
 
 void vp_flush_batch(alb_vp *vp)
@@ -151,14 +145,8 @@ void vp_flush_batch(alb_vp *vp)
         work(&wk[0]);
     } else {
         /* no memory for the job: one thread, the whole screen */
-        for (unsigned i = 0; i < vp->nbatch; i++) {
-            vp_walk w;
-            vp_step step;
-            vp_walk_begin(&w, vp, &vp->batch[i]);
-            while (vp_walk_next(vp, &w, &step))
-                if (step.kind == VP_STEP_FILL || step.kind == VP_STEP_SAMPLE_IN)
-                    vp_fill(vp, &vp->batch[i].fs, &step.cell);
-        }
+        for (unsigned i = 0; i < vp->nbatch; i++)
+            vp_draw_face(vp, &vp->batch[i]);
     }
     for (unsigned i = 0; i < nw; i++) {
         if (i && started[i])

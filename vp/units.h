@@ -32,6 +32,30 @@ static inline uint32_t units_depth(int64_t n, int sh, int64_t max)
     return (uint32_t)(v > max ? max : v);
 }
 
+/* The fill unit on one sample (c, r) of face fs decided at `level`: its
+ * depth through the depth unit and the depth test (docs/vp.md §4), counted
+ * in vp->st.  The fill loops of fill.c do the same a row at a time. */
+static inline void units_fill_sample(alb_vp *vp, const vp_face_setup *fs, uint32_t c, uint32_t r,
+                                     uint8_t level)
+{
+    vp_cell k = {.c0 = c, .r0 = r, .level = level};
+    vp_touch(vp, &k);
+    const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
+    const int64_t z = units_form_at(&fs->depth, c, r);
+    const size_t idx = (size_t)r * vp->sw + c;
+    uint32_t dv = units_depth(z, units_depth_shift(vp, fs->depth.exp), dmax);
+    vp->st.samples_covered++;
+    vp->st.depth_underflow += dv == 0 && z > 0;
+    vp->st.depth_saturated += dv == (uint32_t)dmax;
+    /* a later face wins only if strictly nearer; 0, no surface, never wins */
+    if (dv > vp->s_depth[idx]) {
+        vp->s_depth[idx] = dv;
+        if (!vp->depth_only)
+            vp->s_tag[idx] = fs->tag | level;
+        vp->st.samples_written++;
+    }
+}
+
 /* 1/n for n > 0 through the reciprocal ROM (or the divider, wider units). */
 static inline vp_recip units_recip(const alb_vp *vp, int64_t n)
 {

@@ -4,8 +4,7 @@
  * each classified against every edge by comparing the edge's positions at the
  * cell's borders with the cell's bounds — exact integers, so the middle of a
  * cell is the mean of its borders and every sample is decided exactly. */
-#include "vp_internal.h"
-#include "../common/fix.h"
+#include "units.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -149,39 +148,33 @@ void vp_form_setup(const alb_vp *vp, const alb_ws_form *f, vp_form_fn *fn)
 
 /* ---- the subdivision engine ---- */
 
-/* Edges in a mask, without the libgcc call __builtin_popcountll makes where
- * the target has no population-count instruction. */
-static inline unsigned edge_count(uint64_t m)
-{
-    m -= (m >> 1) & 0x5555555555555555ull;
-    m = (m & 0x3333333333333333ull) + ((m >> 2) & 0x3333333333333333ull);
-    m = (m + (m >> 4)) & 0x0F0F0F0F0F0F0F0Full;
-    return (unsigned)((m * 0x0101010101010101ull) >> 56);
-}
-
 /* Classify cell k against its active edges: -1 outside, 1 inside (every
  * edge holds it wholly), 0 crossing; k->active loses the edges that hold it. */
-static int classify(const vp_edge_fn *e, vp_cell *k)
+static inline __attribute__((always_inline)) int classify(const vp_edge_fn *e, vp_cell *k)
 {
-    int64_t c0 = 2 * (int64_t)k->c0, c1 = 2 * ((int64_t)k->c0 + (1 << k->wl));
-    int64_t r0 = 2 * (int64_t)k->r0, r1 = 2 * ((int64_t)k->r0 + (1 << k->hl));
+    const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
+    const int64_t w = (int64_t)2 << k->wl, h = (int64_t)2 << k->hl;
     uint64_t act = k->active;
     while (act) {
         unsigned i = (unsigned)__builtin_ctzll(act);
         act &= act - 1;
         const vp_edge_fn *f = &e[i];
-        /* h is linear: its extremes over the cell are at opposite corners */
-        int64_t hmin = f->a * (f->a > 0 ? c0 : c1) + f->b * (f->b > 0 ? r0 : r1) + f->c;
-        int64_t hmax = f->a * (f->a > 0 ? c1 : c0) + f->b * (f->b > 0 ? r1 : r0) + f->c;
+        /* h is linear: its extremes over the cell are at opposite corners,
+         * h at the top-left one plus the sides' positive or negative parts */
+        int64_t h0 = f->a * c0 + f->b * r0 + f->c, ax = f->a * w, by = f->b * h;
+        int64_t hmax = h0 + (ax > 0 ? ax : 0) + (by > 0 ? by : 0);
         if (hmax < 0)
             return -1;
-        if (hmin >= 0)
+        int64_t hmin = h0 + (ax < 0 ? ax : 0) + (by < 0 ? by : 0);
+        if (hmin >= 0) {
             k->active &= ~(1ull << i);
+            k->edges--;
+        }
     }
     return k->active ? 0 : 1;
 }
 
-static bool sample_inside(const vp_edge_fn *e, uint64_t active, uint32_t c, uint32_t r)
+static inline bool sample_inside(const vp_edge_fn *e, uint64_t active, uint32_t c, uint32_t r)
 {
     int64_t cc = 2 * (int64_t)c + 1, rr = 2 * (int64_t)r + 1;
     while (active) {
@@ -198,8 +191,9 @@ void vp_walk_begin(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f)
     w->e = f->e;
     w->top = 0;
     w->clipped = false;
-    w->stack[w->top++] = (vp_cell){0, 0, (uint8_t)vp->lw, (uint8_t)vp->lh, 0,
-                                   f->n == 64 ? ~0ull : (1ull << f->n) - 1};
+    w->stack[w->top++] = (vp_cell){.wl = (uint8_t)vp->lw, .hl = (uint8_t)vp->lh,
+                                   .edges = (uint8_t)f->n,
+                                   .active = f->n == 64 ? ~0ull : (1ull << f->n) - 1};
 }
 
 void vp_walk_begin_tile(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile)
@@ -223,24 +217,32 @@ static bool owns(const vp_walk *w, const vp_cell *k)
     return !w->clipped || (k->c0 - t->c0 < (1u << t->wl) && k->r0 - t->r0 < (1u << t->hl));
 }
 
+/* A child onto the stack, unless the walk is clipped to a tile it misses. */
+static inline void push(vp_walk *w, uint32_t c0, uint32_t r0, uint8_t wl, uint8_t hl, uint8_t level,
+                        const vp_cell *parent)
+{
+    vp_cell c = {c0, r0, wl, hl, level, parent->edges, parent->active};
+    if (!w->clipped || meets_tile(w, &c))
+        w->stack[w->top++] = c;
+}
+
 bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
 {
     if (!w->top)
         return false;
-    vp_cell k = w->stack[--w->top];
-    bool own = owns(w, &k);
-    vp->st.cells[k.level] += own;
-    step->edges = edge_count(k.active);
-    step->cell = k;
-    if (k.wl == 0 && k.hl == 0) {
+    vp_cell *k = &step->cell;
+    *k = w->stack[--w->top];
+    bool own = owns(w, k);
+    vp->st.cells[k->level] += own;
+    step->edges = k->edges;
+    if (k->wl == 0 && k->hl == 0) {
         /* a single sample: decided at its centre */
         vp->st.samples_tested++;
-        step->kind = sample_inside(w->e, k.active, k.c0, k.r0) ? VP_STEP_SAMPLE_IN
-                                                               : VP_STEP_SAMPLE_OUT;
+        step->kind = sample_inside(w->e, k->active, k->c0, k->r0) ? VP_STEP_SAMPLE_IN
+                                                                 : VP_STEP_SAMPLE_OUT;
         return true;
     }
-    int cls = classify(w->e, &k);
-    step->cell = k;
+    int cls = classify(w->e, k);
     if (cls < 0) {
         vp->st.cells_outside += own;
         step->kind = VP_STEP_OUT;
@@ -249,30 +251,256 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
     if (cls > 0) {
         vp->st.cells_inside += own;
         step->kind = VP_STEP_FILL;
-        if (w->clipped && (k.wl > w->tile.wl || k.hl > w->tile.hl)) {
+        if (w->clipped && (k->wl > w->tile.wl || k->hl > w->tile.hl)) {
             /* fill only the tile's part, as decided at this cell's level */
-            step->cell = w->tile;
-            step->cell.level = k.level;
+            uint8_t level = k->level;
+            *k = w->tile;
+            k->level = level;
         }
         return true;
     }
     vp->st.cells_split += own;
     step->kind = VP_STEP_SPLIT;
-    /* children, visited top-left, top-right, bottom-left, bottom-right;
-     * a side already one sample long is not split */
-    uint8_t wl = k.wl ? k.wl - 1 : 0, hl = k.hl ? k.hl - 1 : 0;
-    vp_cell kids[4];
-    unsigned nk = 0;
-    for (unsigned dy = 0; dy < (k.hl ? 2u : 1u); dy++)
-        for (unsigned dx = 0; dx < (k.wl ? 2u : 1u); dx++) {
-            vp_cell c = {k.c0 + (dx << wl), k.r0 + (dy << hl), wl, hl, (uint8_t)(k.level + 1),
-                         k.active};
-            if (!w->clipped || meets_tile(w, &c))
-                kids[nk++] = c;
-        }
-    while (nk)
-        w->stack[w->top++] = kids[--nk];
+    /* children, visited top-left, top-right, bottom-left, bottom-right (so
+     * pushed in reverse); a side already one sample long is not split */
+    const uint8_t wl = k->wl ? k->wl - 1 : 0, hl = k->hl ? k->hl - 1 : 0, l = k->level + 1;
+    const uint32_t c0 = k->c0, r0 = k->r0, dx = k->wl ? 1u << wl : 0, dy = k->hl ? 1u << hl : 0;
+    if (dy) {
+        if (dx)
+            push(w, c0 + dx, r0 + dy, wl, hl, l, k);
+        push(w, c0, r0 + dy, wl, hl, l, k);
+    }
+    if (dx)
+        push(w, c0 + dx, r0, wl, hl, l, k);
+    push(w, c0, r0, wl, hl, l, k);
     return true;
+}
+
+/* ---- the functional engine: the same walk, drawing as it goes ----
+ *
+ * The clocked models need the walk a step at a time (vp_walk_next); the
+ * functional renderer only its outcome.  This is the same walk — the same
+ * cells in the same order, classified alike, counted alike, each sample
+ * decided at the same level — as a recursion that fills as it goes and
+ * decides the last level's single samples where their parent splits,
+ * without a step apiece.  Equal to vp_walk_next with vp_fill on every
+ * statistic and every sample (tests/test_timing.c compares the functional
+ * fidelity with the clocked ones). */
+
+/* The children of a cell k that splits, in the walk's order: bit 0 the
+ * top-left, 1 top-right, 2 bottom-left, 3 bottom-right.  A side one sample
+ * long is not split; a walk clipped to a tile leaves out the children that
+ * miss it. */
+static unsigned children_present(const vp_walk *w, const vp_cell *k, uint32_t dx, uint32_t dy,
+                                 uint8_t wl, uint8_t hl)
+{
+    unsigned present = 1u | (dx ? 2u : 0) | (dy ? 4u : 0) | (dx && dy ? 8u : 0);
+    if (w->clipped)
+        for (unsigned j = 0; j < 4; j++) {
+            vp_cell c = {k->c0 + (j & 1 ? dx : 0), k->r0 + (j & 2 ? dy : 0), wl, hl, 0, 0, 0};
+            if (!meets_tile(w, &c))
+                present &= ~(1u << j);
+        }
+    return present;
+}
+
+/* Children that are single samples, each the walk's next step in turn:
+ * decided at their centres, the active edges at the top-left one and the
+ * others a column (2a) or a row (2b) on.  A sample meeting the tile lies in
+ * it, so this walk counts it. */
+static void draw_samples(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
+                         unsigned present)
+{
+    const int64_t cc = 2 * (int64_t)k->c0 + 1, rr = 2 * (int64_t)k->r0 + 1;
+    unsigned in = present;
+    for (uint64_t act = k->active; act && in; act &= act - 1) {
+        const vp_edge_fn *f = &w->e[__builtin_ctzll(act)];
+        int64_t h = f->a * cc + f->b * rr + f->c;
+        in &= (h >= 0) | (h + 2 * f->a >= 0) << 1 | (h + 2 * f->b >= 0) << 2 |
+              (h + 2 * (f->a + f->b) >= 0) << 3;
+    }
+    const unsigned n = (0x4332322132212110ull >> (4 * present)) & 0xF;   /* bits of present */
+    const uint8_t l = k->level + 1;
+    vp->st.cells[l] += n;
+    vp->st.samples_tested += n;
+    for (unsigned j = 0; in; j++, in >>= 1)
+        if (in & 1)
+            units_fill_sample(vp, fs, k->c0 + (j & 1), k->r0 + (j >> 1), l);
+}
+
+/* A cell the walk found inside every edge: filled, or, clipped to a smaller
+ * tile, the tile's part of it, as decided at the cell's level. */
+static void draw_fill(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k)
+{
+    if (w->clipped && (k->wl > w->tile.wl || k->hl > w->tile.hl)) {
+        vp_cell t = w->tile;
+        t.level = k->level;
+        vp_fill(vp, fs, &t);
+    } else {
+        vp_fill(vp, fs, k);
+    }
+}
+
+/* Bits of a 4-bit mask. */
+static inline unsigned bits4(unsigned m) { return (0x4332322132212110ull >> (4 * m)) & 0xF; }
+
+/* The cells below a 4 x 4 cell k that splits: its four 2 x 2 children and
+ * the samples of those that split, decided in one pass.  Per active edge,
+ * the children's extremes as in draw_split and the sixteen sample centres,
+ * a column (2a) or a row (2b) apart, as a mask; a sample of a child that
+ * splits is tested against the child's active edges, and an edge that holds
+ * the child is >= 0 at its samples too, so the parent's edges give the same
+ * verdicts.  Then the counts, and one fill of the block's samples, each
+ * with the level that decided it. */
+static void draw_split4(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k)
+{
+    const uint8_t l = k->level + 1;
+    const unsigned present = children_present(w, k, 2, 2, 1, 1);
+    const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
+    unsigned out = 0, in = 0xFFFF;   /* children rejected; samples inside (bit 4y + x) */
+    uint64_t held[4] = {0, 0, 0, 0};
+    for (uint64_t act = k->active; act; act &= act - 1) {
+        const unsigned i = (unsigned)__builtin_ctzll(act);
+        const vp_edge_fn *f = &w->e[i];
+        const int64_t h = f->a * c0 + f->b * r0 + f->c, ax = 4 * f->a, by = 4 * f->b;
+        const int64_t up = (ax > 0 ? ax : 0) + (by > 0 ? by : 0);
+        const int64_t down = (ax < 0 ? ax : 0) + (by < 0 ? by : 0);
+        const int64_t t[4] = {h, h + ax, h + by, h + ax + by};
+        for (unsigned j = 0; j < 4; j++) {
+            out |= (unsigned)(t[j] + up < 0) << j;
+            held[j] |= (uint64_t)(t[j] + down >= 0) << i;
+        }
+        unsigned m = 0;
+        int64_t row = h + f->a + f->b;   /* the top-left sample's centre */
+        for (unsigned y = 0; y < 4; y++, row += 2 * f->b)
+            m |= (unsigned)(row >= 0) << 4 * y | (unsigned)(row + 2 * f->a >= 0) << (4 * y + 1) |
+                 (unsigned)(row + 4 * f->a >= 0) << (4 * y + 2) |
+                 (unsigned)(row + 6 * f->a >= 0) << (4 * y + 3);
+        in &= m;
+    }
+    /* the children's quadrants of the block's samples */
+    static const uint16_t quadrant[4] = {0x0033, 0x00CC, 0x3300, 0xCC00};
+    unsigned fill = 0, split = 0, inside = 0, level_up = 0;
+    unsigned owned = present;
+    if (w->clipped)
+        for (unsigned j = 0; j < 4; j++) {
+            vp_cell c = {k->c0 + (j & 1) * 2, k->r0 + (j >> 1) * 2, 1, 1, l, 0, 0};
+            if (!owns(w, &c))
+                owned &= ~(1u << j);
+        }
+    for (unsigned j = 0; j < 4; j++) {
+        if (!(present >> j & 1) || out >> j & 1)
+            continue;
+        if (!(k->active & ~held[j])) {
+            inside |= 1u << j;
+            fill |= quadrant[j];
+            level_up |= quadrant[j];   /* decided at the child's level */
+        } else {
+            split |= 1u << j;
+            fill |= quadrant[j] & in;
+        }
+    }
+    vp->st.cells[l] += bits4(owned);
+    vp->st.cells_outside += bits4(owned & out & present);
+    vp->st.cells_inside += bits4(owned & inside);
+    vp->st.cells_split += bits4(owned & split);
+    /* the samples of split children: each a step, counted by the tile it is in */
+    vp->st.cells[l + 1] += 4 * bits4(split);
+    vp->st.samples_tested += 4 * bits4(split);
+    if (fill)
+        vp_fill_block4(vp, fs, k->c0, k->r0, (uint16_t)fill, (uint16_t)level_up, (uint8_t)(l + 1));
+}
+
+/* The cells below cell k, which splits.  Its children are classified
+ * together: an edge's value at a child's top-left corner is the parent's
+ * corner value plus a child's side or not, and its extremes over the child
+ * add the positive or the negative parts of the child's sides (h is linear)
+ * — the walk's classify, four cells at a time.  Then each child in turn is
+ * counted, rejected, filled, or split further. */
+static void draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k)
+{
+    const uint8_t wl = k->wl ? k->wl - 1 : 0, hl = k->hl ? k->hl - 1 : 0, l = k->level + 1;
+    const uint32_t dx = k->wl ? 1u << wl : 0, dy = k->hl ? 1u << hl : 0;
+    if (k->wl == 2 && k->hl == 2) {
+        draw_split4(vp, w, fs, k);
+        return;
+    }
+    const unsigned present = children_present(w, k, dx, dy, wl, hl);
+    if (!(wl | hl)) {
+        draw_samples(vp, w, fs, k, present);
+        return;
+    }
+    const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
+    const int64_t cw = (int64_t)2 << wl, ch = (int64_t)2 << hl;    /* a child's sides */
+    const int64_t ox = dx ? cw : 0, oy = dy ? ch : 0;                /* the children's offsets */
+    unsigned out = 0;
+    uint64_t held[4] = {0, 0, 0, 0};   /* edges holding each child wholly */
+    for (uint64_t act = k->active; act; act &= act - 1) {
+        const unsigned i = (unsigned)__builtin_ctzll(act);
+        const vp_edge_fn *f = &w->e[i];
+        const int64_t h = f->a * c0 + f->b * r0 + f->c, ax = f->a * cw, by = f->b * ch;
+        const int64_t up = (ax > 0 ? ax : 0) + (by > 0 ? by : 0);
+        const int64_t down = (ax < 0 ? ax : 0) + (by < 0 ? by : 0);
+        const int64_t hx = f->a * ox, hy = f->b * oy;
+        const int64_t t[4] = {h, h + hx, h + hy, h + hx + hy};
+        for (unsigned j = 0; j < 4; j++) {
+            out |= (unsigned)(t[j] + up < 0) << j;
+            held[j] |= (uint64_t)(t[j] + down >= 0) << i;
+        }
+    }
+    vp_cell c = {0, 0, wl, hl, l, 0, 0};
+    for (unsigned j = 0; j < 4; j++) {
+        if (!(present >> j & 1))
+            continue;
+        c.c0 = k->c0 + (j & 1 ? dx : 0), c.r0 = k->r0 + (j & 2 ? dy : 0);
+        const bool own = owns(w, &c);
+        vp->st.cells[l] += own;
+        if (out >> j & 1) {
+            vp->st.cells_outside += own;
+            continue;
+        }
+        c.active = k->active & ~held[j];
+        if (!c.active) {
+            vp->st.cells_inside += own;
+            draw_fill(vp, w, fs, &c);
+            continue;
+        }
+        vp->st.cells_split += own;
+        draw_split(vp, w, fs, &c);
+    }
+}
+
+/* The walk of a face from the top cell (never a single sample: a screen is
+ * at least 2 x 2). */
+static void draw_walk(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs)
+{
+    vp_cell k = w->stack[0];
+    const bool own = owns(w, &k);
+    vp->st.cells[k.level] += own;
+    int cls = classify(w->e, &k);
+    if (cls < 0) {
+        vp->st.cells_outside += own;
+    } else if (cls > 0) {
+        vp->st.cells_inside += own;
+        draw_fill(vp, w, fs, &k);
+    } else {
+        vp->st.cells_split += own;
+        draw_split(vp, w, fs, &k);
+    }
+}
+
+void vp_draw_face(alb_vp *vp, const vp_loaded_face *f)
+{
+    vp_walk w;
+    vp_walk_begin(&w, vp, f);
+    draw_walk(vp, &w, &f->fs);
+}
+
+void vp_draw_face_tile(alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile)
+{
+    vp_walk w;
+    vp_walk_begin_tile(&w, vp, f, tile);
+    draw_walk(vp, &w, &f->fs);
 }
 
 alb_err vp_load_face(alb_vp *vp, const alb_ws_face *f, vp_loaded_face *out, alb_diag *d)
@@ -323,12 +551,7 @@ alb_err alb_vp_face(alb_vp *vp, const alb_ws_face *f, alb_diag *d)
         err = vp_begin_face(vp, &lf, d);
     if (err)
         return err;
-    vp_walk w;
-    vp_step step;
-    vp_walk_begin(&w, vp, &lf);
-    while (vp_walk_next(vp, &w, &step))
-        if (step.kind == VP_STEP_FILL || step.kind == VP_STEP_SAMPLE_IN)
-            vp_fill(vp, &lf.fs, &step.cell);
+    vp_draw_face(vp, &lf);
     return ALB_OK;
 }
 

@@ -98,6 +98,7 @@ typedef struct {
     uint32_t c0, r0;         /* top-left sample */
     uint8_t wl, hl;          /* log2 of width and height in samples */
     uint8_t level;
+    uint8_t edges;           /* how many: the bits of active */
     uint64_t active;         /* edges not yet known to hold the cell inside */
 } vp_cell;
 
@@ -134,6 +135,11 @@ void vp_walk_begin_tile(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f, c
 /* The next cell step in the engine's order; false when the face is done.
  * Counts the cell in vp->st. */
 bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step);
+/* The functional engine (vp.c): a face's whole walk with its fills, the
+ * same cells, counts and samples as vp_walk_next and vp_fill step by step;
+ * clipped to a tile as vp_walk_begin_tile. */
+void vp_draw_face(alb_vp *vp, const vp_loaded_face *f);
+void vp_draw_face_tile(alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile);
 /* The samples of a FILL or SAMPLE_IN cell through the depth test: each
  * sample nearer than the store's gets the face's depth and tag (fill.c). */
 void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k);
@@ -142,6 +148,11 @@ void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k);
  * win (and tag t, unless tag is NULL); returns how many won. */
 uint32_t vp_fill_row_fast(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz,
                           unsigned sr, unsigned sl, uint32_t t);
+/* The samples `mask` (bit 4 y + x) of the 4 x 4 block at (c0, r0) through
+ * the depth test, decided at level l, or l - 1 where `coarse` has their
+ * bit (fill.c). */
+void vp_fill_block4(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r0, uint16_t mask,
+                    uint16_t coarse, uint8_t l);
 /* Clear the tiles of cell k that no fill has touched yet this frame
  * (store.c); vp_touch is the same, quicker for a cell within one tile. */
 void vp_touch_tiles(alb_vp *vp, const vp_cell *k);
