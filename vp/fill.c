@@ -13,9 +13,7 @@
 
 #include <string.h>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "simd.h"
 
 typedef struct {
     uint64_t written, underflow, saturated;
@@ -47,7 +45,7 @@ static inline uint32_t row_fast(uint32_t *depth, uint32_t *tag, uint32_t n, int6
                                 unsigned sr, unsigned sl, uint32_t t, const bool tags)
 {
     uint32_t i = 0, written = 0;
-#if defined(__SSE2__)
+#if VP_SSE2
     /* four samples a step: their depths in two registers of two 64-bit
      * lanes, shifted, narrowed to 32 bits, compared unsigned (by flipping
      * the sign bits) and merged where they win */
@@ -160,9 +158,14 @@ void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
 
 void vp_set_depth_only(alb_vp *vp, bool on) { vp->depth_only = on; }
 
+/* Samples in a 4-bit mask. */
+static inline unsigned bits4(unsigned m) { return (0x4332322132212110ull >> (4 * m)) & 0xF; }
+
 /* The samples `mask` (bit 4y + x) of the 4 x 4 block at (c0, r0), each
- * decided at level l, or l - 1 where its bit of `coarse` is set: the plain
- * loop over the block, the depth stepped along its rows. */
+ * decided at level l, or l - 1 where its bit of `coarse` is set.  As for a
+ * cell: where the block's depths are all in the store's range, the fast
+ * loop, a row of four at a time, the mask choosing the samples; else the
+ * plain loop, sample by sample. */
 void vp_fill_block4(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r0, uint16_t mask,
                     uint16_t coarse, uint8_t l)
 {
@@ -172,30 +175,82 @@ void vp_fill_block4(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r
     const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
     const int64_t dc = fs->depth.step_c, dr = fs->depth.step_r;
     const uint32_t t_fine = fs->tag | l, t_coarse = fs->tag | (uint32_t)(l - 1);
+    const bool tags = !vp->depth_only;
     int64_t z = units_form_at(&fs->depth, c0, r0);
+    const int64_t zmin = z + (dc < 0 ? 3 * dc : 0) + (dr < 0 ? 3 * dr : 0);
+    const int64_t zmax = z + (dc > 0 ? 3 * dc : 0) + (dr > 0 ? 3 * dr : 0);
     uint32_t *depth = vp->s_depth + (size_t)r0 * vp->sw + c0;
     uint32_t *tag = vp->s_tag + (size_t)r0 * vp->sw + c0;
     fill_counts n = {0, 0, 0};
-    unsigned covered = 0;
-    for (unsigned y = 0; y < 4; y++, z += dr, depth += vp->sw, tag += vp->sw) {
-        int64_t zc = z;
-        for (unsigned x = 0; x < 4; x++, zc += dc) {
-            unsigned bit = 1u << (4 * y + x);
-            if (!(mask & bit))
+    vp->st.samples_covered += bits4(mask & 0xF) + bits4(mask >> 4 & 0xF) + bits4(mask >> 8 & 0xF) +
+                              bits4(mask >> 12);
+    if (!vp->plain_fill && zmin > 0 && units_depth(zmin, sh, dmax) > 0 &&
+        units_depth(zmax, sh, dmax) < (uint32_t)dmax) {
+        const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
+        for (unsigned y = 0; y < 16; y += 4, z += dr, depth += vp->sw, tag += vp->sw) {
+            const unsigned m = mask >> y & 0xF, cm = coarse >> y & 0xF;
+            if (!m)
                 continue;
-            covered++;
-            uint32_t dv = units_depth(zc, sh, dmax);
-            n.underflow += dv == 0 && zc > 0;
-            n.saturated += dv == (uint32_t)dmax;
-            if (dv > depth[x]) {
+#if VP_SSE2
+            /* four lanes: the row's depths narrowed as in row_fast, the
+             * depth test where the mask has the sample */
+            static const int32_t lane[16][4] = {
+                {0, 0, 0, 0},   {-1, 0, 0, 0},   {0, -1, 0, 0},   {-1, -1, 0, 0},
+                {0, 0, -1, 0},  {-1, 0, -1, 0},  {0, -1, -1, 0},  {-1, -1, -1, 0},
+                {0, 0, 0, -1},  {-1, 0, 0, -1},  {0, -1, 0, -1},  {-1, -1, 0, -1},
+                {0, 0, -1, -1}, {-1, 0, -1, -1}, {0, -1, -1, -1}, {-1, -1, -1, -1}};
+            const __m128i vsr = _mm_cvtsi32_si128((int)sr), vsl = _mm_cvtsi32_si128((int)sl);
+            const __m128i sign = _mm_set1_epi32(INT32_MIN);
+            __m128i a = _mm_sll_epi64(_mm_srl_epi64(_mm_set_epi64x(z + dc, z), vsr), vsl);
+            __m128i b = _mm_sll_epi64(_mm_srl_epi64(_mm_set_epi64x(z + 3 * dc, z + 2 * dc), vsr), vsl);
+            __m128i dv = _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b),
+                                                         _MM_SHUFFLE(2, 0, 2, 0)));
+            __m128i *dp = (__m128i *)(void *)depth;
+            __m128i old = _mm_loadu_si128(dp);
+            __m128i win = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)lane[m]),
+                                        _mm_cmpgt_epi32(_mm_xor_si128(dv, sign), _mm_xor_si128(old, sign)));
+            _mm_storeu_si128(dp, _mm_or_si128(_mm_and_si128(win, dv), _mm_andnot_si128(win, old)));
+            if (tags) {
+                __m128i cl = _mm_loadu_si128((const __m128i *)(const void *)lane[cm]);
+                __m128i t = _mm_or_si128(_mm_and_si128(cl, _mm_set1_epi32((int)t_coarse)),
+                                         _mm_andnot_si128(cl, _mm_set1_epi32((int)t_fine)));
+                __m128i *tp = (__m128i *)(void *)tag;
+                _mm_storeu_si128(tp, _mm_or_si128(_mm_and_si128(win, t),
+                                                  _mm_andnot_si128(win, _mm_loadu_si128(tp))));
+            }
+            n.written += bits4((unsigned)_mm_movemask_ps(_mm_castsi128_ps(win)));
+#else
+            int64_t zc = z;
+            for (unsigned x = 0; x < 4; x++, zc += dc) {
+                uint32_t dv = (uint32_t)(((uint64_t)zc >> sr) << sl);
+                if (!(m >> x & 1) || dv <= depth[x])
+                    continue;
                 depth[x] = dv;
-                if (!vp->depth_only)
-                    tag[x] = coarse & bit ? t_coarse : t_fine;
+                if (tags)
+                    tag[x] = cm >> x & 1 ? t_coarse : t_fine;
                 n.written++;
+            }
+#endif
+        }
+    } else {
+        for (unsigned y = 0; y < 16; y += 4, z += dr, depth += vp->sw, tag += vp->sw) {
+            int64_t zc = z;
+            for (unsigned x = 0; x < 4; x++, zc += dc) {
+                unsigned bit = 1u << (y + x);
+                if (!(mask & bit))
+                    continue;
+                uint32_t dv = units_depth(zc, sh, dmax);
+                n.underflow += dv == 0 && zc > 0;
+                n.saturated += dv == (uint32_t)dmax;
+                if (dv > depth[x]) {
+                    depth[x] = dv;
+                    if (tags)
+                        tag[x] = coarse & bit ? t_coarse : t_fine;
+                    n.written++;
+                }
             }
         }
     }
-    vp->st.samples_covered += covered;
     vp->st.depth_underflow += n.underflow;
     vp->st.depth_saturated += n.saturated;
     vp->st.samples_written += n.written;

@@ -14,9 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "simd.h"
 
 /* Tiles of at most 16 x 16 samples: the cells of level max(levels - 4, 0). */
 #define TILE_LOG2 4
@@ -151,7 +149,7 @@ void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3])
 static void fill_u32(uint32_t *out, size_t n, uint32_t v)
 {
     size_t i = 0;
-#if defined(__SSE2__)
+#if VP_SSE2
     const __m128i x = _mm_set1_epi32((int)v);
     for (; i + 4 <= n; i += 4)
         _mm_storeu_si128((__m128i *)(void *)(out + i), x);
@@ -163,7 +161,7 @@ static void fill_u32(uint32_t *out, size_t n, uint32_t v)
 static void fill_u16(uint16_t *out, size_t n, uint16_t v)
 {
     size_t i = 0;
-#if defined(__SSE2__)
+#if VP_SSE2
     const __m128i x = _mm_set1_epi16((short)v);
     for (; i + 8 <= n; i += 8)
         _mm_storeu_si128((__m128i *)(void *)(out + i), x);
@@ -176,7 +174,7 @@ static void fill_u16(uint16_t *out, size_t n, uint16_t v)
 static void levels_of(uint8_t *out, const uint32_t *tag, size_t n)
 {
     size_t i = 0;
-#if defined(__SSE2__)
+#if VP_SSE2
     const __m128i m = _mm_set1_epi32((int)VP_TAG_LEVEL_MASK);
     for (; i + 16 <= n; i += 16) {
         const __m128i *t = (const __m128i *)(const void *)(tag + i);
@@ -237,7 +235,7 @@ static inline void emit_face(const alb_vp *vp, const row_out *o, const uint32_t 
  * face of tag t, at whatever level. */
 static inline uint32_t run_end(const uint32_t *tag, uint32_t e, uint32_t d, uint32_t t)
 {
-#if defined(__SSE2__)
+#if VP_SSE2
     const __m128i face = _mm_set1_epi32((int)(t & ~VP_TAG_LEVEL_MASK)),
                   m = _mm_set1_epi32((int)~VP_TAG_LEVEL_MASK);
     for (; e + 4 <= d; e += 4) {

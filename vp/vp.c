@@ -5,6 +5,7 @@
  * cell's borders with the cell's bounds — exact integers, so the middle of a
  * cell is the mean of its borders and every sample is decided exactly. */
 #include "units.h"
+#include "simd.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -291,7 +292,7 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
  * top-left, 1 top-right, 2 bottom-left, 3 bottom-right.  A side one sample
  * long is not split; a walk clipped to a tile leaves out the children that
  * miss it. */
-static unsigned children_present(const vp_walk *w, const vp_cell *k, uint32_t dx, uint32_t dy,
+static inline unsigned children_present(const vp_walk *w, const vp_cell *k, uint32_t dx, uint32_t dy,
                                  uint8_t wl, uint8_t hl)
 {
     unsigned present = 1u | (dx ? 2u : 0) | (dy ? 4u : 0) | (dx && dy ? 8u : 0);
@@ -357,30 +358,34 @@ static void draw_split4(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, c
     const uint8_t l = k->level + 1;
     const unsigned present = children_present(w, k, 2, 2, 1, 1);
     const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
-    unsigned out = 0, in = 0xFFFF;   /* children rejected; samples inside (bit 4y + x) */
-    uint64_t held[4] = {0, 0, 0, 0};
+    /* children rejected by an edge, held wholly by every edge; samples
+     * outside some edge (bit 4y + x): sign bits, two lanes at a time */
+    unsigned out = 0, held = 0xF, outside = 0;
     for (uint64_t act = k->active; act; act &= act - 1) {
-        const unsigned i = (unsigned)__builtin_ctzll(act);
-        const vp_edge_fn *f = &w->e[i];
+        const vp_edge_fn *f = &w->e[__builtin_ctzll(act)];
         const int64_t h = f->a * c0 + f->b * r0 + f->c, ax = 4 * f->a, by = 4 * f->b;
-        const int64_t up = (ax > 0 ? ax : 0) + (by > 0 ? by : 0);
-        const int64_t down = (ax < 0 ? ax : 0) + (by < 0 ? by : 0);
-        const int64_t t[4] = {h, h + ax, h + by, h + ax + by};
-        for (unsigned j = 0; j < 4; j++) {
-            out |= (unsigned)(t[j] + up < 0) << j;
-            held[j] |= (uint64_t)(t[j] + down >= 0) << i;
-        }
-        unsigned m = 0;
-        int64_t row = h + f->a + f->b;   /* the top-left sample's centre */
-        for (unsigned y = 0; y < 4; y++, row += 2 * f->b)
-            m |= (unsigned)(row >= 0) << 4 * y | (unsigned)(row + 2 * f->a >= 0) << (4 * y + 1) |
-                 (unsigned)(row + 4 * f->a >= 0) << (4 * y + 2) |
-                 (unsigned)(row + 6 * f->a >= 0) << (4 * y + 3);
-        in &= m;
+        const v2 up = v2_splat((ax > 0 ? ax : 0) + (by > 0 ? by : 0));
+        const v2 down = v2_splat((ax < 0 ? ax : 0) + (by < 0 ? by : 0));
+        const v2 top = v2_set(h, h + ax), bottom = v2_set(h + by, h + ax + by);
+        out |= v2_neg(v2_add(top, up)) | v2_neg(v2_add(bottom, up)) << 2;
+        held &= ~(v2_neg(v2_add(top, down)) | v2_neg(v2_add(bottom, down)) << 2);
+        const int64_t s = h + f->a + f->b;   /* the top-left sample's centre */
+        v2 left = v2_set(s, s + 2 * f->a), right = v2_set(s + 4 * f->a, s + 6 * f->a);
+        const v2 row = v2_splat(2 * f->b);
+        for (unsigned y = 0; y < 16; y += 4, left = v2_add(left, row), right = v2_add(right, row))
+            outside |= (v2_neg(left) | v2_neg(right) << 2) << y;
     }
     /* the children's quadrants of the block's samples */
     static const uint16_t quadrant[4] = {0x0033, 0x00CC, 0x3300, 0xCC00};
-    unsigned fill = 0, split = 0, inside = 0, level_up = 0;
+    const unsigned kept = present & ~out, inside = kept & held, split = kept & ~held;
+    unsigned fill = 0, coarse = 0;
+    for (unsigned j = 0; j < 4; j++) {
+        if (inside >> j & 1)
+            coarse |= quadrant[j];   /* decided at the child's level */
+        if (split >> j & 1)
+            fill |= quadrant[j] & ~outside;
+    }
+    fill |= coarse;
     unsigned owned = present;
     if (w->clipped)
         for (unsigned j = 0; j < 4; j++) {
@@ -388,27 +393,15 @@ static void draw_split4(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, c
             if (!owns(w, &c))
                 owned &= ~(1u << j);
         }
-    for (unsigned j = 0; j < 4; j++) {
-        if (!(present >> j & 1) || out >> j & 1)
-            continue;
-        if (!(k->active & ~held[j])) {
-            inside |= 1u << j;
-            fill |= quadrant[j];
-            level_up |= quadrant[j];   /* decided at the child's level */
-        } else {
-            split |= 1u << j;
-            fill |= quadrant[j] & in;
-        }
-    }
     vp->st.cells[l] += bits4(owned);
-    vp->st.cells_outside += bits4(owned & out & present);
+    vp->st.cells_outside += bits4(owned & out);
     vp->st.cells_inside += bits4(owned & inside);
     vp->st.cells_split += bits4(owned & split);
     /* the samples of split children: each a step, counted by the tile it is in */
     vp->st.cells[l + 1] += 4 * bits4(split);
     vp->st.samples_tested += 4 * bits4(split);
     if (fill)
-        vp_fill_block4(vp, fs, k->c0, k->r0, (uint16_t)fill, (uint16_t)level_up, (uint8_t)(l + 1));
+        vp_fill_block4(vp, fs, k->c0, k->r0, (uint16_t)fill, (uint16_t)coarse, (uint8_t)(l + 1));
 }
 
 /* The cells below cell k, which splits.  Its children are classified
