@@ -1,8 +1,10 @@
 /* file.c — whole-file reads (file.h). */
 #include "albatros/file.h"
 
+#include <errno.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 int alb_file_read_all(FILE *f, char **buf, size_t *len)
 {
@@ -35,4 +37,20 @@ int alb_file_read_all(FILE *f, char **buf, size_t *len)
     *buf = b;
     *len = n;
     return 0;
+}
+
+alb_err alb_file_load(const char *path, char **buf, size_t *len, alb_diag *d)
+{
+    *buf = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
+    int rc = alb_file_read_all(f, buf, len);
+    int err = errno;
+    fclose(f);
+    if (rc == -2)
+        return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "too large for memory");
+    if (rc)
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
+    return ALB_OK;
 }

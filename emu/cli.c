@@ -1,4 +1,6 @@
 /* cli.c — option parsing and set-up shared by the subcommands. */
+/* realpath (XSI) */
+#define _XOPEN_SOURCE 700
 #include "cli.h"
 #include "../common/vec3.h"
 
@@ -353,4 +355,23 @@ void cli_frame_path(char *out, size_t len, const char *path, unsigned number, un
     if (!dot || (slash && dot < slash))
         dot = path + strlen(path);
     snprintf(out, len, "%.*s.%04u%s", (int)(dot - path), path, number, dot);
+}
+
+const char *cli_argv0 = "albatros";
+
+void cli_print_self(FILE *f)
+{
+    char *abs = strchr(cli_argv0, '/') ? realpath(cli_argv0, NULL) : NULL;
+    const char *self = abs ? abs : cli_argv0;
+    /* a shell word: quoted if it holds anything but safe characters */
+    if (strspn(self, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789/._-+") ==
+        strlen(self)) {
+        fputs(self, f);
+    } else {
+        fputc('\'', f);
+        for (const char *p = self; *p; p++)
+            *p == '\'' ? fputs("'\\''", f) : fputc(*p, f);
+        fputc('\'', f);
+    }
+    free(abs);
 }

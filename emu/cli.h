@@ -59,6 +59,13 @@ int cli_split_words(char *text, char **argv, int max);
 
 bool cli_isatty_stderr(void);
 
+/* How this program was started (main's argv[0]), and how a command line
+ * printed for others to run (stability --jobs) should call it: as typed if
+ * it was found on PATH, else by its absolute path, so the jobs of a build
+ * tree or an installed copy run the same program. */
+extern const char *cli_argv0;
+void cli_print_self(FILE *f);
+
 /* An output path for one frame of nframes: "dir/f.exr" itself for a single
  * frame, "dir/f.0003.exr" (the number before the extension) for more. */
 void cli_frame_path(char *out, size_t len, const char *path, unsigned number, unsigned nframes);

@@ -3,6 +3,7 @@
  * image.  Exit status as cmp(1): 0 identical, 1 different, 2 trouble. */
 #include "cli.h"
 #include "commands.h"
+#include "albatros/dump.h"
 #include "albatros/exr.h"
 #include "albatros/preview.h"
 #include "../tools/accuracy.h"
@@ -14,7 +15,7 @@
 
 typedef struct {
     const char *diff;
-    bool json, help;
+    bool json, help, exact;
 } compare_args;
 
 static int compare_opt(void *ctx, const char *name, const char *value)
@@ -24,29 +25,60 @@ static int compare_opt(void *ctx, const char *name, const char *value)
         a->diff = value;
     else if (strcmp(name, "json") == 0)
         a->json = true;
+    else if (strcmp(name, "exact") == 0)
+        a->exact = true;
     else if (strcmp(name, "help") == 0)
         a->help = true;
     return 0;
 }
 
+/* The frames of files a and b: OpenEXR, or frame-store dumps of an RTL
+ * bench (docs/cosim.md), which take their size and formats from the other
+ * file when it is an EXR, else from the profile.  0, or 2 after saying why. */
+static int load_pair(const char *const path[2], const alb_profile *p, alb_frame f[2])
+{
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    bool exr[2] = {alb_dump_is_exr(path[0]), alb_dump_is_exr(path[1])};
+    for (int i = 0; i < 2; i++)
+        if (exr[i] && alb_exr_read_frame(path[i], &f[i], &d))
+            goto fail;
+    for (int i = 0; i < 2; i++) {
+        if (exr[i])
+            continue;
+        alb_frame shape;
+        if (exr[1 - i]) {
+            shape = f[1 - i];
+        } else {
+            memset(&shape, 0, sizeof shape);
+            shape.width = p->width, shape.height = p->height;
+            shape.colour_bits = p->colour_bits, shape.depth_bits = p->depth_bits;
+            shape.aa_levels = p->aa_levels, shape.near = 1;
+        }
+        if (alb_dump_read(path[i], &shape, &f[i], &d))
+            goto fail;
+    }
+    return 0;
+fail:
+    alb_diag_print(&d, stderr);
+    alb_frame_free(&f[0]);
+    alb_frame_free(&f[1]);
+    return 2;
+}
+
 /* Compare the frames in files a and b (diff: the diff image, or NULL);
- * prints one line (or JSON object) prefixed with `label`.  0 identical,
- * 1 different, 2 trouble. */
+ * prints one line (or JSON object) prefixed with `label`, naming the first
+ * pixel and channel that differ.  0 identical, 1 different, 2 trouble. */
 static int compare_files(const char *pa, const char *pb, const char *diff, bool json,
-                         const char *label)
+                         const char *label, const alb_profile *p, bool exact)
 {
     alb_frame f[2];
     alb_diag d;
     alb_diag_init(&d, NULL);
     memset(f, 0, sizeof f);
     const char *path[2] = {pa, pb};
-    for (int i = 0; i < 2; i++)
-        if (alb_exr_read_frame(path[i], &f[i], &d)) {
-            alb_diag_print(&d, stderr);
-            if (i)
-                alb_frame_free(&f[0]);
-            return 2;
-        }
+    if (load_pair(path, p, f))
+        return 2;
     int rc = 2;
     if (f[0].width != f[1].width || f[0].height != f[1].height ||
         f[0].colour_bits != f[1].colour_bits) {
@@ -57,21 +89,45 @@ static int compare_files(const char *pa, const char *pb, const char *diff, bool 
     }
     alb_frame_diff r;
     alb_frame_compare(&f[0], &f[1], &r);
+    size_t at = 0, ndiff = 0;
+    const char *ch = "";
+    uint64_t va = 0, vb = 0;
+    /* every plane counts with --exact, and for a dump (an RTL's frame store
+     * is held against the model's); else what is seen: face, colour,
+     * coverage (a reference has no depth store or levels) */
+    exact |= !alb_dump_is_exr(pa) || !alb_dump_is_exr(pb);
+    if (!exact)
+        for (size_t i = 0; i < (size_t)f[0].width * f[0].height; i++) {
+            f[1].depth[i] = f[0].depth[i];
+            f[1].level[i] = f[0].level[i];
+        }
+    if (f[0].cycles && f[1].cycles && !exact)
+        memcpy(f[1].cycles, f[0].cycles, (size_t)f[0].width * f[0].height * sizeof *f[1].cycles);
+    bool differ = alb_frame_first_diff(&f[0], &f[1], &at, &ch, &va, &vb, &ndiff);
+    unsigned x = (unsigned)(at % f[0].width), y = (unsigned)(at / f[0].width);
     if (diff && alb_preview_write_diff(diff, &f[0], &f[1], NULL, NULL, &d)) {
         alb_diag_print(&d, stderr);
         goto done;
     }
-    if (json)
+    if (json) {
         printf("%s{\"pixels\": %zu, \"face_diff\": %zu, \"colour_diff\": %zu, \"coverage_diff\": "
-               "%zu, \"max_error\": %u, \"mean_error\": %.6f, \"psnr\": %.3f}",
+               "%zu, \"max_error\": %u, \"mean_error\": %.6f, \"psnr\": %.3f, \"pixels_diff\": %zu",
                label, r.pixels, r.face_diff, r.colour_diff, r.coverage_diff, r.max_error,
-               r.mean_error, isinf(r.psnr) ? 999.0 : r.psnr);
-    else
+               r.mean_error, isinf(r.psnr) ? 999.0 : r.psnr, ndiff);
+        if (differ)
+            printf(", \"first_diff\": {\"x\": %u, \"y\": %u, \"channel\": \"%s\", \"a\": %llu, "
+                   "\"b\": %llu}", x, y, ch, (unsigned long long)va, (unsigned long long)vb);
+        putchar('}');
+    } else {
         printf("%s%zu pixels: %zu with a different face (%.4f%%), %zu with a different colour; "
                "colour error max %u, mean %.4f, PSNR %.2f dB\n",
                label, r.pixels, r.face_diff, 100.0 * (double)r.face_diff / (double)r.pixels,
                r.colour_diff, r.max_error, r.mean_error, r.psnr);
-    rc = (r.face_diff || r.colour_diff || r.coverage_diff) ? 1 : 0;
+        if (differ)
+            printf("%s%zu pixels differ; the first at pixel (%u, %u): %s %llu in %s, %llu in %s\n",
+                   label, ndiff, x, y, ch, (unsigned long long)va, pa, (unsigned long long)vb, pb);
+    }
+    rc = differ ? 1 : 0;
 done:
     alb_frame_free(&f[0]);
     alb_frame_free(&f[1]);
@@ -101,24 +157,34 @@ static unsigned numbered_frames(const char *path)
 
 int cmd_compare(int argc, char **argv)
 {
-    static const char *const spec[] = {"diff=", "json", "help", NULL};
+    static const char *const spec[] = {"diff=", "json", "exact", "help", NULL};
     compare_args a = {0};
+    run_opts o;
+    run_opts_init(&o);
     const char *pos[2];
     int npos;
-    if (cli_parse("compare", argc, argv, spec, compare_opt, &a, NULL, pos, 2, &npos))
+    if (cli_parse("compare", argc, argv, spec, compare_opt, &a, &o, pos, 2, &npos))
         return 2;
     if (a.help || npos != 2) {
-        printf("usage: albatros compare A.exr B.exr [--diff DIFF.png] [--json]\n\n"
+        printf("usage: albatros compare A B [--diff DIFF.png] [--json] [--exact]\n"
+               "                        [--profile P --set K=V --size WxH]\n\n"
                "Compare two frames: pixels whose face differs, colour error in frame-store\n"
-               "units (max, mean, PSNR), and a diff image (red: face differs, yellow: colour\n"
-               "only, grey: equal).  Exit 0 if identical, 1 if they differ, 2 on error.\n\n"
+               "units (max, mean, PSNR), the first pixel and channel that differ, and a\n"
+               "diff image (red: face differs, yellow: colour only, grey: equal).  Exit 0\n"
+               "if identical, 1 if they differ, 2 on error.  What counts: face, colour and\n"
+               "coverage; with --exact, and whenever A or B is a dump, every plane (depth\n"
+               "store, level, per-pixel cycles too).\n\n"
+               "A and B are OpenEXR frames or frame-store dumps of an RTL bench (128 bits\n"
+               "a pixel, $writememh text or raw: docs/cosim.md); a dump takes its size and\n"
+               "formats from the other file if that is an EXR, else from --profile,\n"
+               "--set and --size.\n\n"
                "A name render numbered (f.exr for f.0000.exr, f.0001.exr, ...) compares\n"
                "every frame of the two runs, one line each (diff images numbered alike).\n");
         return a.help ? 0 : 2;
     }
     /* two files, or two runs of numbered frames */
     if (exists(pos[0]) || exists(pos[1])) {
-        int rc = compare_files(pos[0], pos[1], a.diff, a.json, "");
+        int rc = compare_files(pos[0], pos[1], a.diff, a.json, "", &o.prof, a.exact);
         if (a.json && rc != 2)
             putchar('\n');
         return rc;
@@ -150,7 +216,7 @@ int cmd_compare(int argc, char **argv)
             snprintf(label, sizeof label, "%s", k ? ", " : "");
         else
             snprintf(label, sizeof label, "frame %u: ", k);
-        int one = compare_files(pa, pb, a.diff ? pd : NULL, a.json, label);
+        int one = compare_files(pa, pb, a.diff ? pd : NULL, a.json, label, &o.prof, a.exact);
         if (one == 2) {
             if (a.json)
                 printf("]}\n");

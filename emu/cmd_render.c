@@ -3,6 +3,7 @@
  * as an RTL test bench replays it.  Both share the frame sinks below. */
 #include "cli.h"
 #include "commands.h"
+#include "albatros/dump.h"
 #include "albatros/exr.h"
 #include "albatros/preview.h"
 #include "albatros/sim.h"
@@ -19,7 +20,7 @@
 #define MAX_VIEWS 8
 
 typedef struct {
-    const char *output, *png, *stream;
+    const char *output, *png, *stream, *dump;
     struct {
         alb_preview_view view;
         const char *path;
@@ -73,6 +74,8 @@ static int render_opt(void *ctx, const char *name, const char *value)
         a->png = value;
     else if (strcmp(name, "stream") == 0)
         a->stream = value;
+    else if (strcmp(name, "dump") == 0)
+        a->dump = value;
     else if (strcmp(name, "view") == 0) {
         const char *colon = strchr(value, ':');
         char vname[32];
@@ -214,6 +217,17 @@ static int write_outputs(void *ctx, const alb_frame *f, const alb_vp_stats *st, 
     if (a->output) {
         cli_frame_path(path, sizeof path, a->output, f->number, a->nframes);
         if (alb_exr_write_frame_threads(path, f, a->threads ? a->threads : alb_vp_cores(), &d)) {
+            alb_diag_print(&d, stderr);
+            return -1;
+        }
+    }
+    if (a->dump) {
+        /* raw by its name, else $writememh text (docs/cosim.md) */
+        size_t n = strlen(a->dump);
+        bool raw = (n > 4 && !strcmp(a->dump + n - 4, ".raw")) ||
+                   (n > 4 && !strcmp(a->dump + n - 4, ".bin"));
+        cli_frame_path(path, sizeof path, a->dump, f->number, a->nframes);
+        if (alb_dump_write(path, f, raw ? ALB_DUMP_RAW : ALB_DUMP_MEMH, &d)) {
             alb_diag_print(&d, stderr);
             return -1;
         }
@@ -374,6 +388,10 @@ static const char render_help[] =
     "  --view NAME:FILE    PNG of one view: colour, depth, face, level, coverage,\n"
     "                      cycles (timed or cycle fidelity)\n"
     "  --stream FILE       also write the GP's word stream\n"
+    "  --dump FILE         each frame as a frame-store dump, 128 bits a pixel, the\n"
+    "                      form an RTL bench writes ($writememh text; raw if FILE\n"
+    "                      ends in .raw or .bin; docs/cosim.md): albatros compare\n"
+    "                      reads it\n"
     "  --fidelity F        functional (default: pixels only), timed or cycle (cycle\n"
     "                      counts, unit counters, vp.cycles; docs/microarchitecture.md)\n"
     "  --threads N         threads of the functional renderer and of the EXR\n"
@@ -398,7 +416,7 @@ static const char vp_help[] =
     "                   [--json] [--profile NAME] [--set KEY=VALUE]\n\n"
     "Run the VP alone on a word stream (as written by albatros gp), as an RTL test\n"
     "bench replays it.  The profile must match the stream's CONFIG formats.\n"
-    "Options as for render: -o, --png, --view, --json, --fidelity, --threads, --vcd,\n"
+    "Options as for render: -o, --png, --view, --dump, --json, --fidelity, --threads, --vcd,\n"
     "--vcd-window, --vcd-units, --events, --events-only.\n\n";
 
 static int check_outputs(render_args *a)
@@ -419,7 +437,8 @@ static int check_outputs(render_args *a)
                         "(and --fidelity cycle)\n", a->cmd);
         return 2;
     }
-    if (!a->output && !a->png && !a->nviews && !a->json && !a->stream && !a->vcd && !a->events) {
+    if (!a->output && !a->png && !a->nviews && !a->json && !a->stream && !a->vcd && !a->events &&
+        !a->dump) {
         fprintf(stderr, "albatros %s: nothing to write: give -o FRAME.exr, --png FILE, --view "
                         "NAME:FILE or --json\n", a->cmd);
         return 2;
@@ -429,7 +448,7 @@ static int check_outputs(render_args *a)
 
 int cmd_render(int argc, char **argv)
 {
-    static const char *const spec[] = {"output=", "png=", "view=", "stream=", "json", "quiet",
+    static const char *const spec[] = {"output=", "png=", "view=", "stream=", "dump=", "json", "quiet",
                                        "q", "help", "fidelity=", "threads=", "vcd=", "vcd-window=",
                                        "vcd-units=", "events=", "events-only=", NULL};
     render_args a = {.cmd = "render", .progress = cli_isatty_stderr()};
@@ -476,7 +495,7 @@ int cmd_render(int argc, char **argv)
 
 int cmd_vp(int argc, char **argv)
 {
-    static const char *const spec[] = {"output=", "png=", "view=", "json", "quiet", "q", "help",
+    static const char *const spec[] = {"output=", "png=", "view=", "dump=", "json", "quiet", "q", "help",
                                        "fidelity=", "threads=", "vcd=", "vcd-window=",
                                        "vcd-units=", "events=", "events-only=", NULL};
     render_args a = {.cmd = "vp", .progress = cli_isatty_stderr()};
@@ -523,7 +542,7 @@ static const char reference_help[] =
 
 int cmd_reference(int argc, char **argv)
 {
-    static const char *const spec[] = {"output=", "png=", "view=", "json", "quiet", "q", "help",
+    static const char *const spec[] = {"output=", "png=", "view=", "dump=", "json", "quiet", "q", "help",
                                        NULL};
     render_args a = {.cmd = "reference", .progress = cli_isatty_stderr()};
     run_opts o;

@@ -125,7 +125,8 @@ static void print_word(const char *w)
  * (a256 unless given), the --set and --size options in their order, and -q. */
 static void print_job_head(const stab_args *a)
 {
-    fputs("albatros stability", stdout);
+    cli_print_self(stdout);
+    fputs(" stability", stdout);
     if (!a->profile_given)
         fputs(" --profile a256", stdout);
     for (unsigned i = 0; i < a->npass; i++) {

@@ -3,6 +3,8 @@
 #ifndef ALBATROS_FILE_H
 #define ALBATROS_FILE_H
 
+#include "diag.h"
+
 #include <stddef.h>
 #include <stdio.h>
 
@@ -14,6 +16,9 @@
  * error (errno says which); -2 out of memory.  *buf is NULL on failure.  f
  * stays open. */
 int alb_file_read_all(FILE *f, char **buf, size_t *len);
+/* The whole file at path the same way, with the error described in d
+ * ("cannot open: ...", "read error: ...", "too large for memory"). */
+alb_err alb_file_load(const char *path, char **buf, size_t *len, alb_diag *d);
 
 #pragma GCC visibility pop
 
