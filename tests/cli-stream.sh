@@ -72,8 +72,12 @@ expect 0 "truncate=N +send only the first half of the N-th packet" "$bin" stream
 expect 0 "corrupt=N +flip a bit of the N-th byte sent" "$bin" stream --help
 
 # Ctrl-C: stopped once the stream has begun (its first line, printed once
-# the handler is in place), however slowly the emulator's run before it goes
-"$bin" stream --sim --profile a256 "$tmp/long.scene" > "$tmp/int.out" 2>&1 &
+# the handler is in place), however slowly the emulator's run before it goes;
+# the board falls silent half-way and the host waits for it, so the signal
+# cannot come after a finished stream however fast the emulator (the whole
+# stream takes a tenth of a second, less than the polling below)
+"$bin" stream --sim --profile a256 "$tmp/long.scene" --fault silence=3000 --timeout 600000 \
+    > "$tmp/int.out" 2>&1 &
 pid=$!
 for ((i = 0; i < 3000; i++)); do grep -q '^stream: 150 frames to send' "$tmp/int.out" && break; sleep 0.1; done
 kill -INT $pid
