@@ -52,7 +52,8 @@ LIB_SONAME := libalbatros.so.$(ALB_ABI)
 LIBALB_A   := $(BUILD)/lib/libalbatros.a
 LIBALB_SO  := $(BUILD)/lib/libalbatros.so.$(ALB_ABI).$(ALB_MINOR).$(ALB_PATCH)
 LIB_CFLAGS := -fPIC -fvisibility=hidden
-$(LIBALB_OBJ): EXTRA_CFLAGS += $(LIB_CFLAGS)
+# override: an EXTRA_CFLAGS on the command line (CI: -Werror) must not drop them
+$(LIBALB_OBJ): override EXTRA_CFLAGS += $(LIB_CFLAGS)
 
 # What the albatros command adds to the library: the CLI, the references,
 # classic methods and stress scenes (tools/), and the simulated board with
