@@ -307,7 +307,10 @@ static int run_vp(render_args *a, const alb_profile *prof, const uint32_t *w, si
     alb_diag_init(&d, stderr);
     alb_sim_options opt = {.fid = a->fid, .vcd_from = a->vcd_from,
                        .vcd_to = a->vcd_window ? a->vcd_to : UINT64_MAX,
-                       .threads = a->threads ? a->threads : alb_vp_cores()};
+                       .threads = a->threads ? a->threads : alb_vp_cores(),
+                       /* nothing to draw: the clocked models time without
+                        * pixels (the statistics and counters are the same) */
+                       .counters_only = !a->output && !a->png && !a->nviews && !a->dump};
     a->prof = *prof;
     if (a->vcd) {
         if (a->fid != ALB_FIDELITY_CYCLE) {

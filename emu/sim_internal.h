@@ -42,11 +42,15 @@ static inline void *queue_front(const item_queue *q) { return (char *)q->a + q->
 void queue_drop(item_queue *q, size_t k);
 void queue_free(item_queue *q);
 
-/* Per-pixel time (docs/microarchitecture.md): charges per cell, per level,
- * spread over the samples at the end of the frame. */
+/* Per-pixel time (docs/microarchitecture.md): each charge of a cell spread
+ * over its samples.  A cell of at most 16 samples gives each exactly
+ * cycles * 2^(16 - log2 samples), added to the samples at once (mod 2^32,
+ * the width of the frame's plane); larger cells are charged per level and
+ * pushed down at the end of the frame, truncated per cell. */
 typedef struct {
-    uint64_t *lvl[ALB_VP_MAX_LEVELS];
-    unsigned levels;
+    uint64_t *lvl[ALB_VP_MAX_LEVELS];   /* levels below fine_from: cycles per cell */
+    uint32_t *fine;                     /* per sample: the small cells' shares */
+    unsigned levels, fine_from;
 } cycle_map;
 
 int cycle_map_init(cycle_map *m, const alb_vp *vp);
@@ -54,6 +58,9 @@ void cycle_map_free(cycle_map *m);
 void cycle_map_charge(cycle_map *m, const alb_vp *vp, const vp_cell *k, uint64_t cycles);
 /* Write the frame's per-pixel cycles into out->cycles and clear the map. */
 void cycle_map_resolve(cycle_map *m, const alb_vp *vp, alb_frame *out);
+
+/* A frame's description without its planes (timing without frames). */
+void sim_frame_without_planes(const alb_profile *p, alb_frame *f);
 
 /* Cycles of an engine step and of a fill (docs/microarchitecture.md). */
 static inline uint64_t step_cycles(unsigned edges, unsigned units)
@@ -79,6 +86,9 @@ typedef struct {
     const char *name;         /* the stream's name in messages */
     struct alb_vcd *vcd;          /* a trace, or NULL */
     uint64_t vcd_from, vcd_to;
+    bool counters_only;           /* no frame wanted (alb_sim_options.counters_only):
+                                     frames without planes, unless FRAME events (their
+                                     CRC) are recorded */
 } sim_cycle_config;
 
 typedef struct sim_cycle sim_cycle;
@@ -116,8 +126,10 @@ uint64_t sim_feed_next_cycle(const alb_sim_feed *f);
 /* Words taken (whole packets), and whether the last was END. */
 size_t sim_feed_taken(const alb_sim_feed *f, bool *ended);
 
+/* frames: the sink wants pixels; without, only the statistics and counters
+ * are made (alb_sim_options.counters_only). */
 alb_err sim_run_timed(const alb_profile *p, const uint32_t *w, size_t n, const char *name,
-                      alb_sim_sink sink, void *ctx, alb_diag *d);
+                      bool frames, alb_sim_sink sink, void *ctx, alb_diag *d);
 alb_err sim_run_cycle(const alb_profile *p, const uint32_t *w, size_t n, const char *name,
                       const alb_sim_options *opt, alb_sim_sink sink, void *ctx, alb_diag *d);
 

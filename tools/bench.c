@@ -332,20 +332,24 @@ static void gp_stream(const alb_scene *s, const alb_profile *p, alb_ws_buf *b)
     alb_gp_destroy(gp);
 }
 
+/* The three fidelities on one stream: frames per second of the functional
+ * VP (one thread), emulated cycles per second of the clocked models with
+ * frames and without (counters_only: the statistics and counters alone). */
 static void bench_fidelities(const char *label, const alb_scene *s, const alb_profile *p)
 {
     alb_ws_buf b;
     gp_stream(s, p, &b);
-    totals tf, tt, tc;
+    totals tf, tt, tto, tc, tco;
     alb_sim_options of = {.fid = ALB_FIDELITY_FUNCTIONAL, .threads = 1};
-    alb_sim_options ot = {.fid = ALB_FIDELITY_TIMED};
-    alb_sim_options oc = {.fid = ALB_FIDELITY_CYCLE};
+    alb_sim_options ot = {.fid = ALB_FIDELITY_TIMED}, oto = {.fid = ALB_FIDELITY_TIMED, .counters_only = true};
+    alb_sim_options oc = {.fid = ALB_FIDELITY_CYCLE}, oco = {.fid = ALB_FIDELITY_CYCLE, .counters_only = true};
     double sf = time_run(p, &b, &of, &tf);
-    double st = time_run(p, &b, &ot, &tt);
-    double sc = time_run(p, &b, &oc, &tc);
-    printf("| %s | %u | %llu | %.1f | %.1f M/s | %.1f M/s | %.1fx |\n", label, tf.frames,
-           (unsigned long long)tc.cycles, tf.frames / sf, (double)tt.cycles / st / 1e6,
-           (double)tc.cycles / sc / 1e6, sc / st);
+    double st = time_run(p, &b, &ot, &tt), sto = time_run(p, &b, &oto, &tto);
+    double sc = time_run(p, &b, &oc, &tc), sco = time_run(p, &b, &oco, &tco);
+    printf("| %s | %u | %llu | %.1f | %.1f M/s | %.1f M/s | %.1f M/s | %.1f M/s | %.1fx | %.1fx |\n",
+           label, tf.frames, (unsigned long long)tc.cycles, tf.frames / sf,
+           (double)tto.cycles / sto / 1e6, (double)tt.cycles / st / 1e6,
+           (double)tco.cycles / sco / 1e6, (double)tc.cycles / sc / 1e6, sco / sto, sc / st);
     alb_ws_buf_free(&b);
 }
 
@@ -395,7 +399,8 @@ static void load_line(const char *when)
 static const char usage[] =
     "usage: bench [--only SCENE] [--reps N] [--no-peer]\n"
     "  --only SCENE  only the side-by-side rows of scenes whose name starts with SCENE\n"
-    "                (\"random 1000, flat\"), and no other table\n"
+    "                (\"random 1000, flat\"), and no other table; --only fidelities:\n"
+    "                the fidelities' table alone\n"
     "  --reps N      N untimed frames a measurement (for valgrind --tool=callgrind)\n"
     "  --no-peer     without llvmpipe\n";
 
@@ -447,14 +452,18 @@ int main(int argc, char **argv)
         side_by_side(&sc[0], &q, 0.2);
         side_by_side(&sc[1], &q, 0.2);
     }
-    if (only)
+    if (only && strcmp(only, "fidelities"))
         return 0;
 
-    printf("\n## Fidelities (profile a1024, one thread)\n\n"
-           "| scene | frames | cycles | functional fps | timed | cycle | timed / cycle |\n"
-           "|---|---|---|---|---|---|---|\n");
+    printf("\n## Fidelities (profile a1024, one thread; whole runs of the stream)\n\n"
+           "emulated cycles per second; \"counters\": no frame asked for (counters_only)\n\n"
+           "| scene | frames | cycles | functional fps | timed, counters | timed, frames | "
+           "cycle, counters | cycle, frames | timed / cycle, counters | timed / cycle, frames |\n"
+           "|---|---|---|---|---|---|---|---|---|---|\n");
     bench_fidelities("built-in", &builtin.s, &p);
     bench_fidelities("random 1000, Gouraud", &sc[3].s, &p);
+    if (only)
+        return 0;
 
     printf("\n## Units a scene needs (functional, profile a1024)\n\n"
            "| scene | faces shaded / textured / fogged | ms/frame, its units | "

@@ -293,7 +293,7 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
  * long is not split; a walk clipped to a tile leaves out the children that
  * miss it. */
 static inline unsigned children_present(const vp_walk *w, const vp_cell *k, uint32_t dx, uint32_t dy,
-                                 uint8_t wl, uint8_t hl)
+                                        uint8_t wl, uint8_t hl)
 {
     unsigned present = 1u | (dx ? 2u : 0) | (dy ? 4u : 0) | (dx && dy ? 8u : 0);
     if (w->clipped)
@@ -305,12 +305,53 @@ static inline unsigned children_present(const vp_walk *w, const vp_cell *k, uint
     return present;
 }
 
+/* Bits of a 4-bit mask. */
+static inline unsigned bits4(unsigned m) { return (0x4332322132212110ull >> (4 * m)) & 0xF; }
+
+/* Edges in a mask (the timer's step cycles need the count of a child's). */
+static inline unsigned mask_edges(uint64_t m)
+{
+    m -= (m >> 1) & 0x5555555555555555ull;
+    m = (m & 0x3333333333333333ull) + ((m >> 2) & 0x3333333333333333ull);
+    m = (m + (m >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+    return (unsigned)((m * 0x0101010101010101ull) >> 56);
+}
+
+void vp_timer_init(vp_timer *tm, unsigned edge_units)
+{
+    memset(tm, 0, sizeof *tm);
+    for (unsigned e = 0; e <= ALB_WS_MAX_EDGES; e++)   /* docs/microarchitecture.md */
+        tm->step_cycles[e] = (uint8_t)(e ? (e + edge_units - 1) / edge_units : 1);
+}
+
+/* The timer's part of a step on cell k evaluating `edges` edges, and of a
+ * hand-over to the fill unit in its last cycle; nothing without a timer
+ * (`timed` is a constant at every call site). */
+static inline void timer_step(vp_timer *tm, const vp_cell *k, unsigned edges, const bool timed)
+{
+    if (!timed)
+        return;
+    unsigned c = tm->step_cycles[edges];
+    tm->pending += c;
+    if (tm->charge)
+        tm->charge(tm, k, c);
+}
+
+static inline void timer_hand_over(vp_timer *tm, const vp_cell *k, const bool timed)
+{
+    if (!timed)
+        return;
+    tm->hand_over(tm, k, tm->pending);
+    tm->pending = 0;
+}
+
 /* Children that are single samples, each the walk's next step in turn:
  * decided at their centres, the active edges at the top-left one and the
  * others a column (2a) or a row (2b) on.  A sample meeting the tile lies in
  * it, so this walk counts it. */
-static void draw_samples(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
-                         unsigned present)
+static inline __attribute__((always_inline)) void
+draw_samples(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
+             unsigned present, vp_timer *tm, const bool timed)
 {
     const int64_t cc = 2 * (int64_t)k->c0 + 1, rr = 2 * (int64_t)k->r0 + 1;
     unsigned in = present;
@@ -320,13 +361,18 @@ static void draw_samples(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, 
         in &= (h >= 0) | (h + 2 * f->a >= 0) << 1 | (h + 2 * f->b >= 0) << 2 |
               (h + 2 * (f->a + f->b) >= 0) << 3;
     }
-    const unsigned n = (0x4332322132212110ull >> (4 * present)) & 0xF;   /* bits of present */
     const uint8_t l = k->level + 1;
-    vp->st.cells[l] += n;
-    vp->st.samples_tested += n;
-    for (unsigned j = 0; in; j++, in >>= 1)
-        if (in & 1)
-            units_fill_sample(vp, fs, k->c0 + (j & 1), k->r0 + (j >> 1), l);
+    vp->st.cells[l] += bits4(present);
+    vp->st.samples_tested += bits4(present);
+    for (unsigned j = 0; j < 4; j++) {
+        vp_cell c = {k->c0 + (j & 1), k->r0 + (j >> 1), 0, 0, l, 0, 0};
+        if (present >> j & 1)
+            timer_step(tm, &c, k->edges, timed);
+        if (in >> j & 1) {
+            units_fill_sample(vp, fs, c.c0, c.r0, l);
+            timer_hand_over(tm, &c, timed);
+        }
+    }
 }
 
 /* A cell the walk found inside every edge: filled, or, clipped to a smaller
@@ -342,25 +388,31 @@ static void draw_fill(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, con
     }
 }
 
-/* Bits of a 4-bit mask. */
-static inline unsigned bits4(unsigned m) { return (0x4332322132212110ull >> (4 * m)) & 0xF; }
-
 /* The cells below a 4 x 4 cell k that splits: its four 2 x 2 children and
  * the samples of those that split, decided in one pass.  Per active edge,
  * the children's extremes as in draw_split and the sixteen sample centres,
- * a column (2a) or a row (2b) apart, as a mask; a sample of a child that
- * splits is tested against the child's active edges, and an edge that holds
- * the child is >= 0 at its samples too, so the parent's edges give the same
- * verdicts.  Then the counts, and one fill of the block's samples, each
- * with the level that decided it. */
-static void draw_split4(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k)
+ * a column (2a) or a row (2b) apart, as sign masks; a sample of a child
+ * that splits is tested against the child's active edges, and an edge that
+ * holds the child is >= 0 at its samples too, so the parent's edges give
+ * the same verdicts.  Then the counts, one fill of the block's samples, each
+ * with the level that decided it, and for a timer the steps in the walk's
+ * order. */
+static inline __attribute__((always_inline)) void
+draw_split4(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
+            const bool timed)
 {
+    /* 4 bits to 4 bytes: counts of the edges that do not hold each child */
+    static const uint32_t spread[16] = {
+        0x00000000, 0x00000001, 0x00000100, 0x00000101, 0x00010000, 0x00010001, 0x00010100,
+        0x00010101, 0x01000000, 0x01000001, 0x01000100, 0x01000101, 0x01010000, 0x01010001,
+        0x01010100, 0x01010101};
     const uint8_t l = k->level + 1;
     const unsigned present = children_present(w, k, 2, 2, 1, 1);
     const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
     /* children rejected by an edge, held wholly by every edge; samples
      * outside some edge (bit 4y + x): sign bits, two lanes at a time */
     unsigned out = 0, held = 0xF, outside = 0;
+    uint32_t loose = 0;   /* byte j: edges not holding child j */
     for (uint64_t act = k->active; act; act &= act - 1) {
         const vp_edge_fn *f = &w->e[__builtin_ctzll(act)];
         const int64_t h = f->a * c0 + f->b * r0 + f->c, ax = 4 * f->a, by = 4 * f->b;
@@ -368,7 +420,10 @@ static void draw_split4(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, c
         const v2 down = v2_splat((ax < 0 ? ax : 0) + (by < 0 ? by : 0));
         const v2 top = v2_set(h, h + ax), bottom = v2_set(h + by, h + ax + by);
         out |= v2_neg(v2_add(top, up)) | v2_neg(v2_add(bottom, up)) << 2;
-        held &= ~(v2_neg(v2_add(top, down)) | v2_neg(v2_add(bottom, down)) << 2);
+        const unsigned not_held = v2_neg(v2_add(top, down)) | v2_neg(v2_add(bottom, down)) << 2;
+        held &= ~not_held;
+        if (timed)
+            loose += spread[not_held];
         const int64_t s = h + f->a + f->b;   /* the top-left sample's centre */
         v2 left = v2_set(s, s + 2 * f->a), right = v2_set(s + 4 * f->a, s + 6 * f->a);
         const v2 row = v2_splat(2 * f->b);
@@ -402,25 +457,50 @@ static void draw_split4(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, c
     vp->st.samples_tested += 4 * bits4(split);
     if (fill)
         vp_fill_block4(vp, fs, k->c0, k->r0, (uint16_t)fill, (uint16_t)coarse, (uint8_t)(l + 1));
+    if (!timed)
+        return;
+    for (unsigned j = 0; j < 4; j++) {
+        if (!(present >> j & 1))
+            continue;
+        vp_cell c = {k->c0 + (j & 1) * 2, k->r0 + (j >> 1) * 2, 1, 1, l, 0, 0};
+        timer_step(tm, &c, k->edges, timed);
+        if (inside >> j & 1)
+            timer_hand_over(tm, &c, timed);
+        if (!(split >> j & 1))
+            continue;
+        for (unsigned i = 0; i < 4; i++) {
+            vp_cell sc = {c.c0 + (i & 1), c.r0 + (i >> 1), 0, 0, (uint8_t)(l + 1), 0, 0};
+            timer_step(tm, &sc, loose >> 8 * j & 0xFF, timed);
+            if (fill >> (4 * (sc.r0 - k->r0) + sc.c0 - k->c0) & 1)
+                timer_hand_over(tm, &sc, timed);
+        }
+    }
 }
+
+static void draw_split_plain(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+                             const vp_cell *k, vp_timer *tm);
+static void draw_split_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+                             const vp_cell *k, vp_timer *tm);
 
 /* The cells below cell k, which splits.  Its children are classified
  * together: an edge's value at a child's top-left corner is the parent's
  * corner value plus a child's side or not, and its extremes over the child
  * add the positive or the negative parts of the child's sides (h is linear)
  * — the walk's classify, four cells at a time.  Then each child in turn is
- * counted, rejected, filled, or split further. */
-static void draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k)
+ * a step: counted, rejected, filled, or split further. */
+static inline __attribute__((always_inline)) void
+draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
+           const bool timed)
 {
     const uint8_t wl = k->wl ? k->wl - 1 : 0, hl = k->hl ? k->hl - 1 : 0, l = k->level + 1;
     const uint32_t dx = k->wl ? 1u << wl : 0, dy = k->hl ? 1u << hl : 0;
     if (k->wl == 2 && k->hl == 2) {
-        draw_split4(vp, w, fs, k);
+        draw_split4(vp, w, fs, k, tm, timed);
         return;
     }
     const unsigned present = children_present(w, k, dx, dy, wl, hl);
     if (!(wl | hl)) {
-        draw_samples(vp, w, fs, k, present);
+        draw_samples(vp, w, fs, k, present, tm, timed);
         return;
     }
     const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
@@ -448,6 +528,7 @@ static void draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, co
         c.c0 = k->c0 + (j & 1 ? dx : 0), c.r0 = k->r0 + (j & 2 ? dy : 0);
         const bool own = owns(w, &c);
         vp->st.cells[l] += own;
+        timer_step(tm, &c, k->edges, timed);
         if (out >> j & 1) {
             vp->st.cells_outside += own;
             continue;
@@ -456,29 +537,53 @@ static void draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, co
         if (!c.active) {
             vp->st.cells_inside += own;
             draw_fill(vp, w, fs, &c);
+            timer_hand_over(tm, &c, timed);
             continue;
         }
         vp->st.cells_split += own;
-        draw_split(vp, w, fs, &c);
+        if (timed) {
+            c.edges = (uint8_t)mask_edges(c.active);
+            draw_split_timed(vp, w, fs, &c, tm);
+        } else {
+            draw_split_plain(vp, w, fs, &c, tm);
+        }
     }
+}
+
+static void draw_split_plain(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+                             const vp_cell *k, vp_timer *tm)
+{
+    draw_split(vp, w, fs, k, tm, false);
+}
+
+static void draw_split_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+                             const vp_cell *k, vp_timer *tm)
+{
+    draw_split(vp, w, fs, k, tm, true);
 }
 
 /* The walk of a face from the top cell (never a single sample: a screen is
  * at least 2 x 2). */
-static void draw_walk(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs)
+static inline __attribute__((always_inline)) void
+draw_walk(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, vp_timer *tm, const bool timed)
 {
     vp_cell k = w->stack[0];
     const bool own = owns(w, &k);
     vp->st.cells[k.level] += own;
+    timer_step(tm, &k, k.edges, timed);
     int cls = classify(w->e, &k);
     if (cls < 0) {
         vp->st.cells_outside += own;
     } else if (cls > 0) {
         vp->st.cells_inside += own;
         draw_fill(vp, w, fs, &k);
+        timer_hand_over(tm, &k, timed);
     } else {
         vp->st.cells_split += own;
-        draw_split(vp, w, fs, &k);
+        if (timed)
+            draw_split_timed(vp, w, fs, &k, tm);
+        else
+            draw_split_plain(vp, w, fs, &k, tm);
     }
 }
 
@@ -486,14 +591,21 @@ void vp_draw_face(alb_vp *vp, const vp_loaded_face *f)
 {
     vp_walk w;
     vp_walk_begin(&w, vp, f);
-    draw_walk(vp, &w, &f->fs);
+    draw_walk(vp, &w, &f->fs, NULL, false);
 }
 
 void vp_draw_face_tile(alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile)
 {
     vp_walk w;
     vp_walk_begin_tile(&w, vp, f, tile);
-    draw_walk(vp, &w, &f->fs);
+    draw_walk(vp, &w, &f->fs, NULL, false);
+}
+
+void vp_draw_face_timed(alb_vp *vp, const vp_loaded_face *f, vp_timer *tm)
+{
+    vp_walk w;
+    vp_walk_begin(&w, vp, f);
+    draw_walk(vp, &w, &f->fs, tm, true);
 }
 
 alb_err vp_load_face(alb_vp *vp, const alb_ws_face *f, vp_loaded_face *out, alb_diag *d)

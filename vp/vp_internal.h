@@ -140,6 +140,23 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step);
  * clipped to a tile as vp_walk_begin_tile. */
 void vp_draw_face(alb_vp *vp, const vp_loaded_face *f);
 void vp_draw_face_tile(alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile);
+/* What the timed model needs of a walk besides its fills: each step's
+ * cycles, and a call at each hand-over of a FILL or SAMPLE_IN cell to the
+ * fill unit, in the walk's order.  Steps between two hand-overs only add
+ * engine cycles, so the timer sums them; the hand-over gets the sum, its own
+ * step's included. */
+typedef struct vp_timer {
+    uint8_t step_cycles[ALB_WS_MAX_EDGES + 1];   /* a step's cycles by the edges it evaluates */
+    uint64_t pending;         /* engine cycles of the steps since the last hand-over */
+    void (*hand_over)(struct vp_timer *tm, const vp_cell *k, uint64_t cycles);
+    /* each step's cycles on its cell (the per-pixel cycle map), or NULL */
+    void (*charge)(struct vp_timer *tm, const vp_cell *k, uint64_t cycles);
+    void *ctx;
+} vp_timer;
+void vp_timer_init(vp_timer *tm, unsigned edge_units);
+/* vp_draw_face with a timer: the same fills and statistics, and the timer
+ * called as vp_walk_next's steps would have it. */
+void vp_draw_face_timed(alb_vp *vp, const vp_loaded_face *f, vp_timer *tm);
 /* The samples of a FILL or SAMPLE_IN cell through the depth test: each
  * sample nearer than the store's gets the face's depth and tag (fill.c). */
 void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k);
@@ -194,6 +211,11 @@ void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3]);
 size_t vp_store_scratch_bytes(const alb_vp *vp);
 /* Scratch for n threads; -1 if out of memory (parallel.c). */
 int vp_scratch_for(alb_vp *vp, unsigned n);
+/* The set-up of the frame's face that a tag names. */
+static inline const vp_face_setup *vp_frame_face(const alb_vp *vp, uint32_t tag)
+{
+    return &vp->faces[tag >> VP_TAG_LEVEL_BITS];
+}
 /* Keep texture memory a face of this frame may still be shaded with. */
 int vp_store_retire_texture(alb_vp *vp, uint32_t *texels);
 /* Faces loaded before the threads draw them, and the most tiles a screen

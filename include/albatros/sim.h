@@ -103,6 +103,10 @@ typedef struct {
     uint32_t events;          /* cycle fidelity: the kinds to hand to on_events */
     alb_events_fn on_events;
     void *events_ctx;
+    bool counters_only;       /* timed and cycle fidelities: no frame is wanted, only
+                                 each frame's statistics and counters; the model makes
+                                 the depth tests (samples_written) and no colour, and
+                                 the sink's frame has no planes (rgb ... cycles NULL) */
 } alb_sim_options;
 
 /* sc is NULL in functional fidelity; f->cycles is filled in the others. */
