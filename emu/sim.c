@@ -98,15 +98,8 @@ alb_sim_counters *bins_at(sim_bins *b, int64_t t)
     return &b->bin[bin_index(b, t)];
 }
 
-void bins_add(sim_bins *b, size_t offset, int64_t a, int64_t e)
+void bins_add_split(sim_bins *b, size_t offset, int64_t a, int64_t e)
 {
-    if (a >= e)
-        return;
-    if (!b->nretired || a > b->retire[b->nretired - 1]) {
-        /* after the last retirement: all in the open bin, the usual case */
-        *(uint64_t *)((char *)&b->bin[b->nretired] + offset) += (uint64_t)(e - a);
-        return;
-    }
     for (unsigned i = bin_index(b, a); a < e; i++) {
         int64_t end = i < b->nretired && b->retire[i] + 1 < e ? b->retire[i] + 1 : e;
         *(uint64_t *)((char *)&b->bin[i] + offset) += (uint64_t)(end - a);

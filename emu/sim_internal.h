@@ -21,8 +21,20 @@ typedef struct {
 
 int bins_init(sim_bins *b);
 void bins_free(sim_bins *b);
-/* Add the cycles [a, b) to the counter at `offset` of the bins they fall in. */
-void bins_add(sim_bins *b, size_t offset, int64_t a, int64_t e);
+/* Add the cycles [a, b) to the counter at `offset` of the bins they fall in:
+ * at once into the open bin when they all follow the last retirement (the
+ * usual case), else split over the bins (bins_add_split). */
+void bins_add_split(sim_bins *b, size_t offset, int64_t a, int64_t e);
+static inline void bins_add(sim_bins *b, size_t offset, int64_t a, int64_t e)
+{
+    if (a >= e)
+        return;
+    if (b->nretired && a <= b->retire[b->nretired - 1]) {
+        bins_add_split(b, offset, a, e);
+        return;
+    }
+    *(uint64_t *)((char *)&b->bin[b->nretired] + offset) += (uint64_t)(e - a);
+}
 alb_sim_counters *bins_at(sim_bins *b, int64_t t);
 /* Close the open frame at cycle r; -1 if out of memory. */
 int bins_retire(sim_bins *b, int64_t r);
