@@ -59,6 +59,22 @@ static void random_scene(bench_scene *b, const char *label, unsigned faces, doub
     b->gouraud = !flat;
 }
 
+/* The built-in scene's geometry alone: every face flat (its colour at
+ * intensity 1), no texture, no fog — what the peer draws of it. */
+static void flatten(alb_scene *s)
+{
+    s->fog = false;
+    for (unsigned i = 0; i < s->nobj; i++)
+        for (unsigned j = 0; j < s->obj[i].nf; j++) {
+            alb_scene_face *f = &s->obj[i].f[j];
+            f->shade = ALB_SHADE_FLAT;
+            f->intensity = 1;
+            f->texture = -1;
+            f->texmap = ALB_TEXMAP_NONE;
+            f->fog = false;
+        }
+}
+
 static void set_resolution(alb_profile *p, unsigned res)
 {
     unsigned lg = 0;
@@ -424,9 +440,11 @@ int main(int argc, char **argv)
     alb_diag d;
     alb_diag_init(&d, stderr);
     load_line("start");
-    bench_scene builtin = {.label = "built-in (ours shaded, textured, fogged)"};
-    if (alb_scene_load_builtin(&builtin.s, &d))
+    bench_scene builtin = {.label = "built-in (ours shaded, textured, fogged; llvmpipe flat)"};
+    bench_scene geometry = {.label = "built-in's geometry, flat"};
+    if (alb_scene_load_builtin(&builtin.s, &d) || alb_scene_load_builtin(&geometry.s, &d))
         die(&d);
+    flatten(&geometry.s);
     bench_scene sc[6];
     random_scene(&sc[0], "random 44, flat", 44, 0.3, true);
     random_scene(&sc[1], "random 44, Gouraud", 44, 0.3, false);
@@ -443,6 +461,7 @@ int main(int argc, char **argv)
            cores, cores, cores);
     for (int i = 0; i < 6; i++)
         side_by_side(&sc[i], &p, 0.2);
+    side_by_side(&geometry, &p, 0.2);
     side_by_side(&builtin, &p, 0.2);
     for (unsigned res = 512; res <= 2048; res *= 2) {
         if (res == 1024)
@@ -475,5 +494,6 @@ int main(int argc, char **argv)
     for (int i = 0; i < 6; i++)
         alb_scene_free(&sc[i].s);
     alb_scene_free(&builtin.s);
+    alb_scene_free(&geometry.s);
     return 0;
 }

@@ -51,16 +51,12 @@ int peer_mesh_of(const alb_scene *s, const alb_profile *p, unsigned frame, bool 
     if (ref_prepare(s, p, frame, &rf))
         return -1;
     size_t tris = 0;
-    double zmin = INFINITY;
-    for (unsigned i = 0; i < rf.n; i++) {
+    for (unsigned i = 0; i < rf.n; i++)
         tris += rf.faces[i].n - 2;
-        for (unsigned k = 0; k < rf.faces[i].n; k++)
-            if (rf.faces[i].v[k].z > 0 && rf.faces[i].v[k].z < zmin)
-                zmin = rf.faces[i].v[k].z;
-    }
-    /* the near plane just before the nearest vertex, so that 24 bits of
-     * window depth spread over the scene's depths */
-    double n = isfinite(zmin) ? zmin / 2 : 1;
+    /* the near plane at half the scene's `near`: the VP saturates nearer
+     * than near, so what is cut off lies where the VP decides nothing
+     * either (faces crossing Z = 0 are clipped there, the VP keeps Z > 0) */
+    double n = s->near / 2;
     m->xyzw = malloc((tris ? tris : 1) * 3 * 4 * sizeof *m->xyzw);
     m->rgba = malloc((tris ? tris : 1) * 3 * 4);
     if (!m->xyzw || !m->rgba) {
