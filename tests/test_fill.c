@@ -20,12 +20,16 @@ static bool row_in_range(const alb_vp *vp, int64_t z, int64_t dz, uint32_t n, in
     return lo > 0 && vp_depth_value(vp, lo, exp) > 0 && vp_depth_value(vp, hi, exp) < dmax;
 }
 
-/* vp_fill_row_fast against vp_depth_value and the strict depth test, on
- * random rows: every length up to 37 (the SIMD body and its tail), shifts
- * both ways, store depths up to 2^32 - 1 (an unsigned comparison), with
- * tags and without. */
+/* Every form of the fill's fast row the host runs (AVX2, SSE2, plain C)
+ * against vp_depth_value and the strict depth test, on random rows: every
+ * length up to 37 (the SIMD bodies and their tails), shifts both ways, store
+ * depths up to 2^32 - 1 (an unsigned comparison), with tags and without. */
 TEST(fill_fast_row_equals_the_depth_unit)
 {
+    vp_depth_row_fn forms[3];
+    const char *names[3];
+    const unsigned nforms = vp_depth_rows(forms, names);
+    CHECK(nforms >= 1);
     static const unsigned depth_bits[] = {8, 16, 24, 31, 32};
     uint64_t seed = 42;
     unsigned rows = 0, wins = 0, high = 0, straddle = 0, bad = 0;
@@ -71,22 +75,37 @@ TEST(fill_fast_row_equals_the_depth_unit)
                 straddle += (dv >= 0x80000000u) != (old >= 0x80000000u);
             }
             unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
-            uint32_t got = vp_fill_row_fast(depth, tag, n, z, dz, sr, sl, 0xABCDEF);
-            uint32_t got_plain = vp_fill_row_fast(plain, NULL, n, z, dz, sr, sl, 0);
             rows++;
             wins += w;
-            if (got != w || got_plain != w || memcmp(depth, want_d, n * sizeof *depth) ||
-                memcmp(plain, want_d, n * sizeof *plain) || memcmp(tag, want_t, n * sizeof *tag)) {
-                CHECK_MSG(0, "depth_bits %u, %u samples from N = %lld step %lld, shift %d: "
-                          "%u (%u without tags) written, %u expected, or a sample differs",
-                          depth_bits[b], n, (long long)z, (long long)dz, sh, got, got_plain, w);
-                bad++;
+            uint32_t d0[40], t0[40];
+            memcpy(d0, depth, sizeof d0);
+            memcpy(t0, tag, sizeof t0);
+            for (unsigned k = 0; k < nforms; k++) {
+                memcpy(depth, d0, sizeof d0);
+                memcpy(tag, t0, sizeof t0);
+                memcpy(plain, d0, sizeof d0);
+                uint32_t got = forms[k](depth, tag, n, z, dz, sr, sl, 0xABCDEF);
+                uint32_t got_plain = forms[k](plain, NULL, n, z, dz, sr, sl, 0);
+                if (got != w || got_plain != w || memcmp(depth, want_d, n * sizeof *depth) ||
+                    memcmp(plain, want_d, n * sizeof *plain) ||
+                    memcmp(tag, want_t, n * sizeof *tag)) {
+                    CHECK_MSG(0, "%s, depth_bits %u, %u samples from N = %lld step %lld, shift "
+                              "%d: %u (%u without tags) written, %u expected, or a sample "
+                              "differs", names[k], depth_bits[b], n, (long long)z, (long long)dz,
+                              sh, got, got_plain, w);
+                    bad++;
+                    break;
+                }
             }
         }
         alb_vp_destroy(vp);
     }
     CHECK_EQ(bad, 0);
     /* not vacuous: rows of every kind ran, and stores above 2^31 */
+    printf("# fast row forms:");
+    for (unsigned k = 0; k < nforms; k++)
+        printf(" %s", names[k]);
+    printf("\n");
     CHECK_MSG(rows > 5000 && wins > rows && high > 100 && straddle > 100,
               "%u rows, %u wins, %u depths >= 2^31, %u tests across 2^31", rows, wins, high,
               straddle);

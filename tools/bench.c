@@ -113,116 +113,82 @@ static void vp_words(alb_vp *vp, alb_ws_reader *rd, const uint32_t *w, size_t n,
     *rd = r;
 }
 
-typedef struct {
-    double vp_ms, whole_ms;   /* per frame: VP on the stream; GP + VP */
-    alb_frame frame;          /* the frame (frame 0 of the scene) */
-    alb_vp_stats st;
-    alb_ws_buf words;         /* its stream */
-} ours_result;
-
-/* --reps N: that many calls, untimed, for instruction counts (callgrind). */
+/* --reps N: that many frames a measurement, for instruction counts
+ * (callgrind); no timing rounds. */
 static unsigned fixed_reps;
 
-/* Time f(ctx) per call: warm-up, then the best of three runs of enough
- * calls to take `budget` seconds. */
-static double per_call_ms(void (*f)(void *), void *ctx, double budget)
-{
-    if (fixed_reps) {
-        for (unsigned i = 0; i < fixed_reps; i++)
-            f(ctx);
-        return 0;
-    }
-    f(ctx);
-    double t0 = now();
-    f(ctx);
-    double one = now() - t0;
-    unsigned reps = one > 0 ? (unsigned)(budget / one) : 1000;
-    reps = reps < 3 ? 3 : reps > 1000 ? 1000 : reps;
-    double best = INFINITY;
-    for (int run = 0; run < 3; run++) {
-        t0 = now();
-        for (unsigned i = 0; i < reps; i++)
-            f(ctx);
-        double ms = 1e3 * (now() - t0) / reps;
-        best = ms < best ? ms : best;
-    }
-    return best;
-}
-
+/* Frame 0 of a scene on the functional VP, ready to draw again and again:
+ * the GP set up, the stream's header (CONFIG, textures) through the VP. */
 typedef struct {
     alb_vp *vp;
     alb_gp *gp;
-    alb_ws_buf *frame_words;  /* FRAME .. FRAME_END of frame 0 */
+    alb_ws_buf frame_words;   /* FRAME .. FRAME_END of frame 0 */
+    alb_ws_buf words;         /* the whole stream of frame 0 */
     alb_ws_buf scratch;
-    alb_frame *out;
+    alb_frame out;
     alb_ws_event *ev;
     alb_ws_reader rd;         /* the decoder after the stream's header */
-} vp_job;
+} ours;
 
-static void vp_only(void *ctx)
-{
-    vp_job *j = ctx;
-    vp_words(j->vp, &j->rd, j->frame_words->w, j->frame_words->n, j->out, j->ev);
-}
-
-static void gp_and_vp(void *ctx)
-{
-    vp_job *j = ctx;
-    alb_diag d;
-    alb_diag_init(&d, stderr);
-    j->scratch.n = 0;
-    alb_gp_stats gst;
-    if (alb_gp_frame(j->gp, 0, &j->scratch, &gst, &d))
-        die(&d);
-    vp_words(j->vp, &j->rd, j->scratch.w, j->scratch.n, j->out, j->ev);
-}
-
-/* Frame 0 of the scene on the functional VP with `threads` threads. */
-static void ours(const bench_scene *b, const alb_profile *p, unsigned threads, double budget,
-                 ours_result *r)
+static void ours_open(ours *o, const bench_scene *b, const alb_profile *p, unsigned threads)
 {
     alb_diag d;
     alb_diag_init(&d, stderr);
-    vp_job j = {0};
+    memset(o, 0, sizeof *o);
     alb_ws_buf header;
     alb_ws_buf_init(&header);
-    alb_ws_buf_init(&r->words);
-    alb_ws_buf_init(&j.scratch);
-    j.ev = malloc(sizeof *j.ev);
-    if (!j.ev || alb_gp_create(&j.gp, &b->s, p, &d) || alb_vp_create(&j.vp, p, &d) ||
-        alb_vp_set_threads(j.vp, threads) || alb_vp_frame_alloc(j.vp, &r->frame, false))
-        die(&d);
-    alb_gp_stream_header(j.gp, &header);
+    alb_ws_buf_init(&o->frame_words);
+    alb_ws_buf_init(&o->words);
+    alb_ws_buf_init(&o->scratch);
+    o->ev = malloc(sizeof *o->ev);
     alb_gp_stats gst;
-    alb_ws_buf frame;
-    alb_ws_buf_init(&frame);
-    if (alb_gp_frame(j.gp, 0, &frame, &gst, &d))
+    if (!o->ev || alb_gp_create(&o->gp, &b->s, p, &d) || alb_vp_create(&o->vp, p, &d) ||
+        alb_vp_set_threads(o->vp, threads) || alb_vp_frame_alloc(o->vp, &o->out, false))
         die(&d);
-    j.frame_words = &frame;
-    j.out = &r->frame;
-    alb_ws_reader_init(&j.rd, NULL, 0, "bench");
-    j.rd.max_faces = p->frame_faces;
-    vp_words(j.vp, &j.rd, header.w, header.n, &r->frame, j.ev);   /* CONFIG, textures */
-    r->vp_ms = per_call_ms(vp_only, &j, budget);
-    r->st = *alb_vp_stats_get(j.vp);
-    r->whole_ms = per_call_ms(gp_and_vp, &j, budget);
+    alb_gp_stream_header(o->gp, &header);
+    if (alb_gp_frame(o->gp, 0, &o->frame_words, &gst, &d))
+        die(&d);
+    alb_ws_reader_init(&o->rd, NULL, 0, "bench");
+    o->rd.max_faces = p->frame_faces;
+    vp_words(o->vp, &o->rd, header.w, header.n, &o->out, o->ev);
     for (size_t i = 0; i < header.n; i++)
-        alb_ws_put(&r->words, header.w[i]);
-    for (size_t i = 0; i < frame.n; i++)
-        alb_ws_put(&r->words, frame.w[i]);
-    alb_ws_put_end(&r->words);
+        alb_ws_put(&o->words, header.w[i]);
+    for (size_t i = 0; i < o->frame_words.n; i++)
+        alb_ws_put(&o->words, o->frame_words.w[i]);
+    alb_ws_put_end(&o->words);
     alb_ws_buf_free(&header);
-    alb_ws_buf_free(&frame);
-    alb_ws_buf_free(&j.scratch);
-    alb_vp_destroy(j.vp);
-    alb_gp_destroy(j.gp);
-    free(j.ev);
 }
 
-static void ours_free(ours_result *r)
+static void ours_close(ours *o)
 {
-    alb_frame_free(&r->frame);
-    alb_ws_buf_free(&r->words);
+    alb_vp_destroy(o->vp);
+    alb_gp_destroy(o->gp);
+    alb_frame_free(&o->out);
+    alb_ws_buf_free(&o->frame_words);
+    alb_ws_buf_free(&o->words);
+    alb_ws_buf_free(&o->scratch);
+    free(o->ev);
+}
+
+/* ms per frame of `frames` frames: the VP on the frame's words, or the GP
+ * making them and the VP drawing them. */
+static double ours_time(ours *o, unsigned frames, bool with_gp)
+{
+    alb_diag d;
+    alb_diag_init(&d, stderr);
+    double t0 = now();
+    for (unsigned i = 0; i < frames; i++) {
+        const alb_ws_buf *w = &o->frame_words;
+        if (with_gp) {
+            alb_gp_stats gst;
+            o->scratch.n = 0;
+            if (alb_gp_frame(o->gp, 0, &o->scratch, &gst, &d))
+                die(&d);
+            w = &o->scratch;
+        }
+        vp_words(o->vp, &o->rd, w->w, w->n, &o->out, o->ev);
+    }
+    return 1e3 * (now() - t0) / frames;
 }
 
 /* ---- side by side ---- */
@@ -231,56 +197,93 @@ static unsigned cores;
 static bool peer_ok = true;
 static const char *only;      /* --only PREFIX: the rows whose scene starts so */
 
-/* One line of the table: ours and llvmpipe on one and on every core, and
- * the face maps compared (flat scenes: within the quantisation band of
- * docs/reference.md on scenes small enough for the band's test). */
-static void side_by_side(bench_scene *b, const alb_profile *p, double budget)
+/* Frames a measurement takes for about `budget` seconds at `ms` a frame. */
+static unsigned frames_for(double ms, double budget)
+{
+    double n = ms > 0 ? 1e3 * budget / ms : 100;
+    return n < 2 ? 2 : n > 200 ? 200 : (unsigned)n;
+}
+
+#define ROUNDS 5
+
+/* One line of the table: ours and llvmpipe on one and on every core, timed
+ * in turn over ROUNDS rounds (the best of each: the least disturbed by the
+ * machine's other work), and the face maps compared (flat scenes: within
+ * the quantisation band of docs/reference.md on scenes small enough for the
+ * band's test). */
+static void side_by_side(bench_scene *b, const alb_profile *p)
 {
     if (only && strncmp(b->label, only, strlen(only)))
         return;
-    ours_result o1, on;
-    ours(b, p, 1, budget, &o1);
-    ours(b, p, cores, budget, &on);
-    printf("| %s | %u² | %llu | %.2f | %.2f |", b->label, p->width,
-           (unsigned long long)o1.st.faces, o1.vp_ms, o1.whole_ms);
-    peer_mesh m;
-    peer_result g1, gn;
-    char err[256];
-    uint32_t *face = b->gouraud ? NULL : malloc((size_t)p->width * p->height * sizeof *face);
-    bool tried = peer_ok;
-    if (!peer_ok || peer_mesh_of(&b->s, p, 0, b->gouraud, &m) ||
-        peer_measure(&m, p->width, p->height, 0, 20, &g1, face, err, sizeof err) ||
-        peer_measure(&m, p->width, p->height, cores, 20, &gn, NULL, err, sizeof err)) {
-        if (tried)
+    ours o1, on;
+    ours_open(&o1, b, p, 1);
+    ours_open(&on, b, p, cores);
+    peer *g1 = NULL, *gn = NULL;
+    char err[256] = "out of memory for the mesh";
+    if (peer_ok && !fixed_reps) {
+        peer_mesh m;
+        if (!peer_mesh_of(&b->s, p, 0, b->gouraud, &m)) {
+            g1 = peer_start(&m, p->width, p->height, 0, err, sizeof err);
+            gn = g1 ? peer_start(&m, p->width, p->height, cores, err, sizeof err) : NULL;
+            peer_mesh_free(&m);
+        }
+        peer_ok = gn != NULL;
+        if (!peer_ok)
             fprintf(stderr, "bench: llvmpipe: %s\n", err);
-        peer_ok = false;
-        printf(" — | — | %.2f | — | — | — |\n", on.vp_ms);
+    }
+    /* ours on 1 thread, GP + VP, ours on every core, llvmpipe on 1, on every core */
+    double t[5] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
+    if (fixed_reps) {
+        ours_time(&o1, fixed_reps, false);
+        ours_time(&o1, fixed_reps, true);
+        ours_time(&on, fixed_reps, false);
     } else {
-        printf(" %.2f | **%.2fx** | %.2f | %.2f | %.2fx |", g1.ms, g1.ms / o1.vp_ms, on.vp_ms,
-               gn.ms, gn.ms / on.vp_ms);
-        if (face) {
+        /* a warm-up of each, then rounds of about 0.1 s a measurement */
+        double w[5] = {ours_time(&o1, 2, false), ours_time(&o1, 2, true), ours_time(&on, 2, false),
+                       g1 ? peer_time(g1, 2) : 0, gn ? peer_time(gn, 2) : 0};
+        for (int r = 0; r < ROUNDS; r++) {
+            double x[5];
+            x[0] = ours_time(&o1, frames_for(w[0], 0.1), false);
+            x[3] = g1 ? peer_time(g1, frames_for(w[3], 0.1)) : 0;
+            x[1] = ours_time(&o1, frames_for(w[1], 0.1), true);
+            x[2] = ours_time(&on, frames_for(w[2], 0.1), false);
+            x[4] = gn ? peer_time(gn, frames_for(w[4], 0.1)) : 0;
+            for (int i = 0; i < 5; i++)
+                t[i] = x[i] < t[i] ? x[i] : t[i];
+        }
+    }
+    printf("| %s | %u² | %llu | %.2f | %.2f |", b->label, p->width,
+           (unsigned long long)alb_vp_stats_get(o1.vp)->faces, t[0], t[1]);
+    if (!g1 || !gn) {
+        printf(" — | — | %.2f | — | — | — |\n", t[2]);
+    } else {
+        printf(" %.2f | **%.2fx** | %.2f | %.2f | %.2fx |", t[3], t[3] / t[0], t[2], t[4],
+               t[4] / t[2]);
+        uint32_t *face = b->gouraud ? NULL : malloc((size_t)p->width * p->height * sizeof *face);
+        if (face && !peer_faces(g1, face)) {
             size_t diff = 0, n = (size_t)p->width * p->height;
             for (size_t i = 0; i < n; i++)
-                diff += face[i] != o1.frame.face[i];
+                diff += face[i] != o1.out.face[i];
             printf(" %.3f%%", 100.0 * (double)diff / (double)n);
             if (b->s.nfaces <= 100) {
-                alb_frame gl = o1.frame;
+                alb_frame gl = o1.out;
                 gl.face = face;
                 accuracy acc;
-                if (accuracy_measure(&b->s, p, 0, o1.words.w, o1.words.n, &o1.frame, &gl, &acc))
+                if (accuracy_measure(&b->s, p, 0, o1.words.w, o1.words.n, &o1.out, &gl, &acc))
                     printf(", band: out of memory");
                 else
                     printf(", %zu clear %s", acc.clear_diff, acc.clear_diff ? "DIFFER" : "differ");
             }
             printf(" |\n");
         } else {
-            printf(" (Gouraud) |\n");
+            printf(" %s |\n", face ? "no face map" : "(Gouraud)");
         }
-        peer_mesh_free(&m);
+        free(face);
     }
-    free(face);
-    ours_free(&o1);
-    ours_free(&on);
+    peer_stop(g1);
+    peer_stop(gn);
+    ours_close(&o1);
+    ours_close(&on);
 }
 
 /* ---- fidelities ---- */
@@ -417,7 +420,8 @@ static const char usage[] =
     "  --only SCENE  only the side-by-side rows of scenes whose name starts with SCENE\n"
     "                (\"random 1000, flat\"), and no other table; --only fidelities:\n"
     "                the fidelities' table alone\n"
-    "  --reps N      N untimed frames a measurement (for valgrind --tool=callgrind)\n"
+    "  --reps N      N untimed frames a measurement, no llvmpipe (for valgrind\n"
+    "                --tool=callgrind)\n"
     "  --no-peer     without llvmpipe\n";
 
 int main(int argc, char **argv)
@@ -454,22 +458,23 @@ int main(int argc, char **argv)
     random_scene(&sc[5], "random 10000, Gouraud", 10000, 0.03, false);
 
     printf("\n## The functional VP beside llvmpipe (frame 0, ms per frame, steady state)\n\n"
-           "ratio = llvmpipe's time / ours (above 1: we are faster); %u cores\n\n"
+           "ratio = llvmpipe's time / ours (above 1: we are faster); %u cores; each the best "
+           "of %d rounds, the two timed in turn\n\n"
            "| scene | screen | faces drawn | ours, 1 thread | ours GP + VP | llvmpipe, 1 thread | "
            "ratio | ours, %u threads | llvmpipe, %u threads | ratio | face map differs "
            "(of pixels), clear pixels |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
-           cores, cores, cores);
+           cores, ROUNDS, cores, cores);
     for (int i = 0; i < 6; i++)
-        side_by_side(&sc[i], &p, 0.2);
-    side_by_side(&geometry, &p, 0.2);
-    side_by_side(&builtin, &p, 0.2);
+        side_by_side(&sc[i], &p);
+    side_by_side(&geometry, &p);
+    side_by_side(&builtin, &p);
     for (unsigned res = 512; res <= 2048; res *= 2) {
         if (res == 1024)
             continue;
         alb_profile q = p;
         set_resolution(&q, res);
-        side_by_side(&sc[0], &q, 0.2);
-        side_by_side(&sc[1], &q, 0.2);
+        side_by_side(&sc[0], &q);
+        side_by_side(&sc[1], &q);
     }
     if (only && strcmp(only, "fidelities"))
         return 0;

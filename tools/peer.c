@@ -87,102 +87,35 @@ int peer_mesh_of(const alb_scene *s, const alb_profile *p, unsigned frame, bool 
             }
         }
     }
+    m->flat = !gouraud;
     ref_frame_free(&rf);
     return 0;
 }
 
 /* ---- in the child ---- */
 
-typedef struct {
-    peer_result r;
-    char err[200];
-} child_report;
+enum { ORDER_TIME = 1, ORDER_FACES = 2, ORDER_QUIT = 3 };
 
-static int child(const peer_mesh *m, unsigned w, unsigned h, unsigned frames, bool want_faces,
-                 int fd)
+typedef struct {
+    uint32_t order, frames;
+} order;
+
+typedef struct {
+    double ms;                /* ORDER_TIME's answer; < 0: failed */
+    char err[200];
+} answer;
+
+static int write_all(int fd, const void *p, size_t n)
 {
-    child_report rep;
-    memset(&rep, 0, sizeof rep);
-    uint8_t *buf = malloc((size_t)w * h * 4);
-    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);
-    if (!buf || !ctx || !OSMesaMakeCurrent(ctx, buf, GL_UNSIGNED_BYTE, (GLsizei)w, (GLsizei)h)) {
-        snprintf(rep.err, sizeof rep.err, "OSMesa: no %ux%u RGBA context with a 24-bit depth "
-                 "buffer", w, h);
-        rep.r.ms = -1;
-    } else {
-        const char *renderer = (const char *)glGetString(GL_RENDERER);
-        if (!renderer || strncmp(renderer, "llvmpipe", 8)) {
-            snprintf(rep.err, sizeof rep.err, "OSMesa renders with '%s', not llvmpipe",
-                     renderer ? renderer : "?");
-            rep.r.ms = -1;
-        }
+    for (size_t done = 0; done < n;) {
+        ssize_t k = write(fd, (const char *)p + done, n - done);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k <= 0)
+            return -1;
+        done += (size_t)k;
     }
-    if (rep.r.ms == 0) {
-        glViewport(0, 0, (GLsizei)w, (GLsizei)h);
-        glDisable(GL_DITHER);   /* the face codes must come back exactly */
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);   /* the earlier face keeps a tie, as in the VP */
-        glShadeModel(want_faces ? GL_FLAT : GL_SMOOTH);
-        glClearColor(0, 0, 0, 0);
-        glClearDepth(1);
-        GLuint vbo[2];
-        glGenBuffers(2, vbo);
-        glBindBuffer(GL_ARRAY_BUFFER, vbo[0]);
-        glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(m->nverts * 4 * sizeof *m->xyzw), m->xyzw,
-                     GL_STATIC_DRAW);
-        glVertexPointer(4, GL_FLOAT, 0, NULL);
-        glBindBuffer(GL_ARRAY_BUFFER, vbo[1]);
-        glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(m->nverts * 4), m->rgba, GL_STATIC_DRAW);
-        glColorPointer(4, GL_UNSIGNED_BYTE, 0, NULL);
-        glEnableClientState(GL_VERTEX_ARRAY);
-        glEnableClientState(GL_COLOR_ARRAY);
-        double best = INFINITY;
-        for (int run = -1; run < 3; run++) {   /* run -1 warms up */
-            double t0 = now();
-            for (unsigned f = 0; f < frames; f++) {
-                glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-                glDrawArrays(GL_TRIANGLES, 0, (GLsizei)m->nverts);
-                glFinish();
-            }
-            double ms = 1e3 * (now() - t0) / frames;
-            if (run >= 0 && ms < best)
-                best = ms;
-        }
-        rep.r.ms = best;
-        rep.r.have_faces = want_faces;
-        if (glGetError() != GL_NO_ERROR) {
-            snprintf(rep.err, sizeof rep.err, "OpenGL error drawing the mesh");
-            rep.r.ms = -1;
-        }
-    }
-    int ok = write(fd, &rep, sizeof rep) == (ssize_t)sizeof rep;
-    if (ok && rep.r.ms >= 0 && want_faces) {
-        /* row 0 of the window is its bottom; of the frame, its top */
-        uint32_t *face = malloc((size_t)w * h * sizeof *face);
-        uint8_t *px = malloc((size_t)w * h * 4);
-        ok = face && px;
-        if (ok) {
-            glReadPixels(0, 0, (GLsizei)w, (GLsizei)h, GL_RGBA, GL_UNSIGNED_BYTE, px);
-            for (unsigned y = 0; y < h; y++)
-                for (unsigned x = 0; x < w; x++) {
-                    const uint8_t *c = px + 4 * ((size_t)(h - 1 - y) * w + x);
-                    uint32_t code = (uint32_t)c[0] | (uint32_t)c[1] << 8 | (uint32_t)c[2] << 16;
-                    face[(size_t)y * w + x] = code ? code - 1 : 0xFFFFFFFFu;
-                }
-            size_t want = (size_t)w * h * sizeof *face;
-            for (size_t done = 0; ok && done < want;) {
-                ssize_t k = write(fd, (const char *)face + done, want - done);
-                ok = k > 0;
-                done += ok ? (size_t)k : 0;
-            }
-        }
-        free(face);
-        free(px);
-    }
-    if (ctx)
-        OSMesaDestroyContext(ctx);
-    free(buf);
-    return ok ? 0 : 1;
+    return 0;
 }
 
 static int read_all(int fd, void *p, size_t n)
@@ -198,47 +131,169 @@ static int read_all(int fd, void *p, size_t n)
     return 0;
 }
 
-int peer_measure(const peer_mesh *m, unsigned w, unsigned h, unsigned threads, unsigned frames,
-                 peer_result *r, uint32_t *face, char *err, size_t len)
+/* The child: a context, the mesh in buffer objects, then orders until QUIT
+ * or the parent goes.  Its first answer says whether the context is there. */
+static int child(const peer_mesh *m, unsigned w, unsigned h, int in, int out)
 {
-    int fd[2];
-    if (pipe(fd)) {
+    answer a;
+    memset(&a, 0, sizeof a);
+    uint8_t *buf = malloc((size_t)w * h * 4);
+    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);
+    if (!buf || !ctx || !OSMesaMakeCurrent(ctx, buf, GL_UNSIGNED_BYTE, (GLsizei)w, (GLsizei)h)) {
+        snprintf(a.err, sizeof a.err, "OSMesa: no %ux%u RGBA context with a 24-bit depth buffer",
+                 w, h);
+        a.ms = -1;
+    } else {
+        const char *renderer = (const char *)glGetString(GL_RENDERER);
+        if (!renderer || strncmp(renderer, "llvmpipe", 8)) {
+            snprintf(a.err, sizeof a.err, "OSMesa renders with '%s', not llvmpipe",
+                     renderer ? renderer : "?");
+            a.ms = -1;
+        }
+    }
+    if (a.ms == 0) {
+        glViewport(0, 0, (GLsizei)w, (GLsizei)h);
+        glDisable(GL_DITHER);   /* the face codes must come back exactly */
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);   /* the earlier face keeps a tie, as in the VP */
+        glShadeModel(m->flat ? GL_FLAT : GL_SMOOTH);
+        glClearColor(0, 0, 0, 0);
+        glClearDepth(1);
+        GLuint vbo[2];
+        glGenBuffers(2, vbo);
+        glBindBuffer(GL_ARRAY_BUFFER, vbo[0]);
+        glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(m->nverts * 4 * sizeof *m->xyzw), m->xyzw,
+                     GL_STATIC_DRAW);
+        glVertexPointer(4, GL_FLOAT, 0, NULL);
+        glBindBuffer(GL_ARRAY_BUFFER, vbo[1]);
+        glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(m->nverts * 4), m->rgba, GL_STATIC_DRAW);
+        glColorPointer(4, GL_UNSIGNED_BYTE, 0, NULL);
+        glEnableClientState(GL_VERTEX_ARRAY);
+        glEnableClientState(GL_COLOR_ARRAY);
+    }
+    int rc = write_all(out, &a, sizeof a) || a.ms < 0;
+    order o;
+    while (!rc && !read_all(in, &o, sizeof o) && o.order != ORDER_QUIT) {
+        if (o.order == ORDER_TIME) {
+            double t0 = now();
+            for (uint32_t f = 0; f < o.frames; f++) {
+                glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+                glDrawArrays(GL_TRIANGLES, 0, (GLsizei)m->nverts);
+                glFinish();
+            }
+            a.ms = 1e3 * (now() - t0) / (o.frames ? o.frames : 1);
+            if (glGetError() != GL_NO_ERROR) {
+                snprintf(a.err, sizeof a.err, "OpenGL error drawing the mesh");
+                a.ms = -1;
+            }
+            rc = write_all(out, &a, sizeof a);
+        } else {
+            /* row 0 of the window is its bottom; of the frame, its top */
+            uint32_t *face = malloc((size_t)w * h * sizeof *face);
+            uint8_t *px = malloc((size_t)w * h * 4);
+            if (!face || !px) {
+                free(face);
+                free(px);
+                break;
+            }
+            glReadPixels(0, 0, (GLsizei)w, (GLsizei)h, GL_RGBA, GL_UNSIGNED_BYTE, px);
+            for (unsigned y = 0; y < h; y++)
+                for (unsigned x = 0; x < w; x++) {
+                    const uint8_t *c = px + 4 * ((size_t)(h - 1 - y) * w + x);
+                    uint32_t code = (uint32_t)c[0] | (uint32_t)c[1] << 8 | (uint32_t)c[2] << 16;
+                    face[(size_t)y * w + x] = code ? code - 1 : 0xFFFFFFFFu;
+                }
+            rc = write_all(out, face, (size_t)w * h * sizeof *face);
+            free(face);
+            free(px);
+        }
+    }
+    if (ctx)
+        OSMesaDestroyContext(ctx);
+    free(buf);
+    return rc ? 1 : 0;
+}
+
+struct peer {
+    pid_t pid;
+    int to, from;             /* orders in, answers out */
+    unsigned w, h;
+};
+
+peer *peer_start(const peer_mesh *m, unsigned w, unsigned h, unsigned threads, char *err,
+                 size_t len)
+{
+    int down[2], up[2];
+    if (pipe(down)) {
         snprintf(err, len, "pipe: %s", strerror(errno));
-        return -1;
+        return NULL;
+    }
+    if (pipe(up)) {
+        snprintf(err, len, "pipe: %s", strerror(errno));
+        close(down[0]);
+        close(down[1]);
+        return NULL;
     }
     fflush(stdout);
+    fflush(stderr);
     pid_t pid = fork();
-    if (pid < 0) {
-        snprintf(err, len, "fork: %s", strerror(errno));
-        close(fd[0]);
-        close(fd[1]);
-        return -1;
-    }
     if (pid == 0) {
-        close(fd[0]);
+        close(down[1]);
+        close(up[0]);
         char n[16];
         snprintf(n, sizeof n, "%u", threads);
         setenv("LP_NUM_THREADS", n, 1);
         setenv("GALLIUM_DRIVER", "llvmpipe", 1);
-        _exit(child(m, w, h, frames, face != NULL, fd[1]));
+        _exit(child(m, w, h, down[0], up[1]));
     }
-    close(fd[1]);
-    child_report rep;
-    int rc = read_all(fd[0], &rep, sizeof rep);
-    if (!rc && rep.r.ms < 0) {
-        snprintf(err, len, "%s", rep.err);
-        rc = -1;
-    } else if (rc) {
-        snprintf(err, len, "the llvmpipe child died before reporting");
-    } else if (face && read_all(fd[0], face, (size_t)w * h * sizeof *face)) {
-        snprintf(err, len, "the llvmpipe child's face map was cut short");
-        rc = -1;
+    close(down[0]);
+    close(up[1]);
+    peer *p = pid > 0 ? malloc(sizeof *p) : NULL;
+    if (!p) {
+        snprintf(err, len, pid < 0 ? "fork: %s" : "out of memory", strerror(errno));
+        close(down[1]);
+        close(up[0]);
+        if (pid > 0)
+            waitpid(pid, NULL, 0);
+        return NULL;
     }
-    close(fd[0]);
+    *p = (peer){pid, down[1], up[0], w, h};
+    answer a;
+    if (read_all(p->from, &a, sizeof a) || a.ms < 0) {
+        snprintf(err, len, "%s", a.ms < 0 ? a.err : "the llvmpipe child died before answering");
+        peer_stop(p);
+        return NULL;
+    }
+    return p;
+}
+
+double peer_time(peer *p, unsigned frames)
+{
+    order o = {ORDER_TIME, frames};
+    answer a;
+    if (write_all(p->to, &o, sizeof o) || read_all(p->from, &a, sizeof a))
+        return -1;
+    return a.ms;
+}
+
+int peer_faces(peer *p, uint32_t *face)
+{
+    order o = {ORDER_FACES, 0};
+    if (write_all(p->to, &o, sizeof o))
+        return -1;
+    return read_all(p->from, face, (size_t)p->w * p->h * sizeof *face);
+}
+
+void peer_stop(peer *p)
+{
+    if (!p)
+        return;
+    order o = {ORDER_QUIT, 0};
+    write_all(p->to, &o, sizeof o);
+    close(p->to);
+    close(p->from);
     int status;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+    while (waitpid(p->pid, &status, 0) < 0 && errno == EINTR)
         ;
-    if (!rc)
-        *r = rep.r;
-    return rc;
+    free(p);
 }

@@ -40,45 +40,16 @@ static inline void row_plain(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t
 
 /* The fast loop over one row whose depths z + i dz all lie in the store's
  * range: the stored depth is then z >> sr << sl exactly (one of the shifts
- * is 0).  Returns the samples written. */
-static inline uint32_t row_fast(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz,
-                                unsigned sr, unsigned sl, uint32_t t, const bool tags)
+ * is 0).  Returns the samples written.  Three forms, one chosen for the host
+ * when the VP is made (vp_depth_rows): plain C, SSE2 four samples a step,
+ * AVX2 eight; the same bits (tests/test_fill.c). */
+
+/* The plain form's loop from sample i on; the others' tails. */
+static inline uint32_t row_tail(uint32_t *depth, uint32_t *tag, uint32_t i, uint32_t n, int64_t z,
+                                int64_t dz, unsigned sr, unsigned sl, uint32_t t, const bool tags)
 {
-    uint32_t i = 0, written = 0;
-#if VP_SSE2
-    /* four samples a step: their depths in two registers of two 64-bit
-     * lanes, shifted, narrowed to 32 bits, compared unsigned (by flipping
-     * the sign bits) and merged where they win */
-    if (n >= 4) {
-        const __m128i step = _mm_set1_epi64x(4 * dz), vsr = _mm_cvtsi32_si128((int)sr),
-                      vsl = _mm_cvtsi32_si128((int)sl), sign = _mm_set1_epi32(INT32_MIN),
-                      vt = _mm_set1_epi32((int)t);
-        __m128i lo = _mm_set_epi64x(z + dz, z), hi = _mm_set_epi64x(z + 3 * dz, z + 2 * dz);
-        __m128i won = _mm_setzero_si128();
-        for (; i + 4 <= n; i += 4) {
-            __m128i a = _mm_sll_epi64(_mm_srl_epi64(lo, vsr), vsl);
-            __m128i b = _mm_sll_epi64(_mm_srl_epi64(hi, vsr), vsl);
-            __m128i dv = _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b),
-                                                         _MM_SHUFFLE(2, 0, 2, 0)));
-            __m128i *dp = (__m128i *)(void *)(depth + i);
-            __m128i old = _mm_loadu_si128(dp);
-            __m128i win = _mm_cmpgt_epi32(_mm_xor_si128(dv, sign), _mm_xor_si128(old, sign));
-            _mm_storeu_si128(dp, _mm_or_si128(_mm_and_si128(win, dv), _mm_andnot_si128(win, old)));
-            if (tags) {
-                __m128i *tp = (__m128i *)(void *)(tag + i);
-                __m128i ot = _mm_loadu_si128(tp);
-                _mm_storeu_si128(tp, _mm_or_si128(_mm_and_si128(win, vt), _mm_andnot_si128(win, ot)));
-            }
-            won = _mm_sub_epi32(won, win);
-            lo = _mm_add_epi64(lo, step);
-            hi = _mm_add_epi64(hi, step);
-        }
-        uint32_t lanes[4];
-        _mm_storeu_si128((__m128i *)(void *)lanes, won);
-        written = lanes[0] + lanes[1] + lanes[2] + lanes[3];
-        z += (int64_t)i * dz;
-    }
-#endif
+    uint32_t written = 0;
+    z += (int64_t)i * dz;
     for (; i < n; i++, z += dz) {
         uint32_t dv = (uint32_t)(((uint64_t)z >> sr) << sl);
         bool win = dv > depth[i];
@@ -90,11 +61,150 @@ static inline uint32_t row_fast(uint32_t *depth, uint32_t *tag, uint32_t n, int6
     return written;
 }
 
+static uint32_t row_plain_c(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz,
+                            unsigned sr, unsigned sl, uint32_t t)
+{
+    return tag ? row_tail(depth, tag, 0, n, z, dz, sr, sl, t, true)
+               : row_tail(depth, NULL, 0, n, z, dz, sr, sl, t, false);
+}
+
+#if VP_SSE2
+/* four samples a step: their depths in two registers of two 64-bit lanes,
+ * shifted, narrowed to 32 bits, compared unsigned (by flipping the sign
+ * bits) and merged where they win */
+static inline uint32_t row_sse2_body(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z,
+                                     int64_t dz, unsigned sr, unsigned sl, uint32_t t, const bool tags)
+{
+    uint32_t i = 0, written = 0;
+    const __m128i step = _mm_set1_epi64x(4 * dz), vsr = _mm_cvtsi32_si128((int)sr),
+                  vsl = _mm_cvtsi32_si128((int)sl), sign = _mm_set1_epi32(INT32_MIN),
+                  vt = _mm_set1_epi32((int)t);
+    __m128i lo = _mm_set_epi64x(z + dz, z), hi = _mm_set_epi64x(z + 3 * dz, z + 2 * dz);
+    __m128i won = _mm_setzero_si128();
+    for (; i + 4 <= n; i += 4) {
+        __m128i a = _mm_sll_epi64(_mm_srl_epi64(lo, vsr), vsl);
+        __m128i b = _mm_sll_epi64(_mm_srl_epi64(hi, vsr), vsl);
+        __m128i dv = _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b),
+                                                     _MM_SHUFFLE(2, 0, 2, 0)));
+        __m128i *dp = (__m128i *)(void *)(depth + i);
+        __m128i old = _mm_loadu_si128(dp);
+        __m128i win = _mm_cmpgt_epi32(_mm_xor_si128(dv, sign), _mm_xor_si128(old, sign));
+        _mm_storeu_si128(dp, _mm_or_si128(_mm_and_si128(win, dv), _mm_andnot_si128(win, old)));
+        if (tags) {
+            __m128i *tp = (__m128i *)(void *)(tag + i);
+            __m128i ot = _mm_loadu_si128(tp);
+            _mm_storeu_si128(tp, _mm_or_si128(_mm_and_si128(win, vt), _mm_andnot_si128(win, ot)));
+        }
+        won = _mm_sub_epi32(won, win);
+        lo = _mm_add_epi64(lo, step);
+        hi = _mm_add_epi64(hi, step);
+    }
+    uint32_t lanes[4];
+    _mm_storeu_si128((__m128i *)(void *)lanes, won);
+    written = lanes[0] + lanes[1] + lanes[2] + lanes[3];
+    return written + row_tail(depth, tag, i, n, z, dz, sr, sl, t, tags);
+}
+
+static uint32_t row_sse2(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz,
+                         unsigned sr, unsigned sl, uint32_t t)
+{
+    return tag ? row_sse2_body(depth, tag, n, z, dz, sr, sl, t, true)
+               : row_sse2_body(depth, NULL, n, z, dz, sr, sl, t, false);
+}
+#endif
+
+#if VP_AVX2
+#include <immintrin.h>
+/* eight samples a step: four 64-bit lanes in each of two registers, the low
+ * halves gathered into eight 32-bit lanes; the new depth is the unsigned
+ * maximum, and a sample wins where that is not the old depth */
+__attribute__((target("avx2"))) static inline uint32_t
+row_avx2_body(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz, unsigned sr,
+              unsigned sl, uint32_t t, const bool tags)
+{
+    uint32_t i = 0, written = 0;
+    const __m256i step = _mm256_set1_epi64x(8 * dz), vt = _mm256_set1_epi32((int)t);
+    const __m128i vsr = _mm_cvtsi32_si128((int)sr), vsl = _mm_cvtsi32_si128((int)sl);
+    __m256i lo = _mm256_set_epi64x(z + 3 * dz, z + 2 * dz, z + dz, z);
+    __m256i hi = _mm256_add_epi64(lo, _mm256_set1_epi64x(4 * dz));
+    __m256i won = _mm256_setzero_si256();
+    for (; i + 8 <= n; i += 8) {
+        __m256i a = _mm256_sll_epi64(_mm256_srl_epi64(lo, vsr), vsl);
+        __m256i b = _mm256_sll_epi64(_mm256_srl_epi64(hi, vsr), vsl);
+        /* per 128-bit half: a0 a1 b0 b1 | a2 a3 b2 b3; then a0..a3 b0..b3 */
+        __m256i dv = _mm256_castps_si256(_mm256_shuffle_ps(_mm256_castsi256_ps(a),
+                                                           _mm256_castsi256_ps(b),
+                                                           _MM_SHUFFLE(2, 0, 2, 0)));
+        dv = _mm256_permute4x64_epi64(dv, _MM_SHUFFLE(3, 1, 2, 0));
+        __m256i *dp = (__m256i *)(void *)(depth + i);
+        __m256i old = _mm256_loadu_si256(dp), nearer = _mm256_max_epu32(dv, old);
+        __m256i lost = _mm256_cmpeq_epi32(nearer, old);
+        _mm256_storeu_si256(dp, nearer);
+        if (tags) {
+            __m256i *tp = (__m256i *)(void *)(tag + i);
+            _mm256_storeu_si256(tp, _mm256_blendv_epi8(vt, _mm256_loadu_si256(tp), lost));
+        }
+        won = _mm256_add_epi32(won, lost);   /* -1 per lost sample */
+        lo = _mm256_add_epi64(lo, step);
+        hi = _mm256_add_epi64(hi, step);
+    }
+    uint32_t lanes[8];
+    _mm256_storeu_si256((__m256i *)(void *)lanes, won);
+    uint32_t lost = 0;
+    for (int k = 0; k < 8; k++)
+        lost -= lanes[k];
+    written = i - lost;
+    if (i + 4 <= n) {   /* four more (the cells four samples wide): one half */
+        __m256i a = _mm256_sll_epi64(_mm256_srl_epi64(lo, vsr), vsl);
+        __m128i dv = _mm_castps_si128(_mm_shuffle_ps(_mm256_castps256_ps128(_mm256_castsi256_ps(a)),
+                                                     _mm256_extractf128_ps(_mm256_castsi256_ps(a), 1),
+                                                     _MM_SHUFFLE(2, 0, 2, 0)));
+        __m128i *dp = (__m128i *)(void *)(depth + i);
+        __m128i old = _mm_loadu_si128(dp), nearer = _mm_max_epu32(dv, old);
+        __m128i lost4 = _mm_cmpeq_epi32(nearer, old);
+        _mm_storeu_si128(dp, nearer);
+        if (tags) {
+            __m128i *tp = (__m128i *)(void *)(tag + i);
+            _mm_storeu_si128(tp, _mm_blendv_epi8(_mm256_castsi256_si128(vt), _mm_loadu_si128(tp),
+                                                 lost4));
+        }
+        written += 4 - (unsigned)__builtin_popcount((unsigned)_mm_movemask_ps(_mm_castsi128_ps(lost4)));
+        i += 4;
+    }
+    return written + row_tail(depth, tag, i, n, z, dz, sr, sl, t, tags);
+}
+
+__attribute__((target("avx2"))) static uint32_t row_avx2(uint32_t *depth, uint32_t *tag,
+                                                          uint32_t n, int64_t z, int64_t dz,
+                                                          unsigned sr, unsigned sl, uint32_t t)
+{
+    return tag ? row_avx2_body(depth, tag, n, z, dz, sr, sl, t, true)
+               : row_avx2_body(depth, NULL, n, z, dz, sr, sl, t, false);
+}
+#endif
+
+unsigned vp_depth_rows(vp_depth_row_fn fn[3], const char *name[3])
+{
+    unsigned k = 0;
+#if VP_AVX2
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx2"))
+        fn[k] = row_avx2, name[k++] = "AVX2";
+#endif
+#if VP_SSE2
+    fn[k] = row_sse2, name[k++] = "SSE2";
+#endif
+    fn[k] = row_plain_c, name[k++] = "plain C";
+    return k;
+}
+
 uint32_t vp_fill_row_fast(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz,
                           unsigned sr, unsigned sl, uint32_t t)
 {
-    return tag ? row_fast(depth, tag, n, z, dz, sr, sl, t, true)
-               : row_fast(depth, NULL, n, z, dz, sr, sl, t, false);
+    vp_depth_row_fn fn[3];
+    const char *name[3];
+    vp_depth_rows(fn, name);
+    return fn[0](depth, tag, n, z, dz, sr, sl, t);
 }
 
 /* The samples of cell k for face fs; `tags` a constant at each call site. */
@@ -118,8 +228,17 @@ fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k, const bool tags
         units_depth(zmax, sh, dmax) < (uint32_t)dmax) {
         /* every sample in range: z > 0, so the shifts are exact */
         const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
+        /* rows of eight samples or more: the host's fastest form; shorter
+         * ones (most cells) inline, four a step */
+        const vp_depth_row_fn row = cw >= 8 ? vp->depth_row : NULL;
         for (uint32_t r = 0; r < ch; r++, z += dr, depth += vp->sw) {
-            n.written += row_fast(depth, tag, cw, z, dc, sr, sl, t, tags);
+#if VP_SSE2
+            n.written += row ? row(depth, tag, cw, z, dc, sr, sl, t)
+                             : row_sse2_body(depth, tag, cw, z, dc, sr, sl, t, tags);
+#else
+            n.written += row ? row(depth, tag, cw, z, dc, sr, sl, t)
+                             : row_tail(depth, tag, 0, cw, z, dc, sr, sl, t, tags);
+#endif
             if (tags)
                 tag += vp->sw;
         }

@@ -36,4 +36,12 @@ static inline unsigned v2_neg(v2 a) { return (unsigned)(a.lo < 0) | (unsigned)(a
 
 #endif
 
+/* AVX2 code compiled where the compiler can target it (gcc, clang on
+ * x86-64) and run where the host has it (__builtin_cpu_supports). */
+#if VP_SSE2 && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define VP_AVX2 1
+#else
+#define VP_AVX2 0
+#endif
+
 #endif

@@ -24,6 +24,10 @@ alb_err alb_vp_create(alb_vp **out, const alb_profile *prof, alb_diag *d)
     vp->sw = 1u << vp->lw;
     vp->sh = 1u << vp->lh;
     vp->p = vp->lw > vp->lh ? vp->lw : vp->lh;
+    vp_depth_row_fn rows[3];
+    const char *names[3];
+    vp_depth_rows(rows, names);
+    vp->depth_row = rows[0];
     if (vp_store_init(vp) || vp_scratch_for(vp, 1) || vp_recip_rom_init(vp)) {
         alb_vp_destroy(vp);
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for a %ux%u sample store",

@@ -23,6 +23,10 @@ typedef struct {
     int exp;             /* value = N * 2^(exp - P) */
 } vp_form_fn;
 
+/* A row of the fill's fast loop (fill.c, vp_depth_rows). */
+typedef uint32_t (*vp_depth_row_fn)(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z,
+                                    int64_t dz, unsigned sr, unsigned sl, uint32_t t);
+
 /* Per-face shading set-up. */
 typedef struct {
     uint32_t id;
@@ -73,6 +77,7 @@ struct alb_vp {
     unsigned nold_tex, cap_old_tex;
     bool depth_only;         /* timing without frames: depth tests, no tags (vp_set_depth_only) */
     bool plain_fill;         /* tests: the fill's plain loops only, no fast path */
+    vp_depth_row_fn depth_row;   /* the fast loop's row, the host's fastest form */
     alb_ws_frame frame;
     uint16_t bg[3];          /* background in frame-store units */
     uint16_t fog_rgb[3];
@@ -160,9 +165,12 @@ void vp_draw_face_timed(alb_vp *vp, const vp_loaded_face *f, vp_timer *tm);
 /* The samples of a FILL or SAMPLE_IN cell through the depth test: each
  * sample nearer than the store's gets the face's depth and tag (fill.c). */
 void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k);
-/* One row of the fill's fast loop (fill.c), for tests: n samples of depths
- * z + i dz, all in the store's range, stored as z >> sr << sl where they
- * win (and tag t, unless tag is NULL); returns how many won. */
+/* One row of the fill's fast loop (fill.c): n samples of depths z + i dz,
+ * all in the store's range, stored as z >> sr << sl where they win (and
+ * tag t, unless tag is NULL); returns how many won.  vp_depth_rows lists
+ * the forms the host can run, the fastest first (the VP takes that one);
+ * vp_fill_row_fast is the fastest. */
+unsigned vp_depth_rows(vp_depth_row_fn fn[3], const char *name[3]);
 uint32_t vp_fill_row_fast(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz,
                           unsigned sr, unsigned sl, uint32_t t);
 /* The samples `mask` (bit 4 y + x) of the 4 x 4 block at (c0, r0) through
