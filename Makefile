@@ -52,8 +52,9 @@ LIB_SONAME := libalbatros.so.$(ALB_ABI)
 LIBALB_A   := $(BUILD)/lib/libalbatros.a
 LIBALB_SO  := $(BUILD)/lib/libalbatros.so.$(ALB_ABI).$(ALB_MINOR).$(ALB_PATCH)
 LIB_CFLAGS := -fPIC -fvisibility=hidden
-# override: an EXTRA_CFLAGS on the command line (CI: -Werror) must not drop them
-$(LIBALB_OBJ): override EXTRA_CFLAGS += $(LIB_CFLAGS)
+# (a target-specific variable of its own: EXTRA_CFLAGS on the command line,
+# as CI and make asan give it, would override one added to EXTRA_CFLAGS)
+$(LIBALB_OBJ): OBJ_CFLAGS := $(LIB_CFLAGS)
 
 # What the albatros command adds to the library: the CLI, the references,
 # classic methods and stress scenes (tools/), and the simulated board with
@@ -66,8 +67,16 @@ TEST_OBJ   := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 LIB_OBJ    := $(sort $(LIBALB_OBJ) $(CLIENT_OBJ))
 
 ALBATROS := $(BUILD)/albatros
+DPI_TB   := $(BUILD)/dpi/tb_vector
 UNIT     := $(BUILD)/tests/unit
 USB_DESC := $(BUILD)/tests/usb_descriptors
+# the board on an emulated USB bus (umockdev) and its permission shim
+USB_BOARD := $(BUILD)/tests/usb_board
+USB_SHIM  := $(BUILD)/tests/usb_access.so
+USB_ROGUE := $(BUILD)/tests/usb_rogue
+USB_BENCH := $(BUILD)/tests/usb_bench
+UMOCKDEV_CFLAGS = $(shell pkg-config --cflags umockdev-1.0)
+UMOCKDEV_LIBS   = $(shell pkg-config --libs umockdev-1.0)
 
 # the FX2LP firmware (sdcc): make firmware, make firmware-size
 include firmware/fx2/fx2.mk
@@ -76,12 +85,13 @@ COST     := $(BUILD)/tools/cost
 BENCH    := $(BUILD)/tools/bench
 BENCH_MODEL := $(BUILD)/tools/bench-model
 
-.PHONY: all test unit vectors bless asan memcheck bench demo setup deps clean help crosscheck sweep
+.PHONY: all test unit vectors bless asan memcheck bench demo setup deps clean help crosscheck sweep \
+        usb-bench
 # libFuzzer harnesses and their replay over the seeds and regressions
 include fuzz/fuzz.mk
 
 # the replay harnesses too, so a warning in them fails CI's -Werror build
-all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(REPLAYS)
+all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(USB_BOARD) $(USB_SHIM) $(USB_ROGUE) $(USB_BENCH) $(REPLAYS) $(DPI_TB)
 
 help:
 	@echo "make            build $(ALBATROS) and the tests"
@@ -93,17 +103,21 @@ help:
 	@echo "make asan       build and test under AddressSanitizer + UBSan"
 	@echo "make memcheck   the tests under valgrind memcheck (slow)"
 	@echo "make bench      print speed and work figures (docs/performance.md)"
+	@echo "make usb-bench  USB bulk throughput through libusb on the emulated bus"
 	@echo "make crosscheck the golden vectors from gcc -O0 and clang -O3 builds"
 	@echo "make -j sweep   the stability and speed sweeps, report in docs/stability/"
 	@echo "make fuzz-TARGET [FUZZ_TIME=600]  fuzz one input path (clang + libFuzzer):"
 	@echo "                TARGET = $(FUZZ_TARGETS) (fuzz/README.md)"
 	@echo "make fuzz-replay  the fuzz harnesses over their seeds and regressions (in make test)"
 	@echo "make firmware   the FX2LP board firmware (sdcc); make firmware-size checks it fits"
+	@echo "make firmware-check  that image on the s51 simulator against the host core (in make test)"
+	@echo "make firmware-speed  its parsing speed on the bridge's stream, from s51's cycle counts"
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev zlib1g-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev gnuplot-nox sdcc umockdev verilator iverilog python3 man-db libosmesa6-dev
+            libhidapi-dev gnuplot-nox sdcc sdcc-ucsim umockdev libumockdev-dev verilator iverilog python3 man-db \
+            libosmesa6-dev
 setup: deps
 	$(MAKE) all
 deps:
@@ -118,10 +132,10 @@ deps:
 # ---- build ----
 $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -MMD -MP -c $< -o $@
+	$(CC) $(ALL_CFLAGS) $(OBJ_CFLAGS) -MMD -MP -c $< -o $@
 
 $(BUILD)/gen/%.o: $(BUILD)/gen/%.c
-	$(CC) $(ALL_CFLAGS) -I. -c $< -o $@
+	$(CC) $(ALL_CFLAGS) $(OBJ_CFLAGS) -I. -c $< -o $@
 
 $(BUILD)/tools/embed: tools/embed.c
 	@mkdir -p $(dir $@)
@@ -147,10 +161,9 @@ $(LIBALB_SO): $(LIBALB_OBJ) lib/albatros.map
 
 # a SystemVerilog bench over DPI-C, built by Verilator against the shared
 # library (tests/dpi.sh)
-DPI_TB := $(BUILD)/dpi/tb_vector
 $(DPI_TB): include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv $(LIBALB_SO)
 	@mkdir -p $(BUILD)/dpi
-	verilator --binary -j 2 -Wall --Mdir $(BUILD)/dpi/obj --top-module tb_vector \
+	+verilator --binary -j 2 -Wall --Mdir $(BUILD)/dpi/obj --top-module tb_vector \
 	  include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv \
 	  -LDFLAGS "-L$(abspath $(BUILD)/lib) -lalbatros -Wl,-rpath,$(abspath $(BUILD)/lib) $(EXTRA_LDLIBS)" \
 	  -o tb_vector
@@ -177,12 +190,32 @@ $(USB_DESC): tests/usb_descriptors.c firmware/fx2/descriptors.c firmware/fx2/usb
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -D__xdata= tests/usb_descriptors.c firmware/fx2/descriptors.c -o $@ $(EXTRA_LDLIBS)
 
+# umockdev's API is GObject: the board links glib, nothing else does
+$(USB_BOARD): tests/usb_board.c firmware/fx2/descriptors.c firmware/fx2/usb.h $(LIB_OBJ)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(UMOCKDEV_CFLAGS) -D__xdata= tests/usb_board.c firmware/fx2/descriptors.c \
+	  $(LIB_OBJ) $(LDLIBS) $(UMOCKDEV_LIBS) -o $@
+
+# a host that breaks the board's rules on purpose: each check of usb_board fires
+$(USB_ROGUE): tests/usb_rogue.c
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $< -o $@ $(shell pkg-config --libs libusb-1.0) $(EXTRA_LDLIBS)
+
+# bulk throughput through libusb, a client of the public API (make usb-bench)
+$(USB_BENCH): $(BUILD)/tests/usb_bench.o $(LIBALB_A)
+	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
+
+# preloaded into any program, sanitized or not: built without the sanitizers
+$(USB_SHIM): tests/usb_access.c
+	@mkdir -p $(dir $@)
+	$(CC) -std=c11 $(WARN) $(CFLAGS) $(filter-out -fsanitize%,$(EXTRA_CFLAGS)) -fPIC -shared $< -o $@ -ldl
+
 $(UNIT): $(TEST_OBJ) $(LIB_OBJ)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 # ---- tests: every runner prints "N passed, N failed"; tests/summary adds them ----
-test: $(ALBATROS) $(UNIT) $(REPLAYS) $(USB_DESC) $(DPI_TB)
+test: all
 	@bash tests/run-all.sh $(BUILD)
 
 unit: $(UNIT)
@@ -237,6 +270,11 @@ bench: $(COST) $(BENCH) $(BENCH_MODEL)
 	$(BENCH)
 	$(BENCH_MODEL)
 	$(COST)
+
+# MB/s through libusb against transfers in flight and their size, on the
+# emulated bus (docs/usb-protocol.md, "Throughput"); about two minutes
+usb-bench: $(USB_BOARD) $(USB_SHIM) $(USB_BENCH)
+	@bash tests/usb-bench.sh $(BUILD)
 
 # ---- install (docs/architecture.md, "Installed") ----
 PREFIX     ?= /usr/local

@@ -516,6 +516,7 @@ TEST(bridge_board_that_comes_back_gets_the_stream_again)
     comeback never = {.never = true};
     CHECK_EQ(run_reattach(&x, &never, &r), -1);
     CHECK_STR_CONTAINS(r.first_problem, "did not come back: gone for good");
+    CHECK_EQ(r.reattaches, 0);   /* the report would say it "came back" */
     CHECK(r.link == NULL);
     free_fixture(&x);
 }

@@ -158,6 +158,8 @@ static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32
         return -1;
     *sent_at(s, s->seq) = (sent_packet){s->seq, type, true, len >= 4 ? PROTO_GET32(payload) : 0, 0};
     size_t n = alb_link_encode(s->pkt, type, s->seq++, payload, len);
+    /* one packet a transfer: a packet then starts a USB packet, where the
+     * FX2 firmware parses it in place (firmware/fx2/main.c) */
     alb_tr_status st = s->t->ops->write(s->t, s->pkt, n);
     if (st == ALB_TR_OK)
         st = s->t->ops->flush(s->t);
@@ -515,9 +517,8 @@ static void start(streamer *s, alb_transport *t, const alb_stream_opts *o, alb_s
 static void reattach(streamer *s, size_t preamble)
 {
     s->gone = false;
-    s->r->reattaches++;
     note(s, "the board disconnected: waiting for it to come back (%u of at most %u)",
-         s->r->reattaches, s->o->reattach_max);
+         s->r->reattaches + 1, s->o->reattach_max);
     char err[600] = "";
     s->t = s->o->reattach(s->o->reattach_ctx, s->t, err, sizeof err);
     if (!s->t) {
@@ -525,6 +526,7 @@ static void reattach(streamer *s, size_t preamble)
         s->failed = true;
         return;
     }
+    s->r->reattaches++;   /* counted once it is back: the report says "came back" */
     /* what the old link left half-read is not the new board's */
     s->rx.start = s->rx.len = 0;
     s->rx.have_seq = false;
