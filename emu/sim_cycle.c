@@ -133,6 +133,7 @@ struct sim_cycle {
     alb_sim_counters *cnt;       /* this cycle's bin: the frame retiring next */
     cycle_map map;
     bool pixels;                 /* frames wanted: else the depth tests alone, no frame */
+    sim_durations dur;           /* steps' and fills' cycles */
     alb_frame frame;
     alb_vp_stats last_stats;         /* of the last frame retired */
     unsigned latency;
@@ -433,7 +434,7 @@ static void engine_next(sim_cycle *m, int64_t t)
     slot *s = &m->slots[e->slot];
     e->stalled = false;
     if (vp_walk_next(m->vp, &e->walk, &e->step)) {
-        e->left = step_cycles(e->step.edges, m->p->edge_units);
+        e->left = m->dur.step[e->step.edges];
         if (m->pixels)
             cycle_map_charge(&m->map, m->vp, &e->step.cell, e->left);
         return;
@@ -564,7 +565,7 @@ static void fill_tick(sim_cycle *m, int64_t t, uint64_t queue_start)
         queued_cell *qc = &f->q[f->head];
         f->head = ring_next(f->head, m->p->fill_queue);
         f->count--;
-        f->left = fill_cycles(vp_cell_samples(&qc->cell), m->p->fill_rate);
+        f->left = m->dur.fill[qc->cell.wl + qc->cell.hl];
         f->samples = vp_cell_samples(&qc->cell);
         f->next = 0;
         if (m->pixels)
@@ -866,6 +867,7 @@ alb_err sim_cycle_open(sim_cycle **out, const alb_profile *p, const sim_cycle_co
     m->prev_retire = -1;
     m->fill.last_write = -1;
     m->latency = 1 + p->divider_latency + p->shade_latency;
+    sim_durations_init(&m->dur, p);
     m->evq = ITEM_QUEUE(alb_event);
     m->wq = ITEM_QUEUE(pending_write);
     alb_ws_reader_init(&m->rd, NULL, 0, m->name);

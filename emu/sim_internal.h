@@ -83,6 +83,20 @@ static inline uint64_t fill_cycles(uint32_t samples, unsigned rate)
 {
     return (samples + rate - 1) / rate;
 }
+/* The same durations as tables, so that no step or cell costs a division: a
+ * step's cycles by the edges it evaluates, a fill's by the log2 of its
+ * samples (a cell's samples are a power of two). */
+typedef struct {
+    uint8_t step[ALB_WS_MAX_EDGES + 1];
+    uint64_t fill[2 * (ALB_VP_MAX_LEVELS - 1) + 1];
+} sim_durations;
+static inline void sim_durations_init(sim_durations *d, const alb_profile *p)
+{
+    for (unsigned e = 0; e <= ALB_WS_MAX_EDGES; e++)
+        d->step[e] = (uint8_t)step_cycles(e, p->edge_units);
+    for (unsigned s = 0; s < sizeof d->fill / sizeof *d->fill; s++)
+        d->fill[s] = ((1ull << s) + p->fill_rate - 1) / p->fill_rate;
+}
 /* The GP's compute time before a packet, from its header word. */
 uint64_t gp_header_cycles(const alb_profile *p, uint32_t header);
 

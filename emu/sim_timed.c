@@ -24,6 +24,8 @@ typedef struct {
     uint64_t faces;
     int64_t engine_free;      /* first cycle the engine can start a face */
     int64_t *take_ring;       /* fill_queue last cells: cycle the fill unit took them */
+    unsigned take_slot;       /* cells % fill_queue: the oldest of them, the next to write */
+    sim_durations dur;
     uint64_t cells;
     int64_t fill_free;        /* first cycle the fill unit can take a cell */
     int64_t now;              /* the engine's next cycle in the face being walked */
@@ -115,19 +117,20 @@ static void hand_over(vp_timer *tm, const vp_cell *k, uint64_t cycles)
     const alb_profile *p = t->p;
     bins_add(&t->bins, CNT(engine_busy), t->now, t->now + (int64_t)cycles);
     int64_t end = t->now + (int64_t)cycles - 1;
-    /* the queue held fewer than fill_queue cells at the start of the cycle */
+    /* the queue held fewer than fill_queue cells at the start of the cycle:
+     * the cell fill_queue back (the ring's oldest) had been taken */
     int64_t put = end;
-    uint64_t n = t->cells;
-    if (n >= p->fill_queue)
-        put = max64(put, t->take_ring[(n - p->fill_queue) % p->fill_queue] + 1);
+    if (t->cells >= p->fill_queue)
+        put = max64(put, t->take_ring[t->take_slot] + 1);
     bins_add(&t->bins, CNT(engine_stall), end + 1, put + 1);
     int64_t take = max64(put + 1, t->fill_free);
-    uint64_t f = fill_cycles(vp_cell_samples(k), p->fill_rate);
+    uint64_t f = t->dur.fill[k->wl + k->hl];
     if (t->frames)
         cycle_map_charge(&t->map, t->vp, k, f);
     bins_add(&t->bins, CNT(fill_busy), take, take + (int64_t)f);
     t->fill_free = take + (int64_t)f;
-    t->take_ring[n % p->fill_queue] = take;
+    t->take_ring[t->take_slot] = take;
+    t->take_slot = t->take_slot + 1 == p->fill_queue ? 0 : t->take_slot + 1;
     t->cells++;
     int64_t written = take + (int64_t)f - 1 + t->latency - 1;
     t->frame_last = max64(t->frame_last, written);
@@ -246,6 +249,7 @@ static alb_err timed_init(timed *t, const alb_profile *p, bool frames, alb_diag 
         return e;
     vp_set_depth_only(t->vp, !frames);
     vp_timer_init(&t->timer, p->edge_units);
+    sim_durations_init(&t->dur, p);
     t->timer.hand_over = hand_over;
     t->timer.charge = frames ? charge : NULL;
     t->timer.ctx = t;
