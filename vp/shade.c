@@ -1,7 +1,9 @@
 /* shade.c — the VP's per-sample units: the depth store format, the
  * reciprocal unit that divides by depth (eq. 7), intensity, texture
- * addressing, the colour output stage and fog (docs/vp.md §3-§6).  Integer
- * arithmetic only; every rounding is named where it happens. */
+ * addressing, the colour output stage and fog (docs/vp.md §3-§6), and the
+ * output stage's shading of a run of a face's samples with only the units
+ * the face uses (vp_shade_run).  Integer arithmetic only; every rounding is
+ * named where it happens. */
 #include "units.h"
 
 #include <stdlib.h>

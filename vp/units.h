@@ -1,8 +1,9 @@
 /* units.h — the VP's per-sample arithmetic units as inline functions, shared
- * by the specialised fill loops (fill.c) and the all-units path (shade.c):
- * the depth store format, the reciprocal ROM, the ratio of two forms, the
- * texture fraction, fog visibility and the colour output stage
- * (docs/vp.md §4-§6).  Integer arithmetic only. */
+ * by the fill (fill.c, the functional engine's walk in vp.c) and the output
+ * stage's shading (shade.c): the depth store format and one sample's depth
+ * test, the reciprocal ROM, the ratio of two forms, the texture fraction,
+ * fog visibility and the colour output stage (docs/vp.md §4-§6).  Integer
+ * arithmetic only. */
 #ifndef ALBATROS_VP_UNITS_H
 #define ALBATROS_VP_UNITS_H
 
