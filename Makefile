@@ -26,11 +26,12 @@ ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -pthread -Iinclude $(WARN) $(FPF
              $(shell pkg-config --cflags $(PKGS)) $(EXR_CFLAGS)
 LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm -pthread $(EXTRA_LDLIBS)
 
-COMMON_SRC := common/diag.c common/file.c common/memh.c common/profile.c common/words.c
-GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
+COMMON_SRC := common/diag.c common/file.c common/memh.c common/profile.c common/words.c \
+              common/crmath.c
+GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/polygon.c gp/gp.c gp/builtin.c
 VP_SRC     := vp/vp.c vp/fill.c vp/store.c vp/parallel.c vp/shade.c vp/frame.c
 SINK_SRC   := emu/exr.c emu/preview.c emu/sim.c emu/sim_timed.c emu/sim_cycle.c emu/vcd.c \
-              emu/model.c emu/dpi.c emu/dump.c
+              emu/model.c emu/dpi.c emu/dump.c emu/frame_out.c
 BRIDGE_SRC := emu/bridge/link.c emu/bridge/stream.c emu/bridge/transport_fault.c \
               emu/bridge/transport_usb.c
 TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools/methods.c tools/sweep.c \
@@ -61,6 +62,9 @@ $(LIBALB_OBJ): OBJ_CFLAGS := $(LIB_CFLAGS)
 # the firmware core (firmware/sim/).  The command links the static library,
 # so it can use the public API only.
 CLIENT_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TOOLS_SRC) $(FW_SRC))
+# The tools' generated scenes use the GP's correctly rounded maths
+# (common/crmath.c), which the static library keeps to itself: linked again.
+CLIENT_OBJ += $(BUILD)/common/crmath.o
 EMU_OBJ    := $(patsubst %.c,$(BUILD)/%.o,$(EMU_SRC))
 TEST_OBJ   := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 # tests, fuzz harnesses and benchmarks reach inside the units: every object
@@ -104,7 +108,7 @@ help:
 	@echo "make memcheck   the tests under valgrind memcheck (slow)"
 	@echo "make bench      print speed and work figures (docs/performance.md)"
 	@echo "make usb-bench  USB bulk throughput through libusb on the emulated bus"
-	@echo "make crosscheck the golden vectors from gcc -O0 and clang -O3 builds"
+	@echo "make crosscheck the golden vectors from gcc -O0, clang -O3 and musl-gcc builds"
 	@echo "make -j sweep   the stability and speed sweeps, report in docs/stability/"
 	@echo "make fuzz-TARGET [FUZZ_TIME=600]  fuzz one input path (clang + libFuzzer):"
 	@echo "                TARGET = $(FUZZ_TARGETS) (fuzz/README.md)"
@@ -117,7 +121,7 @@ help:
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev zlib1g-dev libopenexr-dev openexr libusb-1.0-0-dev \
             libhidapi-dev gnuplot-nox sdcc sdcc-ucsim umockdev libumockdev-dev verilator iverilog python3 man-db \
-            libosmesa6-dev
+            musl-tools libosmesa6-dev
 setup: deps
 	$(MAKE) all
 deps:
@@ -238,14 +242,44 @@ asan:
 	  EXTRA_CFLAGS="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer" \
 	  EXTRA_LDLIBS="-fsanitize=address,undefined,float-cast-overflow" test
 
-# bit-exact across compilers and optimisation: every golden vector (streams
-# and frames) from gcc -O0 and clang -O3 builds; the gcc one takes the VP's
-# plain C paths where the other has SIMD (vp/simd.h)
-crosscheck:
+# bit-exact across compilers, optimisation and C libraries: every golden
+# vector (streams, frames, counters) from gcc -O0 and clang -O3 builds, and
+# from a musl-gcc build (a second C library: its libm must change nothing,
+# docs/number-formats.md §0); the gcc one takes the VP's plain C paths where
+# the others have SIMD (vp/simd.h)
+crosscheck: $(ALBATROS)
 	$(MAKE) BUILD=build-gcc-O0 OPT=-O0 EXTRA_CFLAGS=-DALB_NO_SIMD build-gcc-O0/albatros
 	$(MAKE) BUILD=build-clang-O3 CC=clang OPT=-O3 build-clang-O3/albatros
 	build-gcc-O0/albatros vectors check test-vectors
 	build-clang-O3/albatros vectors check test-vectors
+	$(MAKE) $(MUSL_ALBATROS)
+	$(ALBATROS) vectors digest test-vectors > $(MUSL_BUILD)/expected.digests
+	$(MUSL_ALBATROS) vectors check --digests $(MUSL_BUILD)/expected.digests test-vectors
+
+# The musl build: musl-gcc cannot link the glibc-built libpng, libusb,
+# hidapi and OpenEXR, so ALB_NO_EXTERNAL leaves out what needs them (EXR and
+# PNG output, PNG textures, USB; render, stream and the tools): an albatros
+# with gp, dump, profiles and vectors check --digests, which compares the
+# frames by the digests the full build reads from the expected EXR files
+# (docs/golden-vectors.md, "Another C library").
+MUSL_CC       ?= musl-gcc
+MUSL_BUILD    := build-musl
+MUSL_ALBATROS := $(MUSL_BUILD)/albatros
+MUSL_SRC      := $(COMMON_SRC) $(GP_SRC) $(VP_SRC) emu/sim.c emu/sim_timed.c emu/sim_cycle.c \
+                 emu/vcd.c emu/model.c emu/frame_out.c emu/bridge/link.c firmware/crc32.c \
+                 emu/main.c emu/cli.c emu/cmd_gp.c emu/cmd_vectors.c
+MUSL_OBJ      := $(patsubst %.c,$(MUSL_BUILD)/%.o,$(MUSL_SRC)) $(MUSL_BUILD)/gen/builtin_scene.o
+MUSL_CFLAGS   := -std=c11 -D_POSIX_C_SOURCE=200809L -DALB_NO_EXTERNAL -pthread -Iinclude $(WARN) \
+                 $(FPFLAGS) -O2 $(EXTRA_CFLAGS)
+$(MUSL_BUILD)/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(MUSL_CC) $(MUSL_CFLAGS) -MMD -MP -c $< -o $@
+$(MUSL_BUILD)/gen/builtin_scene.o: $(BUILD)/gen/builtin_scene.c
+	@mkdir -p $(dir $@)
+	$(MUSL_CC) $(MUSL_CFLAGS) -I. -c $< -o $@
+$(MUSL_ALBATROS): $(MUSL_OBJ)
+	$(MUSL_CC) $(MUSL_CFLAGS) $^ -lm -pthread -o $@
+-include $(shell find $(MUSL_BUILD) -name '*.d' 2>/dev/null)
 
 # the stability sweep: one job per stress family (make -j runs them in
 # parallel), the speed sweep alone after them (its timings), then the report;
@@ -333,6 +367,6 @@ demo: $(ALBATROS)
 	$(ALBATROS) render -o out/builtin.exr --png out/builtin.png --stream out/builtin.stream
 
 clean:
-	rm -rf $(BUILD) $(FUZZ_BUILD) build-asan build-gcc-O0 build-clang-O3 build-clang out vector-diffs
+	rm -rf $(BUILD) $(FUZZ_BUILD) build-asan build-gcc-O0 build-clang-O3 build-clang build-musl out vector-diffs
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)

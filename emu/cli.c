@@ -5,6 +5,7 @@
 #include "../common/vec3.h"
 
 #include <ctype.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,7 +20,11 @@ const char run_opts_help[] =
     "  --at X,Y,Z         look-at point (default 0,0,0)\n"
     "  --up X,Y,Z         up vector (default 0,1,0)\n"
     "  --fov DEG          vertical field of view (default 60)\n"
-    "  --size WxH         resolution (sets the profile's width and height)\n";
+    "  --size WxH         resolution (sets the profile's width and height)\n"
+    "Depth (docs/vp.md, section 4; every scene, OBJ or not):\n"
+    "  --near D           the depth scale: the depth store holds near/Z, saturating\n"
+    "                     nearer than D and resolving Z to about Z^2 / (D 2^depth_bits);\n"
+    "                     replaces the scene's `near` (default 0.1, OBJ files too)\n";
 
 void run_opts_init(run_opts *o)
 {
@@ -100,6 +105,11 @@ static int apply_override(run_opts *o, bool is_size, const char *value, char *er
 {
     if (is_size)
         return parse_size(o, value, err, len);
+    if (!strncmp(value, "near=", 5)) {
+        snprintf(err, len, "--set %s: near is the scene's depth scale, not a profile field: use "
+                 "--near %s", value, value + 5);
+        return -1;
+    }
     char msg[300];
     if (alb_profile_set(&o->prof, value, msg, sizeof msg)) {
         snprintf(err, len, "--set %s", msg);
@@ -159,6 +169,19 @@ int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, 
         o->cam_given = true;
         return 1;
     }
+    if (strcmp(name, "near") == 0) {
+        char *end;
+        double v = strtod(value, &end);
+        /* the word stream stores near as IEEE-754 binary32 (docs/word-format.md §1) */
+        if (end == value || *end || !(v >= FLT_MIN && v <= FLT_MAX)) {
+            snprintf(err, len, "--near %s: expected a distance in %g .. %g (the word stream "
+                     "stores near as IEEE-754 binary32)", value, FLT_MIN, FLT_MAX);
+            return -1;
+        }
+        o->near = v;
+        o->near_given = true;
+        return 1;
+    }
     if (strcmp(name, "fov") == 0) {
         char *end;
         double v = strtod(value, &end);
@@ -174,7 +197,7 @@ int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, 
 }
 
 static const char *const common_spec[] = {"profile=", "set=", "eye=", "at=", "up=",
-                                           "fov=", "size=", NULL};
+                                           "fov=", "size=", "near=", NULL};
 
 /* Does spec contain name, and does it take a value? 0 = absent, 1 = flag, 2 = value. */
 static int spec_kind(const char *const *spec, const char *name, size_t nlen)
@@ -297,8 +320,16 @@ int cli_load_scene(const char *path, const run_opts *o, alb_scene *s)
         alb_diag_print(&d, stderr);
         return 1;
     }
+    if (o->near_given) {
+        /* the depth scale alone: near/Z for every surface (a screen-space
+         * scene's near D/Dmax too), nothing else of the scene moves */
+        s->near = o->near;
+        s->near_line = s->near_col = 0;
+    }
     return 0;
 }
+
+bool cli_is_obj(const char *path) { return path && ends_with(path, ".obj"); }
 
 int cli_check_profile(const alb_profile *p)
 {

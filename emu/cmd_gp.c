@@ -13,10 +13,11 @@ void gp_stats_json(FILE *f, const alb_gp_stats *s)
                "\"faces_backfacing\": %u, \"faces_edge_on\": %u, \"faces_offscreen\": %u, "
                "\"edges_out\": %u, \"edges_behind\": %u, \"edges_degenerate\": %u, "
                "\"edges_offscreen\": %u, \"bound_added\": %u, \"bound_culled\": %u, "
-               "\"coef_saturated\": %u, \"words\": %llu}",
+               "\"bound_excess\": %u, \"coef_saturated\": %u, \"words\": %llu}",
             s->faces_in, s->faces_out, s->faces_behind, s->faces_backfacing, s->faces_edge_on,
             s->faces_offscreen, s->edges_out, s->edges_behind, s->edges_degenerate,
-            s->edges_offscreen, s->bound_added, s->bound_culled, s->coef_saturated, s->words);
+            s->edges_offscreen, s->bound_added, s->bound_culled, s->bound_excess,
+            s->coef_saturated, s->words);
 }
 
 void gp_stats_text(FILE *f, const alb_gp_stats *s)
@@ -27,6 +28,10 @@ void gp_stats_text(FILE *f, const alb_gp_stats *s)
     fprintf(f, "  edges: %u out (%u bounding); dropped %u behind, %u degenerate, %u off-screen, "
                "%u bounding off-screen\n", s->edges_out, s->bound_added, s->edges_behind,
             s->edges_degenerate, s->edges_offscreen, s->bound_culled);
+    if (s->bound_excess)
+        fprintf(f, "  note: %u vert%s of faces not strictly convex on the screen called for a "
+                   "third bounding edge or more, left out (at most two per face; docs/gp.md)\n",
+                s->bound_excess, s->bound_excess == 1 ? "ex" : "ices");
     if (s->coef_saturated)
         fprintf(f, "  warning: %u coefficient forms saturated their exponent\n", s->coef_saturated);
     fprintf(f, "  words: %llu\n", s->words);

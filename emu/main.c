@@ -10,8 +10,11 @@ typedef struct {
     const char *summary;
 } command;
 
+/* ALB_NO_EXTERNAL (make crosscheck's musl build): only what needs none of
+ * libpng, libusb, hidapi and OpenEXR */
 static const command commands[] = {
     {"gp", cmd_gp, "run the geometry processor: scene -> VP word stream"},
+#ifndef ALB_NO_EXTERNAL
     {"render", cmd_render, "render a scene: GP -> FIFO -> VP -> frames (EXR, PNG)"},
     {"vp", cmd_vp, "run the VP alone on a word stream (RTL replay)"},
     {"reference", cmd_reference, "render a scene with the exact double-precision reference"},
@@ -22,6 +25,7 @@ static const command commands[] = {
     {"scene", cmd_scene, "write a generated scene (random polygons, slivers, stress families)"},
     {"stream", cmd_stream, "stream to a board (USB or simulated) and check it against the emulator"},
     {"board", cmd_board, "list, inspect or reset boards over HID"},
+#endif
     {"dump", cmd_dump, "check a word stream and print it with field names"},
     {"vectors", cmd_vectors, "check (or bless) the golden vectors"},
     {"profiles", cmd_profiles, "list the family's profiles and their fields"},

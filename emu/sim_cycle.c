@@ -132,7 +132,7 @@ struct sim_cycle {
     sim_bins bins;
     alb_sim_counters *cnt;       /* this cycle's bin: the frame retiring next */
     cycle_map map;
-    bool pixels;                 /* frames wanted: else the depth tests alone, no frame */
+    bool pixels;                 /* frames wanted: else no output stage, no frame */
     sim_durations dur;           /* steps' and fills' cycles */
     alb_frame frame;
     alb_vp_stats last_stats;         /* of the last frame retired */
@@ -888,7 +888,6 @@ alb_err sim_cycle_open(sim_cycle **out, const alb_profile *p, const sim_cycle_co
     m->pipe_traced = m->units >> UNIT_PIPE & 1;
     /* a FRAME event carries the resolved frame's CRC */
     m->pixels = !(cfg && cfg->counters_only) || (m->record & ALB_EV_FRAME);
-    vp_set_depth_only(m->vp, !m->pixels);
     sim_frame_without_planes(p, &m->frame);
     m->slots = calloc(p->face_slots, sizeof *m->slots);
     m->fill.q = calloc(p->fill_queue, sizeof *m->fill.q);

@@ -46,8 +46,8 @@ typedef struct {
     unsigned npending, cap_pending;
     alb_frame spare;            /* a flushed frame's planes, reused (no copies) */
     /* frames wanted: else only what timing and the statistics need — the
-     * depth tests, no tags, no output stage, no per-pixel cycles — and the
-     * sink gets frames without planes */
+     * walk and the fills (depth and tag), no output stage, no per-pixel
+     * cycles — and the sink gets frames without planes */
     bool frames;
 } timed;
 
@@ -247,7 +247,6 @@ static alb_err timed_init(timed *t, const alb_profile *p, bool frames, alb_diag 
     alb_err e = alb_vp_create(&t->vp, p, d);
     if (e)
         return e;
-    vp_set_depth_only(t->vp, !frames);
     vp_timer_init(&t->timer, p->edge_units);
     sim_durations_init(&t->dur, p);
     t->timer.hand_over = hand_over;

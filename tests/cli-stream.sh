@@ -71,6 +71,18 @@ expect 0 "first link error: board: bad CRC at packet 39 \(TILE: frame 0, tile at
     "$bin" stream --sim --frames --profile a256 --sim-payload 492 --fault truncate=40
 expect 0 '"resends": 1, "display": "identical"' \
     "$bin" stream --sim --frames --profile a256 --sim-payload 492 --fault truncate=40 --json
+# the last packet of a frame cut short, nothing behind it: the QUERY goes
+# behind zero bytes that complete it, the gap shows, the frame is resumed
+printf 'albatros-scene 1\nobject t\n v -1 -1 4\n v 1 -1 4\n v 0 1 4\n f 1 2 3\nend\n' > "$tmp/tri.scene"
+expect 0 "1 of 1 frames match .*1 resumes, 1 queries" "$bin" stream --sim --wait 0 "$tmp/tri.scene" --fault truncate=3
+expect 0 "hardware agrees" "$bin" stream --sim --wait 0 "$tmp/tri.scene" --sim-payload 492 --fault truncate=3
+expect 0 "4 of 4 frames match .*1 queries" "$bin" stream --sim --wait 0 --fault truncate=7
+# the stream's END cut short: the closing PING goes again behind the padding
+expect 0 "first link error: board: sequence gap: packet 3 \(WORDS: words 26\.\.26, the stream's end\) never arrived" \
+    "$bin" stream --sim --wait 0 "$tmp/tri.scene" --fault truncate=4
+# a silent board: the time the host waited, measured
+expect 3 "the board stopped answering: no RESULT for frame [0-9]+ in [0-9]+\.[0-9]+ s after sending up to frame [0-9]+ and a QUERY \(each read waits up to 2000 ms\)" \
+    "$bin" stream --sim --wait 0 --profile a256 --fault silence=30
 expect 0 "truncate=N +send only the first half of the N-th packet" "$bin" stream --help
 expect 0 "corrupt=N +flip a bit of the N-th byte sent" "$bin" stream --help
 

@@ -23,7 +23,8 @@ static bool row_in_range(const alb_vp *vp, int64_t z, int64_t dz, uint32_t n, in
 /* Every form of the fill's fast row the host runs (AVX2, SSE2, plain C)
  * against vp_depth_value and the strict depth test, on random rows: every
  * length up to 37 (the SIMD bodies and their tails), shifts both ways, store
- * depths up to 2^32 - 1 (an unsigned comparison), with tags and without. */
+ * depths up to 2^32 - 1 (an unsigned comparison), the samples written and
+ * the ties (equal depths: the earlier face keeps them), with the first. */
 TEST(fill_fast_row_equals_the_depth_unit)
 {
     vp_depth_row_fn forms[3];
@@ -32,7 +33,7 @@ TEST(fill_fast_row_equals_the_depth_unit)
     CHECK(nforms >= 1);
     static const unsigned depth_bits[] = {8, 16, 24, 31, 32};
     uint64_t seed = 42;
-    unsigned rows = 0, wins = 0, high = 0, straddle = 0, bad = 0;
+    unsigned rows = 0, wins = 0, ties = 0, high = 0, straddle = 0, bad = 0;
     for (unsigned b = 0; b < sizeof depth_bits / sizeof *depth_bits && !bad; b++) {
         alb_profile p;
         alb_profile_lookup("t32", &p);
@@ -53,7 +54,7 @@ TEST(fill_fast_row_equals_the_depth_unit)
             int64_t dz = (int64_t)(t_rand(&seed) % 4001) - 2000;
             if (!row_in_range(vp, z, dz, n, exp))
                 continue;
-            uint32_t depth[40], tag[40], plain[40], want_d[40], want_t[40], w = 0;
+            uint32_t d0[40], t0[40], want_d[40], want_t[40], w = 0, tie = 0, first = 0;
             for (uint32_t i = 0; i < n; i++) {
                 uint32_t dv = vp_depth_value(vp, z + (int64_t)i * dz, exp);
                 /* the old values: at, just below or just above the new, or
@@ -64,12 +65,14 @@ TEST(fill_fast_row_equals_the_depth_unit)
                                : r == 1 ? dv - 1
                                : r == 2 ? dv + (dv < dmax)
                                         : (uint32_t)(t_rand(&seed) % ((uint64_t)dmax + 1));
-                depth[i] = plain[i] = want_d[i] = old;
-                tag[i] = want_t[i] = i;
+                d0[i] = want_d[i] = old;
+                t0[i] = want_t[i] = i;
                 if (dv > old) {   /* strictly nearer wins (docs/vp.md §4) */
                     want_d[i] = dv;
                     want_t[i] = 0xABCDEF;
                     w++;
+                } else if (dv == old && tie++ == 0) {
+                    first = i;
                 }
                 high += dv >= 0x80000000u;
                 straddle += (dv >= 0x80000000u) != (old >= 0x80000000u);
@@ -77,22 +80,19 @@ TEST(fill_fast_row_equals_the_depth_unit)
             unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
             rows++;
             wins += w;
-            uint32_t d0[40], t0[40];
-            memcpy(d0, depth, sizeof d0);
-            memcpy(t0, tag, sizeof t0);
+            ties += tie;
             for (unsigned k = 0; k < nforms; k++) {
-                memcpy(depth, d0, sizeof d0);
-                memcpy(tag, t0, sizeof t0);
-                memcpy(plain, d0, sizeof d0);
-                uint32_t got = forms[k](depth, tag, n, z, dz, sr, sl, 0xABCDEF);
-                uint32_t got_plain = forms[k](plain, NULL, n, z, dz, sr, sl, 0);
-                if (got != w || got_plain != w || memcmp(depth, want_d, n * sizeof *depth) ||
-                    memcmp(plain, want_d, n * sizeof *plain) ||
-                    memcmp(tag, want_t, n * sizeof *tag)) {
+                uint32_t depth[40], tag[40];
+                memcpy(depth, d0, sizeof depth);
+                memcpy(tag, t0, sizeof tag);
+                vp_row_result got = forms[k](depth, tag, n, z, dz, sr, sl, 0xABCDEF);
+                if (got.written != w || got.ties != tie || (tie && got.first_tie != first) ||
+                    memcmp(depth, want_d, n * sizeof *depth) || memcmp(tag, want_t, n * sizeof *tag)) {
                     CHECK_MSG(0, "%s, depth_bits %u, %u samples from N = %lld step %lld, shift "
-                              "%d: %u (%u without tags) written, %u expected, or a sample "
-                              "differs", names[k], depth_bits[b], n, (long long)z, (long long)dz,
-                              sh, got, got_plain, w);
+                              "%d: %u written, %u tied (first %u); %u, %u (%u) expected, or a "
+                              "sample differs", names[k], depth_bits[b], n, (long long)z,
+                              (long long)dz, sh, got.written, got.ties, got.first_tie, w, tie,
+                              first);
                     bad++;
                     break;
                 }
@@ -101,14 +101,14 @@ TEST(fill_fast_row_equals_the_depth_unit)
         alb_vp_destroy(vp);
     }
     CHECK_EQ(bad, 0);
-    /* not vacuous: rows of every kind ran, and stores above 2^31 */
     printf("# fast row forms:");
     for (unsigned k = 0; k < nforms; k++)
         printf(" %s", names[k]);
     printf("\n");
-    CHECK_MSG(rows > 5000 && wins > rows && high > 100 && straddle > 100,
-              "%u rows, %u wins, %u depths >= 2^31, %u tests across 2^31", rows, wins, high,
-              straddle);
+    /* not vacuous: rows of every kind ran, ties, stores above 2^31 */
+    CHECK_MSG(rows > 5000 && wins > rows && ties > rows / 2 && high > 100 && straddle > 100,
+              "%u rows, %u wins, %u ties, %u depths >= 2^31, %u tests across 2^31", rows, wins,
+              ties, high, straddle);
 }
 
 #define MAX_FRAMES 8

@@ -112,8 +112,7 @@ void vp_clear_tile(alb_vp *vp, size_t t)
     size_t idx = ((size_t)tr << vp->tile_hl) * vp->sw + ((size_t)tc << vp->tile_wl);
     for (uint32_t r = 0; r < h; r++, idx += vp->sw) {
         memset(vp->s_depth + idx, 0, w * sizeof *vp->s_depth);   /* 0: no surface */
-        if (!vp->depth_only)   /* timing without frames reads no tag */
-            memset(vp->s_tag + idx, 0xFF, w * sizeof *vp->s_tag);    /* VP_TAG_NONE */
+        memset(vp->s_tag + idx, 0xFF, w * sizeof *vp->s_tag);    /* VP_TAG_NONE */
     }
     vp->tile_clean[t] = 0;
 }

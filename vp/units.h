@@ -33,6 +33,22 @@ static inline uint32_t units_depth(int64_t n, int sh, int64_t max)
     return (uint32_t)(v > max ? max : v);
 }
 
+/* Ties in the depth store (docs/vp.md §4: equal d, 0 < d < max — two faces
+ * in one depth step, the earlier kept; ties at the saturated max are
+ * depth_saturated's): `ties` of them by face fs, `idx` the lowest-indexed
+ * of those, which is kept with the faces that kept and lost it if it is the
+ * frame's lowest yet — the same sample whatever the tiling. */
+static inline void units_note_ties(alb_vp *vp, const vp_face_setup *fs, uint64_t ties, size_t idx)
+{
+    if (!vp->st.depth_ties || idx < vp->st.tie_sample) {
+        vp->st.tie_sample = idx;
+        vp->st.tie_kept = vp_frame_face(vp, vp->s_tag[idx])->id;
+        vp->st.tie_lost = fs->id;
+        vp->st.tie_depth = vp->s_depth[idx];
+    }
+    vp->st.depth_ties += ties;
+}
+
 /* The fill unit on one sample (c, r) of face fs decided at `level`: its
  * depth through the depth unit and the depth test (docs/vp.md §4), counted
  * in vp->st.  The fill loops of fill.c do the same a row at a time. */
@@ -51,9 +67,10 @@ static inline void units_fill_sample(alb_vp *vp, const vp_face_setup *fs, uint32
     /* a later face wins only if strictly nearer; 0, no surface, never wins */
     if (dv > vp->s_depth[idx]) {
         vp->s_depth[idx] = dv;
-        if (!vp->depth_only)
-            vp->s_tag[idx] = fs->tag | level;
+        vp->s_tag[idx] = fs->tag | level;
         vp->st.samples_written++;
+    } else if (dv != 0 && dv == vp->s_depth[idx] && dv != (uint32_t)dmax) {
+        units_note_ties(vp, fs, 1, idx);
     }
 }
 

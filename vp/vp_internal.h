@@ -23,9 +23,13 @@ typedef struct {
     int exp;             /* value = N * 2^(exp - P) */
 } vp_form_fn;
 
-/* A row of the fill's fast loop (fill.c, vp_depth_rows). */
-typedef uint32_t (*vp_depth_row_fn)(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z,
-                                    int64_t dz, unsigned sr, unsigned sl, uint32_t t);
+/* A row of the fill's fast loop (fill.c, vp_depth_rows): samples written,
+ * samples tied, and the first tied one's index in the row (if any). */
+typedef struct {
+    uint32_t written, ties, first_tie;
+} vp_row_result;
+typedef vp_row_result (*vp_depth_row_fn)(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z,
+                                         int64_t dz, unsigned sr, unsigned sl, uint32_t t);
 
 /* Per-face shading set-up. */
 typedef struct {
@@ -75,7 +79,6 @@ struct alb_vp {
      * when the frame is resolved */
     uint32_t **old_tex;
     unsigned nold_tex, cap_old_tex;
-    bool depth_only;         /* timing without frames: depth tests, no tags (vp_set_depth_only) */
     bool plain_fill;         /* tests: the fill's plain loops only, no fast path */
     vp_depth_row_fn depth_row;   /* the fast loop's row, the host's fastest form */
     alb_ws_frame frame;
@@ -166,13 +169,10 @@ void vp_draw_face_timed(alb_vp *vp, const vp_loaded_face *f, vp_timer *tm);
  * sample nearer than the store's gets the face's depth and tag (fill.c). */
 void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k);
 /* One row of the fill's fast loop (fill.c): n samples of depths z + i dz,
- * all in the store's range, stored as z >> sr << sl where they win (and
- * tag t, unless tag is NULL); returns how many won.  vp_depth_rows lists
- * the forms the host can run, the fastest first (the VP takes that one);
- * vp_fill_row_fast is the fastest. */
+ * all in the store's range, stored as z >> sr << sl with tag t where they
+ * win; counts what won and what tied.  vp_depth_rows lists the forms the
+ * host can run, the fastest first (the VP takes that one). */
 unsigned vp_depth_rows(vp_depth_row_fn fn[3], const char *name[3]);
-uint32_t vp_fill_row_fast(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz,
-                          unsigned sr, unsigned sl, uint32_t t);
 /* The samples `mask` (bit 4 y + x) of the 4 x 4 block at (c0, r0) through
  * the depth test, decided at level l, or l - 1 where `coarse` has their
  * bit (fill.c). */
@@ -192,10 +192,6 @@ static inline void vp_touch(alb_vp *vp, const vp_cell *k)
     if (vp->tile_clean[t])
         vp_clear_tile(vp, t);
 }
-/* Timing without frames (the clocked models when no frame is asked for):
- * fills make only the depth tests, which decide samples_written; frames
- * must not be resolved while it is on. */
-void vp_set_depth_only(alb_vp *vp, bool on);
 /* The units a face's flags ask for, and its colour with none of them. */
 unsigned vp_face_units(const vp_face_setup *fs);
 void vp_flat_colour(const alb_vp *vp, const vp_face_setup *fs, uint16_t rgb[3]);

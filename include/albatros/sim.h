@@ -105,8 +105,9 @@ typedef struct {
     void *events_ctx;
     bool counters_only;       /* timed and cycle fidelities: no frame is wanted, only
                                  each frame's statistics and counters; the model makes
-                                 the depth tests (samples_written) and no colour, and
-                                 the sink's frame has no planes (rgb ... cycles NULL) */
+                                 the depth tests (samples_written, depth_ties) and no
+                                 colour or per-pixel cycles, and the sink's frame has
+                                 no planes (rgb ... cycles NULL) */
 } alb_sim_options;
 
 /* sc is NULL in functional fidelity; f->cycles is filled in the others. */
