@@ -221,9 +221,9 @@ static void width_warnings(const render_args *a, const alb_frame *f, const alb_v
 {
     unsigned aa = f->aa_levels, sw = f->width << aa, sh = f->height << aa;
     double full = ldexp(1, (int)f->depth_bits), near = f->near;
-    uint32_t dmax = 0;
-    for (size_t i = 0; i < (size_t)f->width * f->height; i++)
-        dmax = f->depth[i] > dmax ? f->depth[i] : dmax;
+    /* the nearest surface: the largest depth in the frame (a run that draws
+     * no frame has no planes, but this statistic) */
+    uint64_t dmax = st->depth_nearest;
     char znear[32];
     distance_text(znear, sizeof znear, dmax ? near * full / dmax : 0);
     if (st->depth_saturated)

@@ -269,6 +269,13 @@ static void check_fidelities(const alb_profile *p, const alb_ws_buf *b, const ch
                   (unsigned long long)lt.c[i].cycles, (unsigned long long)lc.c[i].cycles);
         CHECK_MSG(frames_equal(&lt.f[i], &lc.f[i], true), "%s frame %u: timed/cycle frames", what, i);
         CHECK_MSG(frames_equal(&lf.f[i], &lc.f[i], false), "%s frame %u: functional/cycle", what, i);
+        /* the frame's nearest surface: the largest depth of its depth plane */
+        uint64_t nearest = 0;
+        for (size_t k = 0; k < (size_t)lf.f[i].width * lf.f[i].height; k++)
+            nearest = lf.f[i].depth[k] > nearest ? lf.f[i].depth[k] : nearest;
+        CHECK_MSG(lf.s[i].depth_nearest == nearest, "%s frame %u: depth_nearest %llu, the "
+                  "frame's largest depth %llu", what, i,
+                  (unsigned long long)lf.s[i].depth_nearest, (unsigned long long)nearest);
         /* the functional engine walks faces its own way (vp_draw_face), the
          * clocked models step by step: every statistic must agree */
         CHECK_MSG(!memcmp(&lf.s[i], &lt.s[i], sizeof lf.s[i]) &&

@@ -35,6 +35,8 @@ typedef struct {
     /* The tie at the lowest sample index (raster order), if depth_ties:
      * the sample, the face that kept it, the face that lost, the depth. */
     uint64_t tie_sample, tie_kept, tie_lost, tie_depth;
+    uint64_t depth_nearest;          /* the largest depth a covered sample had: the
+                                        frame's nearest surface (0: none) */
     uint64_t faces;                  /* FACE packets drawn */
     uint64_t edges;                  /* edges of those faces */
     uint64_t faces_shaded;           /* ... using the intensity unit (eq. 7) */
