@@ -21,17 +21,12 @@
 typedef struct {
     uint64_t written, underflow, saturated, ties;
     size_t tie;               /* the first tied sample in raster order, if ties */
-    uint32_t nearest;         /* the largest depth of a covered sample */
 } fill_counts;
 
-/* A cell's counts into the frame's statistics.  (The frame's nearest
- * surface is the largest depth of any covered sample: stored depths only
- * rise, and each covered sample's ends at least at its own.) */
+/* A cell's counts into the frame's statistics. */
 static void add_counts(alb_vp *vp, const vp_face_setup *fs, uint64_t covered, const fill_counts *n)
 {
     vp->st.samples_covered += covered;
-    if (n->nearest > vp->st.depth_nearest)
-        vp->st.depth_nearest = n->nearest;
     vp->st.depth_underflow += n->underflow;
     vp->st.depth_saturated += n->saturated;
     vp->st.samples_written += n->written;
@@ -96,7 +91,7 @@ static vp_row_result row_plain_c(uint32_t *depth, uint32_t *tag, uint32_t n, int
 /* four samples a step: their depths in two registers of two 64-bit lanes,
  * shifted, narrowed to 32 bits, compared unsigned (by flipping the sign
  * bits) and merged where they win */
-static inline vp_row_result row_sse2_body(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z,
+static inline __attribute__((always_inline)) vp_row_result row_sse2_body(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z,
                                           int64_t dz, unsigned sr, unsigned sl, uint32_t t)
 {
     vp_row_result res = {0, 0, 0};
@@ -229,8 +224,7 @@ static void fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
     const int64_t zmin = z + (ec < 0 ? ec : 0) + (er < 0 ? er : 0);
     const int64_t zmax = z + (ec > 0 ? ec : 0) + (er > 0 ? er : 0);
     size_t idx = (size_t)k->r0 * vp->sw + k->c0;
-    /* the depth unit is monotone: the cell's largest depth at its corner */
-    fill_counts n = {0, 0, 0, 0, 0, units_depth(zmax, sh, dmax)};
+    fill_counts n = {0, 0, 0, 0, 0};
     if (!vp->plain_fill && zmin > 0 && units_depth(zmin, sh, dmax) > 0 &&
         units_depth(zmax, sh, dmax) < (uint32_t)dmax) {
         /* every sample in range: z > 0, so the shifts are exact */
@@ -288,21 +282,9 @@ void vp_fill_block4(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r
     const int64_t zmin = z + (dc < 0 ? 3 * dc : 0) + (dr < 0 ? 3 * dr : 0);
     const int64_t zmax = z + (dc > 0 ? 3 * dc : 0) + (dr > 0 ? 3 * dr : 0);
     size_t idx = (size_t)r0 * vp->sw + c0;
-    fill_counts n = {0, 0, 0, 0, 0, 0};
+    fill_counts n = {0, 0, 0, 0, 0};
     const uint64_t covered = bits4(mask & 0xF) + bits4(mask >> 4 & 0xF) + bits4(mask >> 8 & 0xF) +
                              bits4(mask >> 12);
-    /* the largest depth of the block's samples: depth is monotone along a
-     * row, so at the first or the last sample of each row's mask */
-    for (unsigned y = 0; y < 4; y++) {
-        unsigned m = mask >> 4 * y & 0xF;
-        if (!m)
-            continue;
-        int64_t zr = z + (int64_t)y * dr;
-        uint32_t a = units_depth(zr + (int64_t)__builtin_ctz(m) * dc, sh, dmax);
-        uint32_t b = units_depth(zr + (int64_t)(31 - __builtin_clz(m)) * dc, sh, dmax);
-        uint32_t top = a > b ? a : b;
-        n.nearest = top > n.nearest ? top : n.nearest;
-    }
     if (!vp->plain_fill && zmin > 0 && units_depth(zmin, sh, dmax) > 0 &&
         units_depth(zmax, sh, dmax) < (uint32_t)dmax) {
         const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;

@@ -79,8 +79,7 @@ void vp_stats_add(alb_vp_stats *dst, const alb_vp_stats *src)
         dst->tie_depth = src->tie_depth;
     }
     dst->depth_ties += src->depth_ties;
-    if (src->depth_nearest > dst->depth_nearest)
-        dst->depth_nearest = src->depth_nearest;
+
 }
 
 typedef struct {

@@ -64,7 +64,6 @@ static inline void units_fill_sample(alb_vp *vp, const vp_face_setup *fs, uint32
     vp->st.samples_covered++;
     vp->st.depth_underflow += dv == 0 && z > 0;
     vp->st.depth_saturated += dv == (uint32_t)dmax;
-    vp->st.depth_nearest = dv > vp->st.depth_nearest ? dv : vp->st.depth_nearest;
     /* a later face wins only if strictly nearer; 0, no surface, never wins */
     if (dv > vp->s_depth[idx]) {
         vp->s_depth[idx] = dv;

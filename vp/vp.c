@@ -669,6 +669,7 @@ alb_err alb_vp_face(alb_vp *vp, const alb_ws_face *f, alb_diag *d)
 void alb_vp_frame_end(alb_vp *vp, alb_frame *out)
 {
     vp_flush_batch(vp);
+    vp_store_finish(vp);
     out->number = vp->frame.number;
     out->near = vp->cfg.near;
     vp_store_resolve(vp, out);

@@ -211,6 +211,9 @@ void vp_store_begin(alb_vp *vp);
 void vp_store_resolve(alb_vp *vp, alb_frame *out);
 /* n copies of one colour (3 per sample) (store.c). */
 void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3]);
+/* The frame's statistics that come from the store at its end (depth_nearest);
+ * alb_vp_frame_end calls it, a run that resolves no frame must. */
+void vp_store_finish(alb_vp *vp);
 /* The output stage's scratch for one thread (vp->scratch). */
 size_t vp_store_scratch_bytes(const alb_vp *vp);
 /* Scratch for n threads; -1 if out of memory (parallel.c). */
