@@ -272,7 +272,8 @@ static void side_by_side(bench_scene *b, const alb_profile *p)
                 if (accuracy_measure(&b->s, p, 0, o1.words.w, o1.words.n, &o1.out, &gl, &acc))
                     printf(", band: out of memory");
                 else
-                    printf(", %zu clear %s", acc.clear_diff, acc.clear_diff ? "DIFFER" : "differ");
+                    printf(", %zu clear %s", acc.diff_in_class[ACC_CLEAR],
+                           acc.diff_in_class[ACC_CLEAR] ? "DIFFER" : "differ");
             }
             printf(" |\n");
         } else {
