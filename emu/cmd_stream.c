@@ -512,8 +512,9 @@ int cmd_stream(int argc, char **argv)
     run_opts_init(&o);
     const char *pos[1];
     int npos;
-    if (cli_parse("stream", argc, argv, spec, link_opt, &a, &o, pos, 1, &npos))
-        return EXIT_INPUT;
+    int parsed = cli_parse("stream", argc, argv, spec, link_opt, &a, &o, pos, 1, &npos);
+    if (parsed)
+        return parsed < 0 ? EXIT_INPUT : 0;
     if (a.help) {
         printf("%s%s", stream_help, run_opts_help);
         return 0;
@@ -714,8 +715,9 @@ int cmd_board(int argc, char **argv)
     run_opts_init(&o);
     const char *pos[1];
     int npos;
-    if (cli_parse("board", argc, argv, spec, link_opt, &a, &o, pos, 1, &npos))
-        return 2;
+    int parsed = cli_parse("board", argc, argv, spec, link_opt, &a, &o, pos, 1, &npos);
+    if (parsed)
+        return CLI_PARSE_EXIT(parsed);
     if (a.help || npos != 1 ||
         (strcmp(pos[0], "list") && strcmp(pos[0], "info") && strcmp(pos[0], "reset"))) {
         printf("usage: albatros board list|info|reset [--sim] [--vid V --pid P --serial S] "

@@ -581,8 +581,11 @@ int cmd_vectors(int argc, char **argv)
         fprintf(stderr, "albatros vectors: out of memory\n");
         return 1;
     }
-    if (cli_parse("vectors", argc, argv, spec, vectors_opt, &a, NULL, pos, argc, &npos))
+    int parsed = cli_parse("vectors", argc, argv, spec, vectors_opt, &a, NULL, pos, argc, &npos);
+    if (parsed) {
+        rc = parsed > 0 ? 0 : rc;
         goto done;
+    }
     if (a.help) {
         vectors_usage(stdout);
         rc = 0;

@@ -2,6 +2,7 @@
  * channels and attributes are listed in exr.h).  We own the file descriptor
  * and do the I/O ourselves so that errors carry errno and nothing is printed. */
 #include "albatros/exr.h"
+#include "albatros/file.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -71,6 +72,11 @@ static size_t chan_bytes(int k)
 typedef struct {
     int fd;
     int err;    /* errno of the first failed read or write; 0 if none */
+    /* a target that takes no pwrite (a FIFO): the file is built here and
+     * written in one go (OpenEXR writes its offset table last, at the start) */
+    bool in_memory;
+    unsigned char *mem;
+    size_t mem_len, mem_cap;
 } exr_io;
 
 static int64_t io_read(exr_const_context_t c, void *user, void *buf, uint64_t size,
@@ -109,6 +115,33 @@ static int64_t io_size(exr_const_context_t c, void *user)
     return fstat(io->fd, &st) == 0 ? (int64_t)st.st_size : -1;
 }
 
+static int64_t mem_write(exr_io *io, const void *buf, uint64_t size, uint64_t offset)
+{
+    if (offset > SIZE_MAX - size) {
+        io->err = io->err ? io->err : EFBIG;
+        return -1;
+    }
+    size_t end = (size_t)(offset + size);
+    if (end > io->mem_cap) {
+        size_t cap = io->mem_cap ? io->mem_cap : 65536;
+        while (cap < end)
+            cap = cap <= SIZE_MAX / 2 ? cap * 2 : end;
+        unsigned char *m = realloc(io->mem, cap);
+        if (!m) {
+            io->err = io->err ? io->err : ENOMEM;
+            return -1;
+        }
+        if (cap > io->mem_len)
+            memset(m + io->mem_len, 0, cap - io->mem_len);
+        io->mem = m;
+        io->mem_cap = cap;
+    }
+    memcpy(io->mem + offset, buf, size);
+    if (end > io->mem_len)
+        io->mem_len = end;
+    return (int64_t)size;
+}
+
 static int64_t io_write(exr_const_context_t c, void *user, const void *buf, uint64_t size,
                         uint64_t offset, exr_stream_error_func_ptr_t report)
 {
@@ -117,6 +150,8 @@ static int64_t io_write(exr_const_context_t c, void *user, const void *buf, uint
     uint64_t done = 0;
     (void)c;
     (void)report;
+    if (io->in_memory)
+        return mem_write(io, buf, size, offset);
     while (done < size) {
         ssize_t n = pwrite(io->fd, p + done, (size_t)(size - done), (off_t)(offset + done));
         if (n < 0 && errno == EINTR)
@@ -498,12 +533,20 @@ alb_err alb_exr_write_frame(const char *path, const alb_frame *f, alb_diag *d)
 
 alb_err alb_exr_write_frame_threads(const char *path, const alb_frame *f, unsigned threads, alb_diag *d)
 {
+    alb_exr_options opt = {.threads = threads};
+    return alb_exr_write(path, f, &opt, d);
+}
+
+alb_err alb_exr_write(const char *path, const alb_frame *f, const alb_exr_options *opt, alb_diag *d)
+{
+    unsigned threads = opt ? opt->threads : 1;
     alb_err e = check_frame(path, f, d);
     if (e != ALB_OK)
         return e;
-    exr_io io = {open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666), 0};
-    if (io.fd < 0)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
+    alb_out out;
+    if ((e = alb_out_open(&out, path, 0, d)) != ALB_OK)
+        return e;
+    exr_io io = {.fd = out.fd, .in_memory = !out.seekable};
     exr_context_initializer_t init = io_init(&io);
     exr_context_t c = NULL;
     exr_result_t rv = exr_start_write(&c, path, EXR_WRITE_FILE_DIRECTLY, &init);
@@ -515,10 +558,15 @@ alb_err alb_exr_write_frame_threads(const char *path, const alb_frame *f, unsign
     rv = exr_finish(&c);
     if (rv != EXR_ERR_SUCCESS && e == ALB_OK)
         e = exr_fail(d, path, &io, rv, "cannot finish the OpenEXR file");
-    if (close(io.fd) != 0 && e == ALB_OK)
-        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot close: %s", strerror(errno));
-    if (e != ALB_OK)
-        unlink(path);   /* never leave a half-written frame behind */
+    if (e == ALB_OK && io.in_memory)
+        e = alb_out_write(&out, io.mem, io.mem_len, d);
+    free(io.mem);
+    /* never a half-written frame under the name: the old file stays until
+     * the new one is complete, and a device is never removed */
+    if (e == ALB_OK)
+        e = alb_out_commit(&out, d);
+    else
+        alb_out_abort(&out);
     return e;
 }
 
@@ -815,7 +863,7 @@ static alb_err read_ctx(exr_const_context_t c, const char *path, const exr_io *i
 alb_err alb_exr_read_frame(const char *path, alb_frame *f, alb_diag *d)
 {
     memset(f, 0, sizeof *f);
-    exr_io io = {open(path, O_RDONLY | O_CLOEXEC), 0};
+    exr_io io = {.fd = open(path, O_RDONLY | O_CLOEXEC)};
     if (io.fd < 0)
         return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
     exr_context_initializer_t init = io_init(&io);

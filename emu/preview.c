@@ -2,6 +2,7 @@
  * Each view maps a plane to 8-bit RGB pixels; libpng's simplified writer
  * stores them (it writes no tIME chunk, so equal frames give equal files). */
 #include "albatros/preview.h"
+#include "albatros/file.h"
 
 #include <errno.h>
 #include <math.h>
@@ -216,25 +217,30 @@ static uint8_t *alloc_rgb(unsigned w, unsigned h, const char *path, alb_diag *d)
 static alb_err write_rgb(const char *path, unsigned w, unsigned h, const uint8_t *px,
                          alb_diag *d)
 {
-    /* we open the file ourselves so that a failure to create it never
-     * removes someone else's file, and a failure after it does */
-    FILE *fp = fopen(path, "wb");
+    /* the old file stays until the new one is complete; a device or FIFO
+     * is written straight through and never removed (file.h) */
+    alb_out out;
+    alb_err e = alb_out_open(&out, path, 0, d);
+    if (e != ALB_OK)
+        return e;
+    FILE *fp = alb_out_stdio(&out, d);
     if (!fp)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
+        return ALB_ERR_IO;
     png_image img;
     memset(&img, 0, sizeof img);
     img.version = PNG_IMAGE_VERSION;
     img.width = w;
     img.height = h;
     img.format = PNG_FORMAT_RGB;
-    alb_err e = ALB_OK;
+    errno = 0;
     if (!png_image_write_to_stdio(&img, fp, 0, px, 0, NULL))
-        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot write PNG: %s (libpng)", img.message);
+        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot write PNG: %s (libpng)%s%s",
+                        img.message, errno ? ": " : "", errno ? strerror(errno) : "");
     png_image_free(&img);
-    if (fclose(fp) != 0 && e == ALB_OK)
-        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot write: %s", strerror(errno));
-    if (e != ALB_OK)
-        remove(path);
+    if (e == ALB_OK)
+        e = alb_out_commit(&out, d);
+    else
+        alb_out_abort(&out);
     return e;
 }
 

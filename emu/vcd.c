@@ -6,6 +6,7 @@
  * signal handler may call, so SIGINT, SIGTERM, SIGABRT and SIGSEGV still
  * leave a complete trace. */
 #include "albatros/vcd.h"
+#include "albatros/file.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -19,6 +20,7 @@
 #define MAX_KEEP 16
 
 struct alb_vcd {
+    alb_out out;              /* a temporary file renamed into place at the end */
     int fd;
     int failed;
     size_t len;
@@ -85,6 +87,8 @@ static void on_fatal(int sig)
             active->len += (size_t)n;
         }
         flush(active);
+        /* the trace is complete up to now: put it under its name */
+        alb_out_commit_in_signal(&active->out);
         active = NULL;
     }
     signal(sig, SIG_DFL);
@@ -98,12 +102,11 @@ alb_vcd *alb_vcd_open(const char *path, alb_diag *d)
         alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory");
         return NULL;
     }
-    v->fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0666);
-    if (v->fd < 0) {
-        alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create trace: %s", strerror(errno));
+    if (alb_out_open(&v->out, path, 0, d)) {
         free(v);
         return NULL;
     }
+    v->fd = v->out.fd;
     puts_(v, "$version albatros cycle model $end\n$timescale 1ps $end\n");
     active = v;
     signal(SIGABRT, on_fatal);
@@ -249,10 +252,16 @@ int alb_vcd_close(alb_vcd *v)
 {
     if (!v)
         return 0;
-    flush(v);
-    int bad = v->failed || close(v->fd) != 0;
     if (active == v)
         active = NULL;
+    flush(v);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    int bad = v->failed;
+    if (bad)
+        alb_out_abort(&v->out);   /* the old trace, if any, stays */
+    else
+        bad = alb_out_commit(&v->out, &d) != ALB_OK;
     free(v);
     return bad ? -1 : 0;
 }

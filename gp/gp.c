@@ -233,9 +233,10 @@ typedef struct {
     double ambient;
 } xform;
 
-static int object_xform(const alb_gp *gp, const alb_scene_frame *fr, unsigned oi, xform *x)
+static int object_xform(const alb_gp *gp, unsigned frame, unsigned oi, xform *x)
 {
-    const alb_scene_pose *pose = &fr->poses[oi];
+    const alb_scene_frame *fr = &gp->scene->frames[frame];
+    const alb_scene_pose *pose = alb_scene_pose_at(gp->scene, frame, oi);
     const alb_scene_observer *ob = &fr->obs;
     double aspect = ob->aspect > 0 ? ob->aspect : (double)gp->prof.width / gp->prof.height;
     double sy = 1 / tan(ob->fov_y * VEC3_PI / 360), sx = sy / aspect;
@@ -415,7 +416,7 @@ static bool build_face(alb_gp *gp, const alb_scene_object *o, const alb_scene_fa
         return false;
     }
     vec3 z = v3_scale(n_n, 1 / d_n);   /* Az, Bz, Cz */
-    int sat = 0;
+    int sat = 0, sat_shade = 0, sat_tex = 0;
     wf->n_edges = 0;
     wf->id = f->id;
     wf->rgb = (uint32_t)f->rgb[0] << 16 | (uint32_t)f->rgb[1] << 8 | f->rgb[2];
@@ -470,7 +471,7 @@ static bool build_face(alb_gp *gp, const alb_scene_object *o, const alb_scene_fa
         vec3 m_n;
         double dd;
         field_to_observer(x, field, &m_n, &dd);
-        wf->shade = numerator_form(gp, m_n, dd, z, &sat);
+        wf->shade = numerator_form(gp, m_n, dd, z, &sat_shade);
         wf->flags |= ALB_WS_FACE_SHADE;
     }
     if (f->texmap != ALB_TEXMAP_NONE) {
@@ -482,14 +483,20 @@ static bool build_face(alb_gp *gp, const alb_scene_object *o, const alb_scene_fa
              * texture periods — so the VP keeps its precision near the
              * observer however far the texture origin is. */
             dd -= floor(dd);
-            *(t ? &wf->tex_v : &wf->tex_u) = numerator_form(gp, m_n, dd, z, &sat);
+            *(t ? &wf->tex_v : &wf->tex_u) = numerator_form(gp, m_n, dd, z, &sat_tex);
         }
         wf->flags |= ALB_WS_FACE_TEXTURE;
         wf->texture = (uint8_t)f->texture;
     }
     if (s->fog && f->fog)
         wf->flags |= ALB_WS_FACE_FOG;
-    st->coef_saturated += (unsigned)sat;
+    /* the first face whose forms were clamped, and which of them: the
+     * warning names it (a huge intensity is not an edge-on face) */
+    if ((sat || sat_shade || sat_tex) && !st->saturated_line) {
+        st->saturated_line = f->line;
+        st->saturated_form = sat ? "depth" : sat_shade ? "intensity" : "texture";
+    }
+    st->coef_saturated += (sat || sat_shade || sat_tex) ? 1u : 0u;
     st->edges_out += wf->n_edges;
     return true;
 }
@@ -513,7 +520,6 @@ void alb_gp_stream_header(alb_gp *gp, alb_ws_buf *out)
 alb_err alb_gp_frame(alb_gp *gp, unsigned frame, alb_ws_buf *out, alb_gp_stats *st, alb_diag *d)
 {
     const alb_scene *s = gp->scene;
-    const alb_scene_frame *fr = &s->frames[frame];
     memset(st, 0, sizeof *st);
     size_t start = out->n;
     alb_ws_frame wf = {frame & 0xFFFFFF, rgb_word(s->background), s->fog, rgb_word(s->fog_rgb), 0, 0};
@@ -529,7 +535,7 @@ alb_err alb_gp_frame(alb_gp *gp, unsigned frame, alb_ws_buf *out, alb_gp_stats *
     for (unsigned oi = 0; oi < s->nobj; oi++) {
         const alb_scene_object *o = &s->obj[oi];
         xform x;
-        if (object_xform(gp, fr, oi, &x)) {
+        if (object_xform(gp, frame, oi, &x)) {
             free(face);
             return alb_diag_at(d, ALB_ERR_GEOMETRY, s->file, o->line, 0,
                            "frame %u: object '%s' has a singular observer transform", frame,
@@ -554,6 +560,7 @@ alb_err alb_gp_frame(alb_gp *gp, unsigned frame, alb_ws_buf *out, alb_gp_stats *
     }
     free(face);
     alb_ws_put_frame_end(out, st->faces_out);
+    st->saturated_frame = frame;
     if (out->oom)
         return alb_diag_at(d, ALB_ERR_NOMEM, s->file, 0, 0, "out of memory for the word stream");
     st->words = out->n - start;
@@ -568,6 +575,11 @@ void alb_gp_stats_add(alb_gp_stats *sum, const alb_gp_stats *s)
     ADD(edges_degenerate); ADD(edges_offscreen); ADD(bound_added); ADD(bound_culled);
     ADD(coef_saturated); ADD(words);
 #undef ADD
+    if (!sum->saturated_line && s->saturated_line) {
+        sum->saturated_line = s->saturated_line;
+        sum->saturated_form = s->saturated_form;
+        sum->saturated_frame = s->saturated_frame;
+    }
 }
 
 alb_err alb_gp_run(alb_gp *gp, alb_ws_buf *out, alb_gp_stats *total, alb_diag *d)

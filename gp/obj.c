@@ -44,12 +44,18 @@ static void *grow(void *p, unsigned *cap, unsigned need, size_t elem)
     return q;
 }
 
-static alb_err read_file(const char *path, char **out, size_t *len, alb_diag *d)
+/* The OBJ file may be anything that can be read (a pipe, say); a material
+ * library it names must be a regular file: a FIFO would block, /dev/zero
+ * never end.  Both are text, so a NUL stops the reading (the parser
+ * reports it). */
+static alb_err read_file(const char *path, bool regular_only, char **out, size_t *len,
+                         alb_diag *d)
 {
-    FILE *f = fopen(path, "rb");
+    const char *why;
+    FILE *f = alb_file_open_input(path, regular_only, &why);
     if (!f)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
-    int rc = alb_file_read_all(f, out, len);
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", why);
+    int rc = alb_file_read_text(f, out, len);
     int err = errno;
     fclose(f);
     if (rc == -2)
@@ -371,8 +377,10 @@ static alb_err load_mtl(importer *im, const otok *name, bool warn, bool *opened)
     size_t len;
     alb_diag io;
     alb_diag_init(&io, NULL);
-    alb_err e = read_file(path, &text, &len, &io);
+    alb_err e = read_file(path, true, &text, &len, &io);
     *opened = e != ALB_ERR_IO;
+    if (!e && alb_scene_note_file(im->s, path))
+        e = ALB_ERR_NOMEM;
     if (e == ALB_ERR_IO) {
         if (warn)
             alb_diag_warn(im->d, im->path, im->line, "material library '%s': %s; faces using its "
@@ -1050,7 +1058,7 @@ alb_err alb_scene_load_obj(const char *path, const alb_scene_camera *cam_obj, al
     /* checked as the user gave it, so that the messages quote what was typed
      * (negating z changes no length and no angle) */
     alb_err e = alb_scene_camera_check(cam_obj, d);
-    if (e || (e = camera_size_check(cam_obj, d)) || (e = read_file(path, &text, &len, d)))
+    if (e || (e = camera_size_check(cam_obj, d)) || (e = read_file(path, false, &text, &len, d)))
         return e;
     alb_scene_camera c = *cam_obj, *cam = &c;
     c.eye.z = -c.eye.z;

@@ -120,7 +120,12 @@ expect 2 "expected functional, timed or cycle" "$bin" render --fidelity fast
 # slowly the run starts (under valgrind, parsing alone takes many seconds)
 "$bin" render "$tmp/heavy.scene" --profile a1024 --set aa=1 --fidelity cycle --vcd "$tmp/int.vcd" -q > "$tmp/int.out" 2>&1 &
 pid=$!
-for ((i = 0; i < 3000; i++)); do [[ -s $tmp/int.vcd ]] && break; sleep 0.1; done
+# (the trace is written beside its name, .int.vcd.XXXXXX.tmp, and renamed
+# into place when complete: docs/files.md)
+for ((i = 0; i < 3000; i++)); do
+    for t in "$tmp"/.int.vcd.*.tmp; do [[ -s $t ]] && break 2; done
+    sleep 0.1
+done
 kill -INT $pid
 wait $pid
 rc=$?

@@ -44,7 +44,7 @@ TEST(scene_parses_everything)
     CHECK(o->f[1].texmap == ALB_TEXMAP_AXES && !o->f[1].fog && o->f[1].rgb[0] == 9);
     CHECK_NEAR(o->v[1].n.z, -1, 1e-12);   /* normals are normalised */
     /* frame 1 inherits frame 0's pose and changes the observer */
-    CHECK(s.frames[0].poses[0].pos.x == 1 && s.frames[1].poses[0].pos.x == 1);
+    CHECK(alb_scene_pose_at(&s, 0, 0)->pos.x == 1 && alb_scene_pose_at(&s, 1, 0)->pos.x == 1);
     CHECK(s.frames[0].obs.pose.pos.x == 1 && s.frames[1].obs.pose.pos.x == 0);
     CHECK(s.frames[0].obs.fov_y == 45 && s.frames[1].light.dir.x == 1);
     alb_scene_free(&s);
@@ -275,7 +275,7 @@ TEST(texture_png_errors_say_why)
         {"sig.png", "is truncated: the file ends after 4 bytes, inside the PNG signature"},
         {"header.png", "is truncated: the file ends after 20 bytes"},
         {"data.png", "is truncated"},
-        {".", "Is a directory"},
+        {".", "is a directory"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         alb_scene_texture t = {0};

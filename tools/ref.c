@@ -10,10 +10,9 @@
 #include <string.h>
 
 /* Observer space as in docs/gp.md: P = S O^T (Q R + pos - E). */
-static void object_to_observer(const alb_scene_frame *fr, unsigned oi, double aspect, mat3 *m, vec3 *t,
-                               mat3 *inv)
+static void object_to_observer(const alb_scene_frame *fr, const alb_scene_pose *pose, double aspect,
+                               mat3 *m, vec3 *t, mat3 *inv)
 {
-    const alb_scene_pose *pose = &fr->poses[oi];
     const alb_scene_observer *ob = &fr->obs;
     double a = ob->aspect > 0 ? ob->aspect : aspect;
     double sy = 1 / tan(ob->fov_y * VEC3_PI / 360), sx = sy / a;
@@ -70,8 +69,9 @@ int ref_prepare(const alb_scene *s, const alb_profile *prof, unsigned frame, ref
         const alb_scene_object *o = &s->obj[oi];
         mat3 m, inv;
         vec3 t;
-        object_to_observer(fr, oi, (double)prof->width / prof->height, &m, &t, &inv);
-        mat3 qt = m3_orientation(fr->poses[oi].yaw, fr->poses[oi].pitch, fr->poses[oi].roll);
+        const alb_scene_pose *pose = alb_scene_pose_at(s, frame, oi);
+        object_to_observer(fr, pose, (double)prof->width / prof->height, &m, &t, &inv);
+        mat3 qt = m3_orientation(pose->yaw, pose->pitch, pose->roll);
         qt = m3_transpose(&qt);
         for (unsigned j = 0; j < o->nf; j++) {
             const alb_scene_face *f = &o->f[j];

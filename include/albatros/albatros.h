@@ -9,6 +9,7 @@
 #include "diag.h"
 #include "exr.h"
 #include "file.h"
+#include "json.h"
 #include "frame.h"
 #include "gp.h"
 #include "link.h"

@@ -40,6 +40,18 @@ alb_err alb_exr_write_frame(const char *path, const alb_frame *f, alb_diag *d);
 #define ALB_EXR_MAX_THREADS 64
 alb_err alb_exr_write_frame_threads(const char *path, const alb_frame *f, unsigned threads, alb_diag *d);
 
+/* What alb_exr_write puts in the header besides the frame: how many threads
+ * compress it (the bytes do not depend on it) and where it came from.  Any
+ * string may be NULL (not written). */
+typedef struct {
+    unsigned threads;        /* 0 or 1: this thread only */
+    const char *software;    /* "albatros 0.1.0": the standard `software` attribute */
+    const char *profile;     /* albatros.profile */
+    const char *fidelity;    /* albatros.fidelity: functional, timed, cycle, reference, a method */
+    const char *source;      /* albatros.source: the scene or stream's file name */
+} alb_exr_options;
+alb_err alb_exr_write(const char *path, const alb_frame *f, const alb_exr_options *opt, alb_diag *d);
+
 /* Read a frame written by alb_exr_write_frame back; *f is allocated with
  * alb_frame_alloc (the caller frees it with alb_frame_free) and is left empty on
  * failure.  Needs a scanline part with R, G, B; other planes are read if

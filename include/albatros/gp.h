@@ -29,6 +29,10 @@ typedef struct {
     unsigned bound_culled;      /* bounding edges outside the screen, dropped */
     unsigned coef_saturated;    /* forms whose exponent had to be clamped */
     unsigned long long words;   /* words emitted */
+    /* the first face with a clamped form (0: none): its scene line, which
+     * form ("depth", "intensity", "texture") and the frame */
+    unsigned saturated_line, saturated_frame;
+    const char *saturated_form;
 } alb_gp_stats;
 
 /* Offline database preparation (eqs. 9-11, interpolation matrices, texture
