@@ -10,7 +10,7 @@ ALB_ABI   := 0
 ALB_MINOR := 1
 ALB_PATCH := 0
 BUILD   ?= build
-PKGS    := libpng libusb-1.0 hidapi-hidraw
+PKGS    := libpng libusb-1.0 hidapi-hidraw zlib
 # OpenEXR 3.1 has no pkg-config module for its C library alone: the C API
 # (OpenEXRCore) takes the OpenEXR module's include path and one library.
 EXR_CFLAGS := $(shell pkg-config --cflags OpenEXR)
@@ -26,11 +26,11 @@ ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -pthread -Iinclude $(WARN) $(FPF
              $(shell pkg-config --cflags $(PKGS)) $(EXR_CFLAGS)
 LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm -pthread $(EXTRA_LDLIBS)
 
-COMMON_SRC := common/diag.c common/file.c common/json.c common/profile.c common/words.c
+COMMON_SRC := common/diag.c common/file.c common/json.c common/memh.c common/profile.c common/words.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
 VP_SRC     := vp/vp.c vp/fill.c vp/parallel.c vp/shade.c vp/frame.c
 SINK_SRC   := emu/exr.c emu/preview.c emu/sim.c emu/sim_timed.c emu/sim_cycle.c emu/vcd.c \
-              emu/model.c
+              emu/model.c emu/dpi.c emu/dump.c
 BRIDGE_SRC := emu/bridge/link.c emu/bridge/stream.c emu/bridge/transport_fault.c \
               emu/bridge/transport_usb.c
 TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools/methods.c tools/sweep.c \
@@ -45,9 +45,8 @@ TEST_SRC   := $(wildcard tests/test_*.c) tests/t.c tests/gp_helpers.c
 # independent and hide every symbol the public headers (include/albatros/)
 # do not declare; the shared library exports alb_* alone (lib/albatros.map)
 # and the static one is one relocatable object with everything else made
-# local, so a testbench linking it meets no generic name.  The firmware's
-# CRC-32 is compiled in (the frame CRC a board reports).
-LIBALB_SRC := $(COMMON_SRC) $(GP_SRC) $(VP_SRC) $(SINK_SRC) $(BRIDGE_SRC) firmware/crc32.c
+# local, so a testbench linking it meets no generic name.
+LIBALB_SRC := $(COMMON_SRC) $(GP_SRC) $(VP_SRC) $(SINK_SRC) $(BRIDGE_SRC)
 LIBALB_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(LIBALB_SRC)) $(BUILD)/gen/builtin_scene.o
 LIB_SONAME := libalbatros.so.$(ALB_ABI)
 LIBALB_A   := $(BUILD)/lib/libalbatros.a
@@ -74,6 +73,7 @@ include firmware/fx2/fx2.mk
 
 COST     := $(BUILD)/tools/cost
 BENCH    := $(BUILD)/tools/bench
+BENCH_MODEL := $(BUILD)/tools/bench-model
 
 .PHONY: all test unit vectors bless asan memcheck bench demo setup deps clean help crosscheck sweep
 # libFuzzer harnesses and their replay over the seeds and regressions
@@ -101,8 +101,8 @@ help:
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
-DEB_PKGS := build-essential pkg-config libpng-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev gnuplot-nox sdcc umockdev
+DEB_PKGS := build-essential pkg-config libpng-dev zlib1g-dev libopenexr-dev openexr libusb-1.0-0-dev \
+            libhidapi-dev gnuplot-nox sdcc umockdev verilator iverilog python3 man-db
 setup: deps
 	$(MAKE) all
 deps:
@@ -144,6 +144,17 @@ $(LIBALB_SO): $(LIBALB_OBJ) lib/albatros.map
 	ln -sf $(notdir $@) $(BUILD)/lib/$(LIB_SONAME)
 	ln -sf $(LIB_SONAME) $(BUILD)/lib/libalbatros.so
 
+# a SystemVerilog bench over DPI-C, built by Verilator against the shared
+# library (tests/dpi.sh)
+DPI_TB := $(BUILD)/dpi/tb_vector
+$(DPI_TB): include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv $(LIBALB_SO)
+	@mkdir -p $(BUILD)/dpi
+	verilator --binary -j 2 -Wall --Mdir $(BUILD)/dpi/obj --top-module tb_vector \
+	  include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv \
+	  -LDFLAGS "-L$(abspath $(BUILD)/lib) -lalbatros -Wl,-rpath,$(abspath $(BUILD)/lib) $(EXTRA_LDLIBS)" \
+	  -o tb_vector
+	cp $(BUILD)/dpi/obj/tb_vector $@
+
 $(ALBATROS): $(EMU_OBJ) $(CLIENT_OBJ) $(LIBALB_A)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
@@ -151,6 +162,10 @@ $(COST): $(BUILD)/tools/cost.o $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 $(BENCH): $(BUILD)/tools/bench.o $(LIB_OBJ)
+	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
+
+# a client of the public API alone: the static library
+$(BENCH_MODEL): $(BUILD)/tools/bench_model.o $(LIBALB_A)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 
@@ -164,7 +179,7 @@ $(UNIT): $(TEST_OBJ) $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 # ---- tests: every runner prints "N passed, N failed"; tests/summary adds them ----
-test: $(ALBATROS) $(UNIT) $(REPLAYS) $(USB_DESC)
+test: $(ALBATROS) $(UNIT) $(REPLAYS) $(USB_DESC) $(DPI_TB)
 	@bash tests/run-all.sh $(BUILD)
 
 unit: $(UNIT)
@@ -214,9 +229,62 @@ $(SWEEP_DIR)/speed.csv: $(SWEEP_CSV) $(ALBATROS) sweep-always
 	$(ALBATROS) stability --speed --out $(SWEEP_DIR)
 
 # figures, not tests: docs/performance.md quotes them
-bench: $(COST) $(BENCH)
+bench: $(COST) $(BENCH) $(BENCH_MODEL)
 	$(BENCH)
+	$(BENCH_MODEL)
 	$(COST)
+
+# ---- install (docs/architecture.md, "Installed") ----
+PREFIX     ?= /usr/local
+BINDIR     ?= $(PREFIX)/bin
+LIBDIR     ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+DATADIR    ?= $(PREFIX)/share
+MANDIR     ?= $(DATADIR)/man
+DOCDIR     ?= $(DATADIR)/doc/albatros
+COMPDIR    ?= $(DATADIR)/bash-completion/completions
+UDEVDIR    ?= $(PREFIX)/lib/udev/rules.d
+# Debian's python3 reads /usr/lib/python3/dist-packages and, for local
+# installs, /usr/local/lib/python3.X/dist-packages
+PYVER      := $(shell python3 -c 'import sys; print("%d.%d" % sys.version_info[:2])' 2>/dev/null)
+PYTHONDIR  ?= $(if $(filter /usr,$(PREFIX)),$(PREFIX)/lib/python3/dist-packages,$(PREFIX)/lib/python$(PYVER)/dist-packages)
+INSTALL    ?= install
+PUBLIC_H   := $(wildcard include/albatros/*.h) include/albatros/albatros_pkg.sv
+DOCS       := $(wildcard docs/*.md)
+SO_LINKS   := $(LIB_SONAME) libalbatros.so
+
+$(BUILD)/albatros.pc: lib/albatros.pc.in Makefile
+	sed -e 's|@PREFIX@|$(PREFIX)|; s|@LIBDIR@|$(LIBDIR)|; s|@INCLUDEDIR@|$(INCLUDEDIR)|' \
+	    -e 's|@VERSION@|$(ALB_ABI).$(ALB_MINOR).$(ALB_PATCH)|' $< > $@.tmp && mv $@.tmp $@
+
+.PHONY: install uninstall $(BUILD)/albatros.pc
+install: $(ALBATROS) $(LIBALB_SO) $(LIBALB_A) $(BUILD)/albatros.pc
+	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCLUDEDIR)/albatros \
+	    $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(DOCDIR) $(DESTDIR)$(COMPDIR) $(DESTDIR)$(UDEVDIR) \
+	    $(DESTDIR)$(PYTHONDIR)
+	$(INSTALL) -m 755 $(ALBATROS) $(DESTDIR)$(BINDIR)/albatros
+	$(INSTALL) -m 755 $(LIBALB_SO) $(DESTDIR)$(LIBDIR)/
+	$(INSTALL) -m 644 $(LIBALB_A) $(DESTDIR)$(LIBDIR)/
+	ln -sf $(notdir $(LIBALB_SO)) $(DESTDIR)$(LIBDIR)/$(LIB_SONAME)
+	ln -sf $(LIB_SONAME) $(DESTDIR)$(LIBDIR)/libalbatros.so
+	$(INSTALL) -m 644 $(BUILD)/albatros.pc $(DESTDIR)$(LIBDIR)/pkgconfig/albatros.pc
+	$(INSTALL) -m 644 $(PUBLIC_H) $(DESTDIR)$(INCLUDEDIR)/albatros/
+	$(INSTALL) -m 644 docs/albatros.1 $(DESTDIR)$(MANDIR)/man1/albatros.1
+	$(INSTALL) -m 644 $(DOCS) examples/replay.c $(DESTDIR)$(DOCDIR)/
+	$(INSTALL) -m 644 completions/albatros.bash $(DESTDIR)$(COMPDIR)/albatros
+	$(INSTALL) -m 644 firmware/udev/70-albatros.rules $(DESTDIR)$(UDEVDIR)/
+	$(INSTALL) -m 644 python/albatros.py $(DESTDIR)$(PYTHONDIR)/albatros.py
+
+# removes what install put there, nothing else (and the directories only it
+# made: include/albatros, doc/albatros)
+uninstall:
+	rm -f $(DESTDIR)$(BINDIR)/albatros $(DESTDIR)$(LIBDIR)/$(notdir $(LIBALB_SO)) \
+	    $(addprefix $(DESTDIR)$(LIBDIR)/,$(SO_LINKS) libalbatros.a pkgconfig/albatros.pc) \
+	    $(addprefix $(DESTDIR)$(INCLUDEDIR)/albatros/,$(notdir $(PUBLIC_H))) \
+	    $(DESTDIR)$(MANDIR)/man1/albatros.1 $(addprefix $(DESTDIR)$(DOCDIR)/,$(notdir $(DOCS)) replay.c) \
+	    $(DESTDIR)$(COMPDIR)/albatros $(DESTDIR)$(UDEVDIR)/70-albatros.rules \
+	    $(DESTDIR)$(PYTHONDIR)/albatros.py
+	-rmdir $(DESTDIR)$(INCLUDEDIR)/albatros $(DESTDIR)$(DOCDIR) 2>/dev/null
 
 demo: $(ALBATROS)
 	@mkdir -p out

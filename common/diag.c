@@ -2,6 +2,7 @@
 #include "albatros/diag.h"
 
 #include <stdarg.h>
+#include <stdlib.h>
 #include <string.h>
 
 const char *alb_strerror(alb_err e)
@@ -103,3 +104,5 @@ void alb_diag_print(const alb_diag *d, FILE *f)
     }
     fprintf(f, "error: %s\n", d->msg);
 }
+
+void alb_free(void *p) { free(p); }

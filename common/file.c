@@ -101,6 +101,23 @@ FILE *alb_file_open_input(const char *path, bool regular_only, const char **why)
     return f;
 }
 
+alb_err alb_file_load(const char *path, char **buf, size_t *len, alb_diag *d)
+{
+    *buf = NULL;
+    const char *why;
+    FILE *f = alb_file_open_input(path, false, &why);
+    if (!f)
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", why);
+    int rc = alb_file_read_all(f, buf, len);
+    int err = errno;
+    fclose(f);
+    if (rc == -2)
+        return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "too large for memory");
+    if (rc)
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
+    return ALB_OK;
+}
+
 /* ---- paths ---- */
 
 char *alb_strprintf(const char *fmt, ...)

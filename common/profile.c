@@ -224,3 +224,16 @@ void alb_profile_describe(const alb_profile *p, char *buf, size_t len)
              p->divider_latency, p->shade_latency, p->gp_face_cycles, p->gp_edge_cycles,
              p->gp_frame_cycles, p->frame_faces, p->all_units);
 }
+
+alb_err alb_profile_open(alb_profile *p, const char *name, const char *const *sets, alb_diag *d)
+{
+    char msg[256];
+    if (alb_profile_lookup(name ? name : "a512", p))
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "unknown profile '%s'", name);
+    for (size_t i = 0; sets && sets[i]; i++)
+        if (alb_profile_set(p, sets[i], msg, sizeof msg))
+            return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "%s", msg);
+    if (alb_profile_check(p, msg, sizeof msg))
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "profile %s: %s", p->name, msg);
+    return ALB_OK;
+}

@@ -2,6 +2,7 @@
  * The layouts are those of docs/word-format.md; tests/test_words.c checks
  * every packet by round trip and every malformation by its message. */
 #include "albatros/words.h"
+#include "memh.h"
 #include "albatros/file.h"
 #include "fix.h"
 
@@ -527,147 +528,26 @@ alb_err alb_ws_dump(FILE *out, const uint32_t *w, size_t n, const char *name, al
 
 /* ---- files ---- */
 
-/* A memh file's first bytes: hex digits, whitespace, comments or an
- * address — never the binary CONFIG header's low byte (0x02). */
-static bool looks_like_memh(const char *text, size_t len)
-{
-    size_t i = 0;
-    while (i < len && (text[i] == ' ' || text[i] == '\t' || text[i] == '\r' || text[i] == '\n'))
-        i++;
-    if (i == len)
-        return len > 0;
-    char c = text[i];
-    if (!(isxdigit((unsigned char)c) || c == '/' || c == '@' || c == '_'))
-        return false;
-    for (size_t k = i; k < len && k < i + 64; k++)
-        if (!isprint((unsigned char)text[k]) && !isspace((unsigned char)text[k]))
-            return false;
-    return true;
-}
+/* The words of a memh stream, into a growing array. */
+typedef struct {
+    uint32_t *w;
+    size_t n, cap;
+} memh_words;
 
-static void *memh_fail(alb_diag *d, const char *path, unsigned line, unsigned col, const char *msg,
-                       const char *tok, size_t toklen)
+static int memh_word(void *ctx, const uint32_t *value, unsigned line, unsigned col)
 {
-    alb_diag_at(d, ALB_ERR_PARSE, path, line, col, "%s%s%.*s%s", msg, toklen ? " '" : "",
-            (int)(toklen > 20 ? 20 : toklen), tok, toklen ? "'" : "");
-    return NULL;
-}
-
-/* $readmemh text (IEEE 1800 21.4): hex words separated by white space,
- * // and block comments, underscores inside numbers, @address markers —
- * which must follow on (a stream has no holes).  NULL with d set. */
-static uint32_t *memh_parse(const char *text, size_t len, const char *path, size_t *nwords,
-                            alb_diag *d)
-{
-    size_t cap = len / 9 + 16, n = 0;
-    uint32_t *w = malloc(cap * sizeof *w);
-    if (!w) {
-        alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "stream too large for memory");
-        return NULL;
+    (void)line, (void)col;
+    memh_words *m = ctx;
+    if (m->n == m->cap) {
+        size_t cap = m->cap ? 2 * m->cap : 4096;
+        uint32_t *nw = realloc(m->w, cap * sizeof *nw);
+        if (!nw)
+            return -1;
+        m->w = nw;
+        m->cap = cap;
     }
-    unsigned line = 1;
-    size_t line_start = 0;
-    /* text has no NUL (and the reader stopped at the first): refused
-     * wherever it is, comments included, at its line and column */
-    const char *nul = memchr(text, 0, len);
-    if (nul) {
-        size_t at = (size_t)(nul - text), ls = 0;
-        for (size_t i = 0; i < at; i++)
-            if (text[i] == '\n') {
-                line++;
-                ls = i + 1;
-            }
-        free(w);
-        return memh_fail(d, path, line, (unsigned)(at - ls + 1),
-                         "byte 0x00: a $readmemh file is text", "", 0);
-    }
-    for (size_t i = 0; i < len;) {
-        char c = text[i];
-        unsigned col = (unsigned)(i - line_start + 1);
-        if (c == '\n') {
-            line++;
-            line_start = ++i;
-            continue;
-        }
-        if (c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v') {
-            i++;
-            continue;
-        }
-        if (c == '/' && i + 1 < len && text[i + 1] == '/') {
-            while (i < len && text[i] != '\n')
-                i++;
-            continue;
-        }
-        if (c == '/' && i + 1 < len && text[i + 1] == '*') {
-            size_t end = i + 2;
-            while (end + 1 < len && !(text[end] == '*' && text[end + 1] == '/'))
-                end++;
-            if (end + 1 >= len) {
-                free(w);
-                return memh_fail(d, path, line, col, "unterminated comment", "", 0);
-            }
-            for (; i < end + 2; i++)
-                if (text[i] == '\n') {
-                    line++;
-                    line_start = i + 1;
-                }
-            continue;
-        }
-        bool addr = c == '@';
-        size_t start = addr ? i + 1 : i, k = start;
-        uint64_t v = 0;
-        unsigned digits = 0;
-        while (k < len && (isxdigit((unsigned char)text[k]) || text[k] == '_')) {
-            if (text[k] != '_') {
-                v = v << 4 | (uint64_t)(isdigit((unsigned char)text[k]) ? text[k] - '0'
-                                                                      : (tolower(text[k]) - 'a' + 10));
-                if (v >> 32 && !addr) {
-                    free(w);
-                    return memh_fail(d, path, line, col, "word wider than 32 bits:", text + i,
-                                     k + 1 - i);
-                }
-                if (v >> 40)
-                    break;
-                digits++;
-            }
-            k++;
-        }
-        bool sep = k == len || isspace((unsigned char)text[k]) || text[k] == '/';
-        if (!digits || !sep) {
-            size_t e = k;
-            while (e < len && !isspace((unsigned char)text[e]))
-                e++;
-            free(w);
-            return memh_fail(d, path, line, col,
-                             addr ? "expected a hex address after @, found"
-                                  : "expected a hex word (x and z digits are not words), found",
-                             text + i, e - i);
-        }
-        if (addr) {
-            if (v != n) {
-                free(w);
-                alb_diag_at(d, ALB_ERR_PARSE, path, line, col,
-                        "address @%llx: a word stream has no holes, the next word is %zu (@%zx)",
-                        (unsigned long long)v, n, n);
-                return NULL;
-            }
-        } else {
-            if (n == cap) {
-                uint32_t *nw = realloc(w, 2 * cap * sizeof *nw);
-                if (!nw) {
-                    free(w);
-                    alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "stream too large for memory");
-                    return NULL;
-                }
-                w = nw;
-                cap *= 2;
-            }
-            w[n++] = (uint32_t)v;
-        }
-        i = k;
-    }
-    *nwords = n;
-    return w;
+    m->w[m->n++] = value[0];
+    return 0;
 }
 
 /* The first packet of a binary stream, CONFIG, from its first 12 bytes:
@@ -690,45 +570,67 @@ static alb_err check_first_packet(const unsigned char *b, const char *path, alb_
     return e;
 }
 
-alb_err alb_ws_read_file(const char *path, uint32_t **w, size_t *n, alb_diag *d)
+/* The file's bytes: its first 12 tell memh text from a binary stream, and
+ * a binary one whose first packet is wrong is not read further; memh is
+ * text, whose reading a NUL ends (memh_scan refuses it). */
+static alb_err read_stream_bytes(const char *path, char **text, size_t *len, bool *memh,
+                                 alb_diag *d)
 {
     const char *why;
+    *text = NULL;
     FILE *f = alb_file_open_input(path, false, &why);
     if (!f)
         return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", why);
     unsigned char head[12];
     size_t got = fread(head, 1, sizeof head, f);
-    bool memh = looks_like_memh((const char *)head, got);
+    *memh = memh_looks_like((const char *)head, got);
     alb_err e = ALB_OK;
     if (ferror(f))
         e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(errno));
-    else if (!memh && got == sizeof head)
+    else if (!*memh && got == sizeof head)
         e = check_first_packet(head, path, d);
-    char *rest = NULL, *text = NULL;
-    size_t nrest = 0, len = 0;
-    /* memh is text: a NUL ends the reading (memh_parse refuses it) */
-    int rc = e ? 0 : memh ? alb_file_read_text(f, &rest, &nrest) : alb_file_read_all(f, &rest, &nrest);
+    char *rest = NULL;
+    size_t nrest = 0;
+    int rc = e ? 0 : *memh ? alb_file_read_text(f, &rest, &nrest) : alb_file_read_all(f, &rest, &nrest);
     int err = errno;
     fclose(f);
     if (e)
         return e;
-    if (rc == 0 && !(text = malloc(got + nrest + 1)))
+    if (rc == 0 && !(*text = malloc(got + nrest + 1)))
         rc = -2;
     if (rc == -2) {
         free(rest);
-        return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "stream too large for memory");
+        return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "too large for memory");
     }
     if (rc)
         return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
-    memcpy(text, head, got);
-    memcpy(text + got, rest, nrest);
-    len = got + nrest;
-    text[len] = 0;
+    memcpy(*text, head, got);
+    memcpy(*text + got, rest, nrest);
+    *len = got + nrest;
+    (*text)[*len] = 0;
     free(rest);
+    return ALB_OK;
+}
+
+alb_err alb_ws_read_file(const char *path, uint32_t **w, size_t *n, alb_diag *d)
+{
+    char *text;
+    size_t len = 0;
+    bool memh = false;
+    alb_err le = read_stream_bytes(path, &text, &len, &memh, d);
+    if (le)
+        return le;
     if (memh) {
-        *w = memh_parse(text, len, path, n, d);
+        memh_words m = {NULL, 0, 0};
+        alb_err e = memh_scan(text, len, path, 32, memh_word, &m, d);
         free(text);
-        return *w ? ALB_OK : d->msg[0] && strstr(d->msg, "memory") ? ALB_ERR_NOMEM : ALB_ERR_PARSE;
+        if (e) {
+            free(m.w);
+            return e;
+        }
+        *w = m.w ? m.w : malloc(4);
+        *n = m.n;
+        return *w ? ALB_OK : alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory");
     }
     const uint8_t *bytes = (const uint8_t *)text;
     if (len % 4) {

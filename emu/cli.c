@@ -1,4 +1,6 @@
 /* cli.c — option parsing and set-up shared by the subcommands. */
+/* realpath (XSI) */
+#define _XOPEN_SOURCE 700
 #include "cli.h"
 #include "../common/vec3.h"
 
@@ -11,6 +13,7 @@
 #include <stdint.h>
 #include <sys/stat.h>
 #include "albatros/file.h"
+#include "albatros/dump.h"
 
 const char run_opts_help[] =
     "Profile (docs/profiles.md):\n"
@@ -505,7 +508,7 @@ int cli_output(const char *cmd, const char *what, const char *path)
     if (alb_file_identify(path, &id)) {
         fprintf(stderr, "albatros %s: %s %s: cannot create: %s\n", cmd, what, path,
                 strerror(errno));
-        return -1;
+        return 1;
     }
     const claim *c = find_claim(&id);
     if (c) {
@@ -516,12 +519,12 @@ int cli_output(const char *cmd, const char *what, const char *path)
             fprintf(stderr, "albatros %s: %s %s and %s %s are the same file: one would "
                             "overwrite the other\n", cmd, what, path, c->what, c->path);
         alb_file_id_free(&id);
-        return -1;
+        return 2;
     }
     if (add_claim(&id, path, what, false)) {
         alb_file_id_free(&id);
         fprintf(stderr, "albatros %s: out of memory\n", cmd);
-        return -1;
+        return 1;
     }
     return 0;
 }
@@ -582,6 +585,10 @@ int cli_frames_option(cli_frames *o, const char *cmd, const char *name, const ch
         o->png = value;
         return 1;
     }
+    if (!strcmp(name, "dump")) {
+        o->dump = value;
+        return 1;
+    }
     if (strcmp(name, "view"))
         return 0;
     const char *colon = strchr(value, ':');
@@ -604,7 +611,7 @@ int cli_frames_option(cli_frames *o, const char *cmd, const char *name, const ch
     return 1;
 }
 
-bool cli_frames_any(const cli_frames *o) { return o->exr || o->png || o->nviews; }
+bool cli_frames_any(const cli_frames *o) { return o->exr || o->png || o->dump || o->nviews; }
 
 static int cmp_u32(const void *a, const void *b)
 {
@@ -636,7 +643,7 @@ static int claim_one(const char *cmd, const char *what, const char *path, uint32
     char *p = cli_frame_path(path, number, nframes);
     if (!p) {
         fprintf(stderr, "albatros %s: out of memory\n", cmd);
-        return -1;
+        return 1;
     }
     int rc = cli_output(cmd, what, p);
     free(p);
@@ -651,38 +658,51 @@ int cli_frames_claim(const cli_frames *o, const char *cmd, const uint32_t *numbe
     int rep = n > 1 ? repeated_number(numbers, n, &k) : 0;
     if (rep < 0) {
         fprintf(stderr, "albatros %s: out of memory\n", cmd);
-        return -1;
+        return 1;
     }
     if (rep) {
-        const char *path = o->exr ? o->exr : o->png ? o->png : o->views[0].path;
+        const char *path = o->exr ? o->exr : o->png ? o->png : o->dump ? o->dump : o->views[0].path;
         char *p = cli_frame_path(path, k, n);
         fprintf(stderr, "albatros %s: two frames of the stream have number %u: both would be "
                         "written to %s; outputs are numbered by frame number (docs/files.md)\n",
                 cmd, (unsigned)k, p ? p : path);
         free(p);
-        return -1;
+        return 2;
     }
-    for (unsigned i = 0; i < n; i++) {
-        if (o->exr && claim_one(cmd, "-o", o->exr, numbers[i], n))
-            return -1;
-        if (o->png && claim_one(cmd, "--png", o->png, numbers[i], n))
-            return -1;
-        for (unsigned v = 0; v < o->nviews; v++)
-            if (claim_one(cmd, o->views[v].what, o->views[v].path, numbers[i], n))
-                return -1;
+    int rc = 0;
+    for (unsigned i = 0; i < n && !rc; i++) {
+        if (o->exr)
+            rc = claim_one(cmd, "-o", o->exr, numbers[i], n);
+        if (!rc && o->png)
+            rc = claim_one(cmd, "--png", o->png, numbers[i], n);
+        if (!rc && o->dump)
+            rc = claim_one(cmd, "--dump", o->dump, numbers[i], n);
+        for (unsigned v = 0; v < o->nviews && !rc; v++)
+            rc = claim_one(cmd, o->views[v].what, o->views[v].path, numbers[i], n);
     }
-    return 0;
+    return rc;
 }
 
-/* One output of a frame: the EXR (view < 0) or a PNG view. */
+enum { WRITE_EXR = -1, WRITE_DUMP = -2 };
+
+/* One output of a frame: the EXR, the dump or a PNG view (view >= 0). */
 static alb_err write_frame_file(const cli_frames *o, const char *path, int view, const alb_frame *f,
                                 unsigned nframes, alb_diag *d)
 {
     char *p = cli_frame_path(path, f->number, nframes);
     if (!p)
         return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory");
-    alb_err e = view < 0 ? alb_exr_write(p, f, &o->exr_opt, d)
-                         : alb_preview_write(p, f, (alb_preview_view)view, d);
+    alb_err e;
+    if (view == WRITE_EXR) {
+        e = alb_exr_write(p, f, &o->exr_opt, d);
+    } else if (view == WRITE_DUMP) {
+        /* raw by its name, else $writememh text (docs/cosim.md) */
+        size_t n = strlen(path);
+        bool raw = n > 4 && (!strcmp(path + n - 4, ".raw") || !strcmp(path + n - 4, ".bin"));
+        e = alb_dump_write(p, f, raw ? ALB_DUMP_RAW : ALB_DUMP_MEMH, d);
+    } else {
+        e = alb_preview_write(p, f, (alb_preview_view)view, d);
+    }
     free(p);
     return e;
 }
@@ -693,7 +713,9 @@ int cli_frames_write(const cli_frames *o, const alb_frame *f, unsigned nframes)
     alb_diag_init(&d, NULL);
     alb_err e = ALB_OK;
     if (o->exr)
-        e = write_frame_file(o, o->exr, -1, f, nframes, &d);
+        e = write_frame_file(o, o->exr, WRITE_EXR, f, nframes, &d);
+    if (!e && o->dump)
+        e = write_frame_file(o, o->dump, WRITE_DUMP, f, nframes, &d);
     if (!e && o->png)
         e = write_frame_file(o, o->png, ALB_PREVIEW_COLOUR, f, nframes, &d);
     for (unsigned i = 0; i < o->nviews && !e; i++)
@@ -718,4 +740,23 @@ void cli_warn_saturated(const char *scene, const alb_gp_stats *st)
                     "the coefficient format and was clamped (%s?); %u face%s in all "
                     "(docs/word-format.md)\n", scene, st->saturated_line, st->saturated_frame,
             form, why, st->coef_saturated, st->coef_saturated == 1 ? "" : "s");
+}
+
+const char *cli_argv0 = "albatros";
+
+void cli_print_self(FILE *f)
+{
+    char *abs = strchr(cli_argv0, '/') ? realpath(cli_argv0, NULL) : NULL;
+    const char *self = abs ? abs : cli_argv0;
+    /* a shell word: quoted if it holds anything but safe characters */
+    if (strspn(self, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789/._-+") ==
+        strlen(self)) {
+        fputs(self, f);
+    } else {
+        fputc('\'', f);
+        for (const char *p = self; *p; p++)
+            *p == '\'' ? fputs("'\\''", f) : fputc(*p, f);
+        fputc('\'', f);
+    }
+    free(abs);
 }

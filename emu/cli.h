@@ -64,6 +64,13 @@ int cli_split_words(char *text, char **argv, int max);
 
 bool cli_isatty_stderr(void);
 
+/* How this program was started (main's argv[0]), and how a command line
+ * printed for others to run (stability --jobs) should call it: as typed if
+ * it was found on PATH, else by its absolute path, so the jobs of a build
+ * tree or an installed copy run the same program. */
+extern const char *cli_argv0;
+void cli_print_self(FILE *f);
+
 /* An output path for one frame of nframes: "dir/f.exr" itself for a single
  * frame, "dir/f.0003.exr" (the number before the extension) for more.
  * malloc'd, any length; NULL if out of memory. */
@@ -71,10 +78,11 @@ char *cli_frame_path(const char *path, unsigned number, unsigned nframes);
 
 /* The files of a run (docs/files.md): cli_input notes a file read (its
  * absence is the reader's to report); cli_output claims an output path,
- * refusing — with a message, -1 — one that names an input or another
- * output of the run, compared by device and inode (or, for a file not
- * written yet, by directory and name), however spelled.  "-" and devices
- * are never refused.  `what` names the option ("-o", "--png", ...). */
+ * refusing one that names an input or another output of the run, compared
+ * by device and inode (or, for a file not written yet, by directory and
+ * name), however spelled.  "-" and devices are never refused.  `what`
+ * names the option ("-o", "--png", ...).  Returns the exit status after a
+ * message: 0, 2 refused, 1 the path cannot be created. */
 void cli_input(const char *path);
 int cli_output(const char *cmd, const char *what, const char *path);
 void cli_forget_files(void);
@@ -82,7 +90,7 @@ void cli_forget_files(void);
  * --png, --view NAME:FILE, numbered per frame when there are several. */
 #define CLI_MAX_VIEWS 8
 typedef struct {
-    const char *exr, *png;
+    const char *exr, *png, *dump;   /* -o, --png, --dump */
     struct {
         alb_preview_view view;
         const char *path;
@@ -97,7 +105,8 @@ int cli_frames_option(cli_frames *o, const char *cmd, const char *name, const ch
 bool cli_frames_any(const cli_frames *o);
 /* Before any work: claim (cli_output) every file that frames numbered
  * numbers[0..n) will be written to; frame numbers that repeat with
- * numbered outputs are refused (each would overwrite the other's). */
+ * numbered outputs are refused (each would overwrite the other's).  An
+ * exit status as cli_output's. */
 int cli_frames_claim(const cli_frames *o, const char *cmd, const uint32_t *numbers, unsigned n);
 /* Write frame f's outputs (of a run of nframes); -1 after a message. */
 int cli_frames_write(const cli_frames *o, const alb_frame *f, unsigned nframes);

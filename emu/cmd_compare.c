@@ -3,6 +3,7 @@
  * image.  Exit status as cmp(1): 0 identical, 1 different, 2 trouble. */
 #include "cli.h"
 #include "commands.h"
+#include "albatros/dump.h"
 #include "albatros/exr.h"
 #include "albatros/preview.h"
 #include "albatros/json.h"
@@ -16,7 +17,7 @@
 
 typedef struct {
     const char *diff;
-    bool json, help;
+    bool json, help, exact;
 } compare_args;
 
 static int compare_opt(void *ctx, const char *name, const char *value)
@@ -26,29 +27,60 @@ static int compare_opt(void *ctx, const char *name, const char *value)
         a->diff = value;
     else if (strcmp(name, "json") == 0)
         a->json = true;
+    else if (strcmp(name, "exact") == 0)
+        a->exact = true;
     else if (strcmp(name, "help") == 0)
         a->help = true;
     return 0;
 }
 
+/* The frames of files a and b: OpenEXR, or frame-store dumps of an RTL
+ * bench (docs/cosim.md), which take their size and formats from the other
+ * file when it is an EXR, else from the profile.  0, or 2 after saying why. */
+static int load_pair(const char *const path[2], const alb_profile *p, alb_frame f[2])
+{
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    bool exr[2] = {alb_dump_is_exr(path[0]), alb_dump_is_exr(path[1])};
+    for (int i = 0; i < 2; i++)
+        if (exr[i] && alb_exr_read_frame(path[i], &f[i], &d))
+            goto fail;
+    for (int i = 0; i < 2; i++) {
+        if (exr[i])
+            continue;
+        alb_frame shape;
+        if (exr[1 - i]) {
+            shape = f[1 - i];
+        } else {
+            memset(&shape, 0, sizeof shape);
+            shape.width = p->width, shape.height = p->height;
+            shape.colour_bits = p->colour_bits, shape.depth_bits = p->depth_bits;
+            shape.aa_levels = p->aa_levels, shape.near = 1;
+        }
+        if (alb_dump_read(path[i], &shape, &f[i], &d))
+            goto fail;
+    }
+    return 0;
+fail:
+    alb_diag_print(&d, stderr);
+    alb_frame_free(&f[0]);
+    alb_frame_free(&f[1]);
+    return 2;
+}
+
 /* Compare the frames in files a and b (diff: the diff image, or NULL);
- * prints one line (or JSON object) prefixed with `label`.  0 identical,
- * 1 different, 2 trouble. */
+ * prints one line (or JSON object) prefixed with `label`, naming the first
+ * pixel and channel that differ.  0 identical, 1 different, 2 trouble. */
 static int compare_files(const char *pa, const char *pb, const char *diff, alb_json *json,
-                         const char *label)
+                         const char *label, const alb_profile *p, bool exact)
 {
     alb_frame f[2];
     alb_diag d;
     alb_diag_init(&d, NULL);
     memset(f, 0, sizeof f);
     const char *path[2] = {pa, pb};
-    for (int i = 0; i < 2; i++)
-        if (alb_exr_read_frame(path[i], &f[i], &d)) {
-            alb_diag_print(&d, stderr);
-            if (i)
-                alb_frame_free(&f[0]);
-            return 2;
-        }
+    if (load_pair(path, p, f))
+        return 2;
     int rc = 2;
     if (f[0].width != f[1].width || f[0].height != f[1].height ||
         f[0].colour_bits != f[1].colour_bits) {
@@ -59,6 +91,22 @@ static int compare_files(const char *pa, const char *pb, const char *diff, alb_j
     }
     alb_frame_diff r;
     alb_frame_compare(&f[0], &f[1], &r);
+    size_t at = 0, ndiff = 0;
+    const char *ch = "";
+    uint64_t va = 0, vb = 0;
+    /* every plane counts with --exact, and for a dump (an RTL's frame store
+     * is held against the model's); else what is seen: face, colour,
+     * coverage (a reference has no depth store or levels) */
+    exact |= !alb_dump_is_exr(pa) || !alb_dump_is_exr(pb);
+    if (!exact)
+        for (size_t i = 0; i < (size_t)f[0].width * f[0].height; i++) {
+            f[1].depth[i] = f[0].depth[i];
+            f[1].level[i] = f[0].level[i];
+        }
+    if (f[0].cycles && f[1].cycles && !exact)
+        memcpy(f[1].cycles, f[0].cycles, (size_t)f[0].width * f[0].height * sizeof *f[1].cycles);
+    bool differ = alb_frame_first_diff(&f[0], &f[1], &at, &ch, &va, &vb, &ndiff);
+    unsigned x = (unsigned)(at % f[0].width), y = (unsigned)(at / f[0].width);
     if (diff && alb_preview_write_diff(diff, &f[0], &f[1], NULL, NULL, &d)) {
         alb_diag_print(&d, stderr);
         goto done;
@@ -71,15 +119,30 @@ static int compare_files(const char *pa, const char *pb, const char *diff, alb_j
         alb_json_kv_uint(json, "coverage_diff", r.coverage_diff);
         alb_json_kv_uint(json, "max_error", r.max_error);
         alb_json_kv_fixed(json, "mean_error", r.mean_error, 6);
-        /* identical frames: infinite, written as 999 dB (docs/reference.md) */
+        /* identical frames: infinite, written as 999 dB */
         alb_json_kv_fixed(json, "psnr", isinf(r.psnr) ? 999.0 : r.psnr, 3);
+        alb_json_kv_uint(json, "pixels_diff", ndiff);
+        if (differ) {
+            alb_json_key(json, "first_diff");
+            alb_json_begin_object(json);
+            alb_json_kv_uint(json, "x", x);
+            alb_json_kv_uint(json, "y", y);
+            alb_json_kv_string(json, "channel", ch);
+            alb_json_kv_uint(json, "a", va);
+            alb_json_kv_uint(json, "b", vb);
+            alb_json_end_object(json);
+        }
         alb_json_end_object(json);
-    } else
+    } else {
         printf("%s%zu pixels: %zu with a different face (%.4f%%), %zu with a different colour; "
                "colour error max %u, mean %.4f, PSNR %.2f dB\n",
                label, r.pixels, r.face_diff, 100.0 * (double)r.face_diff / (double)r.pixels,
                r.colour_diff, r.max_error, r.mean_error, r.psnr);
-    rc = (r.face_diff || r.colour_diff || r.coverage_diff) ? 1 : 0;
+        if (differ)
+            printf("%s%zu pixels differ; the first at pixel (%u, %u): %s %llu in %s, %llu in %s\n",
+                   label, ndiff, x, y, ch, (unsigned long long)va, pa, (unsigned long long)vb, pb);
+    }
+    rc = differ ? 1 : 0;
 done:
     alb_frame_free(&f[0]);
     alb_frame_free(&f[1]);
@@ -107,18 +170,28 @@ static unsigned numbered_frames(const char *path)
 
 int cmd_compare(int argc, char **argv)
 {
-    static const char *const spec[] = {"diff=", "json", "help", NULL};
+    static const char *const spec[] = {"diff=", "json", "exact", "help", NULL};
     compare_args a = {0};
+    run_opts o;
+    run_opts_init(&o);
     const char *pos[2];
     int npos;
-    int parsed = cli_parse("compare", argc, argv, spec, compare_opt, &a, NULL, pos, 2, &npos);
+    int parsed = cli_parse("compare", argc, argv, spec, compare_opt, &a, &o, pos, 2, &npos);
     if (parsed)
         return CLI_PARSE_EXIT(parsed);
     if (a.help || npos != 2) {
-        printf("usage: albatros compare A.exr B.exr [--diff DIFF.png] [--json]\n\n"
+        printf("usage: albatros compare A B [--diff DIFF.png] [--json] [--exact]\n"
+               "                        [--profile P --set K=V --size WxH]\n\n"
                "Compare two frames: pixels whose face differs, colour error in frame-store\n"
-               "units (max, mean, PSNR), and a diff image (red: face differs, yellow: colour\n"
-               "only, grey: equal).  Exit 0 if identical, 1 if they differ, 2 on error.\n\n"
+               "units (max, mean, PSNR), the first pixel and channel that differ, and a\n"
+               "diff image (red: face differs, yellow: colour only, grey: equal).  Exit 0\n"
+               "if identical, 1 if they differ, 2 on error.  What counts: face, colour and\n"
+               "coverage; with --exact, and whenever A or B is a dump, every plane (depth\n"
+               "store, level, per-pixel cycles too).\n\n"
+               "A and B are OpenEXR frames or frame-store dumps of an RTL bench (128 bits\n"
+               "a pixel, $writememh text or raw: docs/cosim.md); a dump takes its size and\n"
+               "formats from the other file if that is an EXR, else from --profile,\n"
+               "--set and --size.\n\n"
                "A name render numbered (f.exr for f.0000.exr, f.0001.exr, ...) compares\n"
                "every frame of the two runs, one line each (diff images numbered alike).\n");
         return a.help ? 0 : 2;
@@ -132,8 +205,8 @@ int cmd_compare(int argc, char **argv)
     /* two files, or two runs of numbered frames */
     if (exists(pos[0]) || exists(pos[1])) {
         if (a.diff && cli_output("compare", "--diff", a.diff))
-            return 2;
-        int rc = compare_files(pos[0], pos[1], a.diff, a.json ? &j : NULL, "");
+            return 2;   /* compare's "trouble" */
+        int rc = compare_files(pos[0], pos[1], a.diff, a.json ? &j : NULL, "", &o.prof, a.exact);
         if (a.json && rc != 2)
             alb_json_end_line(&j);
         return rc;
@@ -153,14 +226,12 @@ int cmd_compare(int argc, char **argv)
         return 2;
     }
     int rc = 0;
-    for (unsigned k = 0; k < n[0]; k++) {
-        char *pa = cli_frame_path(pos[0], k, n[0]);
-        cli_input(pa);
-        free(pa);
-        pa = cli_frame_path(pos[1], k, n[0]);
-        cli_input(pa);
-        free(pa);
-    }
+    for (unsigned k = 0; k < n[0]; k++)
+        for (int i = 0; i < 2; i++) {
+            char *p = cli_frame_path(pos[i], k, n[0]);
+            cli_input(p);
+            free(p);
+        }
     for (unsigned k = 0; k < n[0] && a.diff; k++) {
         char *pd = cli_frame_path(a.diff, k, n[0]);
         int bad = !pd || cli_output("compare", "--diff", pd);
@@ -177,8 +248,8 @@ int cmd_compare(int argc, char **argv)
         char *pa = cli_frame_path(pos[0], k, n[0]), *pb = cli_frame_path(pos[1], k, n[0]);
         char *pd = a.diff ? cli_frame_path(a.diff, k, n[0]) : NULL, label[32];
         snprintf(label, sizeof label, "frame %u: ", k);
-        int one = !pa || !pb || (a.diff && !pd) ? 2
-                : compare_files(pa, pb, pd, a.json ? &j : NULL, label);
+        int one = !pa || !pb || (a.diff && !pd)
+                      ? 2 : compare_files(pa, pb, pd, a.json ? &j : NULL, label, &o.prof, a.exact);
         free(pa);
         free(pb);
         free(pd);

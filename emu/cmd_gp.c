@@ -195,11 +195,14 @@ int cmd_gp(int argc, char **argv)
     alb_scene scene;
     if (cli_load_scene(npos ? pos[0] : NULL, &o, &scene))
         return 1;
-    if ((a.output && cli_output("gp", "-o", a.output)) ||
-        (a.hex && cli_output("gp", "--hex", a.hex)) ||
-        (a.memh && cli_output("gp", "--memh", a.memh))) {
+    int claimed = a.output ? cli_output("gp", "-o", a.output) : 0;
+    if (!claimed && a.hex)
+        claimed = cli_output("gp", "--hex", a.hex);
+    if (!claimed && a.memh)
+        claimed = cli_output("gp", "--memh", a.memh);
+    if (claimed) {
         alb_scene_free(&scene);
-        return 2;
+        return claimed;
     }
     alb_diag d;
     alb_diag_init(&d, stderr);

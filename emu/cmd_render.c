@@ -355,7 +355,7 @@ static int run_vp(render_args *a, const alb_profile *prof, const uint32_t *w, si
     int claimed = cli_frames_claim(&a->out, a->cmd, numbers, nnum);
     free(numbers);
     if (claimed)
-        return 2;
+        return claimed;
     if (a->vcd) {
         if (!(opt.vcd = alb_vcd_open(a->vcd, &d))) {
             alb_diag_print(&d, stderr);
@@ -429,6 +429,10 @@ static const char render_help[] =
     "  --view NAME:FILE    PNG of one view: colour, depth, face, level, coverage,\n"
     "                      cycles (timed or cycle fidelity)\n"
     "  --stream FILE       also write the GP's word stream\n"
+    "  --dump FILE         each frame as a frame-store dump, 128 bits a pixel, the\n"
+    "                      form an RTL bench writes ($writememh text; raw if FILE\n"
+    "                      ends in .raw or .bin; docs/cosim.md): albatros compare\n"
+    "                      reads it\n"
     "  --fidelity F        functional (default: pixels only), timed or cycle (cycle\n"
     "                      counts, unit counters, vp.cycles; docs/microarchitecture.md)\n"
     "  --threads N         threads of the functional renderer and of the EXR\n"
@@ -453,7 +457,7 @@ static const char vp_help[] =
     "                   [--json] [--profile NAME] [--set KEY=VALUE]\n\n"
     "Run the VP alone on a word stream (as written by albatros gp), as an RTL test\n"
     "bench replays it.  The profile must match the stream's CONFIG formats.\n"
-    "Options as for render: -o, --png, --view, --json, --fidelity, --threads, --vcd,\n"
+    "Options as for render: -o, --png, --view, --dump, --json, --fidelity, --threads, --vcd,\n"
     "--vcd-window, --vcd-units, --events, --events-only.\n\n";
 
 static const char reference_help[] =
@@ -509,13 +513,12 @@ static int check_outputs(render_args *a)
  * refused at once. */
 static int claim_outputs(render_args *a)
 {
-    if (a->stream && cli_output(a->cmd, "--stream", a->stream))
-        return -1;
-    if (a->vcd && cli_output(a->cmd, "--vcd", a->vcd))
-        return -1;
-    if (a->events && cli_output(a->cmd, "--events", a->events))
-        return -1;
-    return 0;
+    int rc = a->stream ? cli_output(a->cmd, "--stream", a->stream) : 0;
+    if (!rc && a->vcd)
+        rc = cli_output(a->cmd, "--vcd", a->vcd);
+    if (!rc && a->events)
+        rc = cli_output(a->cmd, "--events", a->events);
+    return rc;
 }
 
 /* What a run may hold in memory: the machine's, or less under ulimit -v/-d. */
@@ -608,7 +611,7 @@ static int render_frames(render_args *a, alb_gp *gp, const alb_scene *scene, con
     int claimed = cli_frames_claim(&a->out, a->cmd, numbers, scene->nframes);
     free(numbers);
     if (claimed)
-        return 2;
+        return claimed;
     alb_vp *vp = NULL;
     alb_vp_feed *feed = NULL;
     alb_ws_writer wr;
@@ -661,7 +664,7 @@ static int render_frames(render_args *a, alb_gp *gp, const alb_scene *scene, con
 
 int cmd_render(int argc, char **argv)
 {
-    static const char *const spec[] = {"output=", "png=", "view=", "stream=", "json", "quiet",
+    static const char *const spec[] = {"output=", "png=", "view=", "stream=", "dump=", "json", "quiet",
                                        "q", "help", "fidelity=", "threads=", "vcd=", "vcd-window=",
                                        "vcd-units=", "events=", "events-only=", NULL};
     render_args a = {.cmd = "render", .progress = cli_isatty_stderr()};
@@ -681,9 +684,10 @@ int cmd_render(int argc, char **argv)
     alb_scene scene;
     if (cli_load_scene(npos ? pos[0] : NULL, &o, &scene))
         return 1;
-    if (claim_outputs(&a)) {
+    int claimed = claim_outputs(&a);
+    if (claimed) {
         alb_scene_free(&scene);
-        return 2;
+        return claimed;
     }
     const char *name = npos ? pos[0] : "<builtin>";
     set_provenance(&a, o.prof.name, alb_fidelity_name(a.fid), npos ? pos[0] : "builtin");
@@ -709,7 +713,7 @@ int cmd_render(int argc, char **argv)
 
 int cmd_vp(int argc, char **argv)
 {
-    static const char *const spec[] = {"output=", "png=", "view=", "json", "quiet", "q", "help",
+    static const char *const spec[] = {"output=", "png=", "view=", "dump=", "json", "quiet", "q", "help",
                                        "fidelity=", "threads=", "vcd=", "vcd-window=",
                                        "vcd-units=", "events=", "events-only=", NULL};
     render_args a = {.cmd = "vp", .progress = cli_isatty_stderr()};
@@ -731,8 +735,9 @@ int cmd_vp(int argc, char **argv)
     if (check_outputs(&a) || cli_check_profile(&o.prof))
         return 2;
     cli_input(pos[0]);
-    if (claim_outputs(&a))
-        return 2;
+    int claimed = claim_outputs(&a);
+    if (claimed)
+        return claimed;
     uint32_t *w;
     size_t n;
     alb_diag d;
@@ -749,7 +754,7 @@ int cmd_vp(int argc, char **argv)
 
 int cmd_reference(int argc, char **argv)
 {
-    static const char *const spec[] = {"output=", "png=", "view=", "json", "quiet", "q", "help",
+    static const char *const spec[] = {"output=", "png=", "view=", "dump=", "json", "quiet", "q", "help",
                                        NULL};
     render_args a = {.cmd = "reference", .progress = cli_isatty_stderr()};
     run_opts o;
@@ -775,8 +780,8 @@ int cmd_reference(int argc, char **argv)
     int rc = numbers ? 0 : 1;
     for (unsigned f = 0; f < scene.nframes && numbers; f++)
         numbers[f] = f;
-    if (numbers && cli_frames_claim(&a.out, a.cmd, numbers, scene.nframes))
-        rc = 2;
+    if (numbers)
+        rc = cli_frames_claim(&a.out, a.cmd, numbers, scene.nframes);
     free(numbers);
     if (rc) {
         alb_scene_free(&scene);

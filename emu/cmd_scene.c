@@ -164,8 +164,9 @@ int cmd_scene(int argc, char **argv)
     alb_diag_init(&d, NULL);
     const char *path = a.output ? a.output : "-";
     FILE *f = NULL;
-    if (cli_output("scene", "-o", path) || alb_out_open(&out, path, ALB_OUT_DASH, &d) ||
-        !(f = alb_out_stdio(&out, &d))) {
+    if ((rc = cli_output("scene", "-o", path))) {
+        /* said why */
+    } else if (alb_out_open(&out, path, ALB_OUT_DASH, &d) || !(f = alb_out_stdio(&out, &d))) {
         rc = 1;
     } else {
         fputs(text, f);

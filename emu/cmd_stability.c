@@ -126,7 +126,8 @@ static void print_word(const char *w)
  * (a256 unless given), the --set and --size options in their order, and -q. */
 static void print_job_head(const stab_args *a)
 {
-    fputs("albatros stability", stdout);
+    cli_print_self(stdout);
+    fputs(" stability", stdout);
     if (!a->profile_given)
         fputs(" --profile a256", stdout);
     for (unsigned i = 0; i < a->npass; i++) {
@@ -364,8 +365,8 @@ int cmd_method(int argc, char **argv)
     int rc = numbers ? 0 : 1;
     for (unsigned f = 0; numbers && f < scene.nframes; f++)
         numbers[f] = f;
-    if (numbers && cli_frames_claim(&a.out, "method", numbers, scene.nframes))
-        rc = 2;
+    if (numbers)
+        rc = cli_frames_claim(&a.out, "method", numbers, scene.nframes);
     free(numbers);
     for (unsigned f = 0; f < scene.nframes && !rc; f++) {
         alb_frame fr;

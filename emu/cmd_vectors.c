@@ -6,6 +6,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "albatros/file.h"
+#include "albatros/link.h"
 #include "albatros/exr.h"
 #include "albatros/preview.h"
 #include "albatros/sim.h"
@@ -21,6 +22,10 @@ typedef struct {
     char dir[512];
     char name[256];
 } vector;
+
+/* Where the messages about the vector being checked go: stderr, or with
+ * --junit a buffer that is copied to stderr and into the report. */
+static FILE *vlog;
 
 static int read_text(const char *path, char *buf, size_t len)
 {
@@ -64,7 +69,7 @@ static int run_vector(const vector *v, alb_ws_buf *out, alb_profile *prof)
     run_opts_init(&o);
     snprintf(path, sizeof path, "%s/options", v->dir);
     if (exists(path) && read_text(path, opts, sizeof opts)) {
-        fprintf(stderr, "%s: cannot read\n", path);
+        fprintf(vlog, "%s: cannot read\n", path);
         return -1;
     }
     char *argv[64];
@@ -73,21 +78,21 @@ static int run_vector(const vector *v, alb_ws_buf *out, alb_profile *prof)
     int npos;
     static const char *const none[] = {NULL};
     if (argc < 0 || cli_parse("vectors", argc, argv, none, no_own_options, NULL, &o, pos, 0, &npos)) {
-        fprintf(stderr, "%s: bad options file\n", path);
+        fprintf(vlog, "%s: bad options file\n", path);
         return -1;
     }
     if (cli_check_profile(&o.prof))
         return -1;
     *prof = o.prof;
     if (scene_path(v, path, sizeof path)) {
-        fprintf(stderr, "%s: no scene.scene or scene.obj\n", v->dir);
+        fprintf(vlog, "%s: no scene.scene or scene.obj\n", v->dir);
         return -1;
     }
     alb_scene scene;
     if (cli_load_scene(path, &o, &scene))
         return -1;
     alb_diag d;
-    alb_diag_init(&d, stderr);
+    alb_diag_init(&d, vlog);
     alb_gp *gp = NULL;
     alb_err e = alb_gp_create(&gp, &scene, &o.prof, &d);
     if (!e)
@@ -95,7 +100,7 @@ static int run_vector(const vector *v, alb_ws_buf *out, alb_profile *prof)
     alb_gp_destroy(gp);
     alb_scene_free(&scene);
     if (e) {
-        alb_diag_print(&d, stderr);
+        alb_diag_print(&d, vlog);
         return -1;
     }
     return 0;
@@ -115,19 +120,19 @@ static int compare_streams(const char *name, const uint32_t *want, size_t nw, co
     char dw[200], dg[200];
     alb_ws_describe_at(want, nw, i, dw, sizeof dw);
     alb_ws_describe_at(got, ng, i, dg, sizeof dg);
-    fprintf(stderr, "FAIL %s: stream differs at word %zu (byte offset %zu)\n", name, i, i * 4);
+    fprintf(vlog, "FAIL %s: stream differs at word %zu (byte offset %zu)\n", name, i, i * 4);
     if (i < nw)
-        fprintf(stderr, "  expected %08x  %s\n", want[i], dw);
+        fprintf(vlog, "  expected %08x  %s\n", want[i], dw);
     else
-        fprintf(stderr, "  expected end of stream (%zu words)\n", nw);
+        fprintf(vlog, "  expected end of stream (%zu words)\n", nw);
     if (i < ng)
-        fprintf(stderr, "  got      %08x  %s\n", got[i], dg);
+        fprintf(vlog, "  got      %08x  %s\n", got[i], dg);
     else
-        fprintf(stderr, "  got      end of stream (%zu words)\n", ng);
+        fprintf(vlog, "  got      end of stream (%zu words)\n", ng);
     size_t diff = 0;
     for (size_t k = 0; k < n; k++)
         diff += want[k] != got[k];
-    fprintf(stderr, "  %zu of %zu words differ%s\n", diff + (nw > ng ? nw - ng : ng - nw),
+    fprintf(vlog, "  %zu of %zu words differ%s\n", diff + (nw > ng ? nw - ng : ng - nw),
             nw > ng ? nw : ng, nw != ng ? " (lengths differ)" : "");
     return 1;
 }
@@ -144,7 +149,35 @@ typedef struct {
     size_t clen, ccap;
     char **want;             /* check: the lines of expected.cycles */
     unsigned nwant;
+    char *summary;           /* bless: expected.frames being written */
+    size_t slen, scap;
+    char **want_sum;         /* check: the lines of expected.frames */
+    unsigned nwant_sum;
 } frames_ctx;
+
+/* A line for a text being built (expected.cycles, expected.frames); -1 if
+ * out of memory. */
+static int append_line(char **buf, size_t *len, size_t *cap, const char *line)
+{
+    size_t need = *len + strlen(line) + 2;
+    if (need > *cap) {
+        char *nb = realloc(*buf, 2 * need);
+        if (!nb)
+            return -1;
+        *buf = nb;
+        *cap = 2 * need;
+    }
+    *len += (size_t)sprintf(*buf + *len, "%s\n", line);
+    return 0;
+}
+
+/* One line of expected.frames (docs/golden-vectors.md): the frame's number,
+ * cycle count and CRC, as a testbench reads them with $fscanf("%d %d %h"). */
+static void summary_line(char *out, size_t len, const alb_frame *f, const alb_sim_counters *c)
+{
+    snprintf(out, len, "%u %llu %08x", f->number, (unsigned long long)c->cycles,
+             alb_link_frame_crc(f->rgb, (size_t)f->width * f->height));
+}
 
 /* One line of expected.cycles: the frame's counters as key=value. */
 static void counters_line(char *out, size_t len, unsigned frame, const alb_sim_counters *c)
@@ -177,66 +210,32 @@ static void frame_path(const vector *v, unsigned k, char *out, size_t len)
     snprintf(out, len, "%s/expected.%04u.exr", v->dir, k);
 }
 
-/* The first pixel and channel where two frames differ; false if none. */
-static bool first_pixel_diff(const alb_frame *w, const alb_frame *g, size_t *at, char *what,
-                             size_t len, size_t *count)
-{
-    size_t n = (size_t)w->width * w->height;
-    bool found = false;
-    *count = 0;
-    for (size_t i = 0; i < n; i++) {
-        const char *ch = NULL;
-        unsigned long long a = 0, b = 0;
-        if (w->face[i] != g->face[i])
-            ch = "face.id", a = w->face[i], b = g->face[i];
-        for (int c = 0; c < 3 && !ch; c++)
-            if (w->rgb[3 * i + c] != g->rgb[3 * i + c])
-                ch = c == 0 ? "vp.R" : c == 1 ? "vp.G" : "vp.B", a = w->rgb[3 * i + c],
-                b = g->rgb[3 * i + c];
-        if (!ch && w->depth[i] != g->depth[i])
-            ch = "vp.depth", a = w->depth[i], b = g->depth[i];
-        if (!ch && w->level[i] != g->level[i])
-            ch = "vp.level", a = w->level[i], b = g->level[i];
-        if (!ch && w->coverage[i] != g->coverage[i])
-            ch = "vp.coverage", a = w->coverage[i], b = g->coverage[i];
-        if (!ch && w->cycles && g->cycles && w->cycles[i] != g->cycles[i])
-            ch = "vp.cycles", a = w->cycles[i], b = g->cycles[i];
-        if (!ch)
-            continue;
-        ++*count;
-        if (!found) {
-            found = true;
-            *at = i;
-            snprintf(what, len, "%s expected %llu, got %llu", ch, a, b);
-        }
-    }
-    return found;
-}
-
 static int check_frame(frames_ctx *c, const alb_frame *f, const char *path)
 {
     alb_frame want;
     alb_diag d;
     alb_diag_init(&d, NULL);
     if (alb_exr_read_frame(path, &want, &d)) {
-        alb_diag_print(&d, stderr);
+        alb_diag_print(&d, vlog);
         return 1;
     }
     int rc = 0;
     size_t at = 0, count;
-    char what[160];
+    const char *ch;
+    uint64_t va, vb;
     if (want.width != f->width || want.height != f->height) {
-        fprintf(stderr, "FAIL %s: frame %u is %ux%u, expected %ux%u\n", c->v->name, f->number,
+        fprintf(vlog, "FAIL %s: frame %u is %ux%u, expected %ux%u\n", c->v->name, f->number,
                 f->width, f->height, want.width, want.height);
         rc = 1;
-    } else if (first_pixel_diff(&want, f, &at, what, sizeof what, &count)) {
+    } else if (alb_frame_first_diff(&want, f, &at, &ch, &va, &vb, &count)) {
         char diff[700];
         snprintf(diff, sizeof diff, "%s/%s.%04u.png", c->diff_dir, c->v->name, f->number);
         mkdir(c->diff_dir, 0777);
         bool wrote = alb_preview_write_diff(diff, &want, f, NULL, NULL, &d) == ALB_OK;
-        fprintf(stderr, "FAIL %s: frame %u differs at pixel (%zu, %zu): %s\n"
+        fprintf(vlog, "FAIL %s: frame %u differs at pixel (%zu, %zu): %s expected %llu, got %llu\n"
                         "  %zu pixels differ%s%s\n", c->v->name, f->number, at % f->width,
-                at / f->width, what, count, wrote ? "; diff image " : "", wrote ? diff : "");
+                at / f->width, ch, (unsigned long long)va, (unsigned long long)vb, count,
+                wrote ? "; diff image " : "", wrote ? diff : "");
         rc = 1;
     }
     alb_frame_free(&want);
@@ -247,12 +246,12 @@ static void check_counters(frames_ctx *c, const alb_frame *f, const char *line)
 {
     unsigned k = c->frames - 1;
     if (k >= c->nwant) {
-        fprintf(stderr, "FAIL %s: expected.cycles has no line for frame %u\n", c->v->name, k);
+        fprintf(vlog, "FAIL %s: expected.cycles has no line for frame %u\n", c->v->name, k);
         c->failed = 1;
     } else if (strcmp(c->want[k], line)) {
         char what[200];
         first_counter_diff(c->want[k], line, what, sizeof what);
-        fprintf(stderr, "FAIL %s: frame %u counters differ: %s\n", c->v->name, f->number, what);
+        fprintf(vlog, "FAIL %s: frame %u counters differ: %s\n", c->v->name, f->number, what);
         c->failed = 1;
     }
 }
@@ -264,28 +263,30 @@ static int frame_sink(void *ctx, const alb_frame *f, const alb_vp_stats *st, con
     char path[600], line[600];
     frame_path(c->v, c->frames++, path, sizeof path);
     counters_line(line, sizeof line, f->number, sc);
+    char sum[100];
+    summary_line(sum, sizeof sum, f, sc);
     if (c->bless) {
-        size_t need = c->clen + strlen(line) + 2;
-        if (need > c->ccap) {
-            char *nb = realloc(c->counters, 2 * need);
-            if (!nb)
-                return -1;
-            c->counters = nb;
-            c->ccap = 2 * need;
-        }
-        c->clen += (size_t)sprintf(c->counters + c->clen, "%s\n", line);
+        if (append_line(&c->counters, &c->clen, &c->ccap, line) ||
+            append_line(&c->summary, &c->slen, &c->scap, sum))
+            return -1;
     } else {
         check_counters(c, f, line);
+        unsigned k = c->frames - 1;
+        if (c->want_sum && (k >= c->nwant_sum || strcmp(c->want_sum[k], sum))) {
+            fprintf(vlog, "FAIL %s: expected.frames line %u: expected '%s', got '%s'\n",
+                    c->v->name, k + 1, k < c->nwant_sum ? c->want_sum[k] : "(none)", sum);
+            c->failed = 1;
+        }
     }
     if (c->bless) {
         alb_diag d;
         alb_diag_init(&d, NULL);
         if (alb_exr_write_frame(path, f, &d)) {
-            alb_diag_print(&d, stderr);
+            alb_diag_print(&d, vlog);
             c->failed = 1;
         }
     } else if (!exists(path)) {
-        fprintf(stderr, "FAIL %s: no %s (run 'make bless' to create it)\n", c->v->name, path);
+        fprintf(vlog, "FAIL %s: no %s (run 'make bless' to create it)\n", c->v->name, path);
         c->failed = 1;
     } else {
         c->failed |= check_frame(c, f, path);
@@ -329,13 +330,16 @@ static char **read_lines(const char *path, char **text, unsigned *n)
 static int vector_frames(const vector *v, const alb_profile *prof, const alb_ws_buf *stream, bool bless,
                          const char *diff_dir)
 {
-    frames_ctx c = {v, bless, diff_dir, 0, 0, NULL, 0, 0, NULL, 0};
-    char cpath[600], *ctext = NULL;
+    frames_ctx c = {.v = v, .bless = bless, .diff_dir = diff_dir};
+    char cpath[600], spath[600], *ctext = NULL, *stext = NULL;
     snprintf(cpath, sizeof cpath, "%s/expected.cycles", v->dir);
+    snprintf(spath, sizeof spath, "%s/expected.frames", v->dir);
     if (!bless) {
         c.want = read_lines(cpath, &ctext, &c.nwant);
-        if (!c.want) {
-            fprintf(stderr, "FAIL %s: no %s (run 'make bless' to create it)\n", v->name, cpath);
+        c.want_sum = read_lines(spath, &stext, &c.nwant_sum);
+        if (!c.want || !c.want_sum) {
+            fprintf(vlog, "FAIL %s: no %s (run 'make bless' to create it)\n", v->name,
+                    c.want ? spath : cpath);
             c.failed = 1;
         }
     }
@@ -345,23 +349,35 @@ static int vector_frames(const vector *v, const alb_profile *prof, const alb_ws_
     alb_err e = alb_sim_run(prof, stream->w, stream->n, v->name, &opt, frame_sink, &c, &d);
     free(c.want);
     free(ctext);
+    free(c.want_sum);
+    free(stext);
     if (e) {
-        alb_diag_print(&d, stderr);
+        alb_diag_print(&d, vlog);
         free(c.counters);
+        free(c.summary);
         return 1;
     }
     if (!bless && c.want && c.nwant != c.frames) {
-        fprintf(stderr, "FAIL %s: expected.cycles has %u lines, the run %u frames\n", v->name,
+        fprintf(vlog, "FAIL %s: expected.cycles has %u lines, the run %u frames\n", v->name,
                 c.nwant, c.frames);
         c.failed = 1;
     }
+    if (!bless && c.want_sum && c.nwant_sum != c.frames) {
+        fprintf(vlog, "FAIL %s: expected.frames has %u lines, the run %u frames\n", v->name,
+                c.nwant_sum, c.frames);
+        c.failed = 1;
+    }
     if (bless) {
-        FILE *f = fopen(cpath, "w");
-        if (!f || fputs(c.counters ? c.counters : "", f) < 0 || fclose(f)) {
-            fprintf(stderr, "%s: cannot write\n", cpath);
-            c.failed = 1;
+        const char *paths[2] = {cpath, spath}, *texts[2] = {c.counters, c.summary};
+        for (int i = 0; i < 2; i++) {
+            FILE *f = fopen(paths[i], "w");
+            if (!f || fputs(texts[i] ? texts[i] : "", f) < 0 || fclose(f)) {
+                fprintf(vlog, "%s: cannot write\n", paths[i]);
+                c.failed = 1;
+            }
         }
         free(c.counters);
+        free(c.summary);
     }
     /* no expected frame may be left over from a longer run */
     char path[600];
@@ -372,7 +388,7 @@ static int vector_frames(const vector *v, const alb_profile *prof, const alb_ws_
         if (bless) {
             remove(path);
         } else {
-            fprintf(stderr, "FAIL %s: %s expected, but the run has %u frames\n", v->name, path,
+            fprintf(vlog, "FAIL %s: %s expected, but the run has %u frames\n", v->name, path,
                     c.frames);
             c.failed = 1;
         }
@@ -397,8 +413,8 @@ static int check_vector(const vector *v, const char *diff_dir)
         alb_diag_init(&d, NULL);
         snprintf(path, sizeof path, "%s/expected.stream", v->dir);
         if (alb_ws_read_file(path, &want, &nw, &d)) {
-            alb_diag_print(&d, stderr);
-            fprintf(stderr, "  (run 'make bless' to create the expected outputs)\n");
+            alb_diag_print(&d, vlog);
+            fprintf(vlog, "  (run 'make bless' to create the expected outputs)\n");
             rc = 1;
         } else {
             rc = compare_streams(v->name, want, nw, got.w, got.n);
@@ -408,7 +424,7 @@ static int check_vector(const vector *v, const char *diff_dir)
          * difference does not hide a VP one */
         rc |= vector_frames(v, &prof, &got, false, diff_dir);
     } else {
-        fprintf(stderr, "FAIL %s: could not run\n", v->name);
+        fprintf(vlog, "FAIL %s: could not run\n", v->name);
         rc = 1;
     }
     alb_ws_buf_free(&got);
@@ -417,7 +433,7 @@ static int check_vector(const vector *v, const char *diff_dir)
             printf("known failure %s: %s", v->name, known);
             return 2;
         }
-        fprintf(stderr, "FAIL %s: marked KNOWN-FAILURE but passes; remove the marker\n", v->name);
+        fprintf(vlog, "FAIL %s: marked KNOWN-FAILURE but passes; remove the marker\n", v->name);
         return 1;
     }
     if (!rc)
@@ -445,7 +461,7 @@ static int bless_vector(const vector *v)
     free(old);
     int rc = 0;
     if (!same && alb_ws_write_file(path, got.w, got.n, &d)) {
-        alb_diag_print(&d, stderr);
+        alb_diag_print(&d, vlog);
         rc = 1;
     }
     /* the readable twin, so reviews of a re-bless show field-level diffs */
@@ -453,7 +469,7 @@ static int bless_vector(const vector *v)
     FILE *hex = fopen(path, "w");
     alb_err he = hex ? alb_ws_dump(hex, got.w, got.n, "expected.stream", &d) : ALB_ERR_IO;
     if ((hex && fclose(hex)) || he) {
-        fprintf(stderr, "%s: cannot write\n", path);
+        fprintf(vlog, "%s: cannot write\n", path);
         rc = 1;
     }
     printf("%s %s (%zu words)\n", same ? "unchanged" : had ? "REBLESSED" : "created", v->name, got.n);
@@ -503,6 +519,7 @@ static vector *list_vectors(const char *dir, size_t *count)
 typedef struct {
     const char *diff_dir;
     bool diff_dir_given, help;
+    const char *junit;
 } vectors_args;
 
 static int vectors_opt(void *ctx, const char *name, const char *value)
@@ -511,6 +528,8 @@ static int vectors_opt(void *ctx, const char *name, const char *value)
     if (strcmp(name, "diff-dir") == 0) {
         a->diff_dir = value;
         a->diff_dir_given = true;
+    } else if (strcmp(name, "junit") == 0) {
+        a->junit = value;
     } else {
         a->help = true;
     }
@@ -519,19 +538,144 @@ static int vectors_opt(void *ctx, const char *name, const char *value)
 
 static void vectors_usage(FILE *f)
 {
-    fprintf(f, "usage: albatros vectors check [--diff-dir DIR] VECTORS [NAME...]\n"
+    fprintf(f, "usage: albatros vectors check [--diff-dir DIR] [--junit FILE] VECTORS [NAME...]\n"
                "       albatros vectors bless VECTORS [NAME...]\n\n"
                "check: run every golden vector in VECTORS (or the NAMEd ones) and compare its\n"
                "       word stream and frames bit for bit; the first difference is named\n"
                "       (word and field, pixel and channel), a diff image goes to DIR\n"
-               "       (default ./vector-diffs); exit 1 on any.\n"
+               "       (default ./vector-diffs); exit 1 on any.  --junit FILE: a JUnit XML\n"
+               "       report, one test case per vector, a failure carrying the first\n"
+               "       difference (what Jenkins and GitLab read).\n"
                "bless: regenerate the expected outputs (a deliberate act: say why in the\n"
                "       commit message).\n");
 }
 
+/* ---- the JUnit report ---- */
+
+/* What one vector's check said. */
+typedef struct {
+    const char *name;
+    int rc;                  /* 0 pass, 1 fail, 2 known failure */
+    char *text;              /* its messages */
+} vector_result;
+
+/* Text as XML character data or attribute value: the five specials
+ * escaped, and characters XML 1.0 cannot hold at all as U+FFFD. */
+static void xml_text(FILE *f, const char *s, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        unsigned char c = (unsigned char)s[i];
+        if (c == '&')
+            fputs("&amp;", f);
+        else if (c == '<')
+            fputs("&lt;", f);
+        else if (c == '>')
+            fputs("&gt;", f);
+        else if (c == '"')
+            fputs("&quot;", f);
+        else if (c == '\'')
+            fputs("&apos;", f);
+        else if (c < 0x20 && c != '\t' && c != '\n' && c != '\r')
+            fputs("\xef\xbf\xbd", f);
+        else
+            fputc(c, f);
+    }
+}
+
+/* The first FAIL line without its "FAIL name: ". */
+static void first_failure(const vector_result *r, const char **s, size_t *n)
+{
+    const char *t = r->text ? r->text : "";
+    const char *line = strstr(t, "FAIL ");
+    if (!line)
+        line = t;
+    const char *colon = strstr(line, ": ");
+    if (colon && line == strstr(t, "FAIL "))
+        line = colon + 2;
+    *s = line;
+    *n = strcspn(line, "\n");
+}
+
+/* One <testcase> per vector, in the form Jenkins and GitLab read; no times
+ * (they would make two runs' reports differ). */
+static int write_junit(const char *path, const vector_result *r, size_t n)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "albatros vectors: --junit %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    unsigned failures = 0, skipped = 0;
+    for (size_t i = 0; i < n; i++)
+        failures += r[i].rc == 1, skipped += r[i].rc == 2;
+    fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+               "<testsuites name=\"albatros vectors\" tests=\"%zu\" failures=\"%u\" "
+               "errors=\"0\" skipped=\"%u\">\n"
+               "  <testsuite name=\"vectors\" tests=\"%zu\" failures=\"%u\" errors=\"0\" "
+               "skipped=\"%u\">\n", n, failures, skipped, n, failures, skipped);
+    for (size_t i = 0; i < n; i++) {
+        fputs("    <testcase classname=\"vectors\" name=\"", f);
+        xml_text(f, r[i].name, strlen(r[i].name));
+        if (r[i].rc == 0) {
+            fputs("\"/>\n", f);
+            continue;
+        }
+        const char *msg;
+        size_t len;
+        first_failure(&r[i], &msg, &len);
+        fprintf(f, "\">\n      <%s message=\"", r[i].rc == 1 ? "failure" : "skipped");
+        xml_text(f, msg, len);
+        if (r[i].rc == 1) {
+            fputs("\" type=\"mismatch\">", f);
+            xml_text(f, r[i].text ? r[i].text : "", r[i].text ? strlen(r[i].text) : 0);
+            fputs("</failure>\n", f);
+        } else {
+            fputs("\"/>\n", f);
+        }
+        fputs("    </testcase>\n", f);
+    }
+    fputs("  </testsuite>\n</testsuites>\n", f);
+    int bad = ferror(f);
+    if (fclose(f) || bad) {
+        fprintf(stderr, "albatros vectors: --junit %s: write error\n", path);
+        return -1;
+    }
+    return 0;
+}
+
+/* Check one vector with its messages in a buffer as well as on stderr. */
+static int check_captured(const vector *v, const char *diff_dir, vector_result *r)
+{
+    size_t len = 0;
+    r->name = v->name;
+    r->text = NULL;
+    vlog = open_memstream(&r->text, &len);
+    if (!vlog) {
+        vlog = stderr;
+        return r->rc = check_vector(v, diff_dir);
+    }
+    /* the known-failure line goes to stdout; keep it for the report too */
+    r->rc = check_vector(v, diff_dir);
+    fclose(vlog);
+    vlog = stderr;
+    if (r->text)
+        fputs(r->text, stderr);
+    if (r->rc == 2) {
+        char path[600], known[512] = "";
+        snprintf(path, sizeof path, "%s/KNOWN-FAILURE", v->dir);
+        read_text(path, known, sizeof known);
+        free(r->text);
+        size_t n = strlen(known) + 32;
+        r->text = malloc(n);
+        if (r->text)
+            snprintf(r->text, n, "known failure: %s", known);
+    }
+    return r->rc;
+}
+
 /* Check or bless the vectors of dir named in names[] (all if n == 0). */
 static int vectors_run(bool bless, const char *dir, const char *const *names, int nnames,
-                       const char *diff_dir)
+                       const char *diff_dir, const char *junit)
 {
     size_t n;
     vector *v = list_vectors(dir, &n);
@@ -540,14 +684,22 @@ static int vectors_run(bool bless, const char *dir, const char *const *names, in
         return 1;
     }
     unsigned passed = 0, failed = 0, known = 0, selected = 0;
+    vector_result *results = junit ? calloc(n ? n : 1, sizeof *results) : NULL;
+    if (junit && !results) {
+        fprintf(stderr, "albatros vectors: out of memory\n");
+        free(v);
+        return 1;
+    }
     for (size_t i = 0; i < n; i++) {
         bool want = nnames == 0;
         for (int k = 0; k < nnames; k++)
             want |= strcmp(names[k], v[i].name) == 0;
         if (!want)
             continue;
+        int rc = bless     ? bless_vector(&v[i])
+                 : results ? check_captured(&v[i], diff_dir, &results[selected])
+                           : check_vector(&v[i], diff_dir);
         selected++;
-        int rc = bless ? bless_vector(&v[i]) : check_vector(&v[i], diff_dir);
         if (rc == 0)
             passed++;
         else if (rc == 2)
@@ -564,6 +716,11 @@ static int vectors_run(bool bless, const char *dir, const char *const *names, in
             failed++;
         }
     }
+    if (results && write_junit(junit, results, selected))
+        failed++;
+    for (size_t i = 0; results && i < selected; i++)
+        free(results[i].text);
+    free(results);
     free(v);
     if (known)
         printf("%u known failures\n", known);
@@ -573,8 +730,9 @@ static int vectors_run(bool bless, const char *dir, const char *const *names, in
 
 int cmd_vectors(int argc, char **argv)
 {
-    static const char *const spec[] = {"diff-dir=", "help", NULL};
-    vectors_args a = {"vector-diffs", false, false};
+    static const char *const spec[] = {"diff-dir=", "junit=", "help", NULL};
+    vectors_args a = {"vector-diffs", false, false, NULL};
+    vlog = stderr;
     const char **pos = malloc(((size_t)argc + 1) * sizeof *pos);
     int npos, rc = 2;
     if (!pos) {
@@ -603,7 +761,11 @@ int cmd_vectors(int argc, char **argv)
                         "images)\n");
         goto done;
     }
-    rc = vectors_run(bless, pos[1], pos + 2, npos - 2, a.diff_dir);
+    if (bless && a.junit) {
+        fprintf(stderr, "albatros vectors: --junit reports a check (bless compares nothing)\n");
+        goto done;
+    }
+    rc = vectors_run(bless, pos[1], pos + 2, npos - 2, a.diff_dir, a.junit);
 done:
     free(pos);
     return rc;

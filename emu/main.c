@@ -86,6 +86,8 @@ static int close_stdout(void)
 
 int main(int argc, char **argv)
 {
+    if (argc > 0 && argv[0])
+        cli_argv0 = argv[0];
     if (argc < 2) {
         usage(stderr);
         return 2;

@@ -26,8 +26,7 @@ struct alb_model {
     size_t n, cap;
     bool ended;
     /* frame events and the last frame (timed, functional) */
-    alb_event *evq;
-    size_t ev_head, ev_n, ev_cap;
+    item_queue evq;                /* alb_event */
     alb_frame frame;
     alb_vp_stats stats;
     unsigned frames;
@@ -52,26 +51,6 @@ static alb_err fail(alb_model *m, alb_err e)
 }
 
 /* ---- frames of the timed and functional fidelities ---- */
-
-static alb_event *event_new(alb_model *m)
-{
-    if (m->ev_head + m->ev_n == m->ev_cap) {
-        if (m->ev_head) {
-            memmove(m->evq, m->evq + m->ev_head, m->ev_n * sizeof *m->evq);
-            m->ev_head = 0;
-        } else {
-            size_t cap = m->ev_cap ? 2 * m->ev_cap : 16;
-            alb_event *nq = realloc(m->evq, cap * sizeof *nq);
-            if (!nq)
-                return NULL;
-            m->evq = nq;
-            m->ev_cap = cap;
-        }
-    }
-    alb_event *e = &m->evq[m->ev_head + m->ev_n++];
-    memset(e, 0, sizeof *e);
-    return e;
-}
 
 /* A frame done: keep it, and its event if frames are recorded. */
 static int frame_done(void *ctx, const alb_frame *f, const alb_vp_stats *st,
@@ -99,7 +78,7 @@ static int frame_done(void *ctx, const alb_frame *f, const alb_vp_stats *st,
     }
     m->stats = *st;
     if (m->cfg.events & ALB_EV_FRAME) {
-        alb_event *e = event_new(m);
+        alb_event *e = queue_push(&m->evq);
         if (!e)
             return -1;
         e->kind = ALB_EV_FRAME;
@@ -140,6 +119,7 @@ alb_err alb_model_create(alb_model **out, const alb_profile *p, const alb_model_
         alb_model_config_default(&m->cfg);
     if (!m->cfg.name)
         m->cfg.name = "<stream>";
+    m->evq = ITEM_QUEUE(alb_event);
     m->prof = *p;
     alb_diag_init(&m->d, NULL);
     char msg[256];
@@ -181,13 +161,8 @@ alb_err alb_model_open(alb_model **out, const char *profile, const char *const *
     alb_diag_init(d, NULL);
     *out = NULL;
     alb_profile p;
-    if (alb_profile_lookup(profile ? profile : "a512", &p))
-        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "unknown profile '%s'", profile);
-    char msg[256];
-    for (size_t i = 0; overrides && overrides[i]; i++)
-        if (alb_profile_set(&p, overrides[i], msg, sizeof msg))
-            return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "%s", msg);
-    return alb_model_create(out, &p, c, d);
+    alb_err e = alb_profile_open(&p, profile, overrides, d);
+    return e ? e : alb_model_create(out, &p, c, d);
 }
 
 void alb_model_destroy(alb_model *m)
@@ -200,7 +175,7 @@ void alb_model_destroy(alb_model *m)
     alb_frame_free(&m->frame);
     free(m->ev);
     free(m->w);
-    free(m->evq);
+    queue_free(&m->evq);
     free(m);
 }
 
@@ -360,8 +335,8 @@ size_t alb_model_events(const alb_model *m, const alb_event **ev)
 {
     if (m->cyc)
         return sim_cycle_events(m->cyc, ev);
-    *ev = m->evq + m->ev_head;
-    return m->ev_n;
+    *ev = queue_front(&m->evq);
+    return m->evq.n;
 }
 
 void alb_model_consume(alb_model *m, size_t n)
@@ -370,12 +345,7 @@ void alb_model_consume(alb_model *m, size_t n)
         sim_cycle_consume(m->cyc, n);
         return;
     }
-    if (n > m->ev_n)
-        n = m->ev_n;
-    m->ev_head += n;
-    m->ev_n -= n;
-    if (!m->ev_n)
-        m->ev_head = 0;
+    queue_drop(&m->evq, n);
 }
 
 int alb_model_event(alb_model *m, alb_event *out)

@@ -21,6 +21,44 @@ int alb_fidelity_parse(const char *s, alb_fidelity *f)
     return -1;
 }
 
+/* ---- queues ---- */
+
+void *queue_push(item_queue *q)
+{
+    if (q->head + q->n == q->cap) {
+        if (q->head) {   /* reuse what the reader took */
+            memmove(q->a, queue_front(q), q->n * q->size);
+            q->head = 0;
+        } else {
+            size_t cap = q->cap ? 2 * q->cap : 256;
+            void *na = realloc(q->a, cap * q->size);
+            if (!na)
+                return NULL;
+            q->a = na;
+            q->cap = cap;
+        }
+    }
+    void *item = (char *)q->a + (q->head + q->n++) * q->size;
+    return memset(item, 0, q->size);
+}
+
+void queue_drop(item_queue *q, size_t k)
+{
+    if (k > q->n)
+        k = q->n;
+    q->head += k;
+    q->n -= k;
+    if (!q->n)
+        q->head = 0;
+}
+
+void queue_free(item_queue *q)
+{
+    free(q->a);
+    q->a = NULL;
+    q->head = q->n = q->cap = 0;
+}
+
 /* ---- bins ---- */
 
 int bins_init(sim_bins *b)

@@ -136,10 +136,8 @@ struct sim_cycle {
     /* events (docs/cosim.md): kinds recorded, the queue, writes in flight */
     uint32_t record;
     uint32_t happened;           /* kinds that happened in the last cycle */
-    alb_event *evq;
-    size_t ev_head, ev_n, ev_cap;
-    pending_write *wq;
-    size_t wq_head, wq_n, wq_cap;
+    item_queue evq;              /* alb_event */
+    item_queue wq;               /* pending_write, in write order */
     /* the trace */
     alb_vcd *vcd;
     uint64_t vcd_from, vcd_to;
@@ -153,23 +151,11 @@ struct sim_cycle {
 
 static alb_event *event_new(sim_cycle *m, uint32_t kind, int64_t t)
 {
-    if (m->ev_head + m->ev_n == m->ev_cap) {
-        if (m->ev_head) {   /* reuse what the reader took */
-            memmove(m->evq, m->evq + m->ev_head, m->ev_n * sizeof *m->evq);
-            m->ev_head = 0;
-        } else {
-            size_t cap = m->ev_cap ? 2 * m->ev_cap : 256;
-            alb_event *nq = realloc(m->evq, cap * sizeof *nq);
-            if (!nq) {
-                m->err = alb_diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory for events");
-                return NULL;
-            }
-            m->evq = nq;
-            m->ev_cap = cap;
-        }
+    alb_event *e = queue_push(&m->evq);
+    if (!e) {
+        m->err = alb_diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory for events");
+        return NULL;
     }
-    alb_event *e = &m->evq[m->ev_head + m->ev_n++];
-    memset(e, 0, sizeof *e);
     e->cycle = (uint64_t)t;
     e->kind = kind;
     return e;
@@ -499,22 +485,10 @@ static void engine_tick(sim_cycle *m, int64_t t, uint64_t queue_start)
 
 static pending_write *write_new(sim_cycle *m)
 {
-    if (m->wq_head + m->wq_n == m->wq_cap) {
-        if (m->wq_head) {
-            memmove(m->wq, m->wq + m->wq_head, m->wq_n * sizeof *m->wq);
-            m->wq_head = 0;
-        } else {
-            size_t cap = m->wq_cap ? 2 * m->wq_cap : 1024;
-            pending_write *nq = realloc(m->wq, cap * sizeof *nq);
-            if (!nq) {
-                m->err = alb_diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory for events");
-                return NULL;
-            }
-            m->wq = nq;
-            m->wq_cap = cap;
-        }
-    }
-    return &m->wq[m->wq_head + m->wq_n++];
+    pending_write *pw = queue_push(&m->wq);
+    if (!pw)
+        m->err = alb_diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory for events");
+    return pw;
 }
 
 /* vp_fill of the cell the fill unit takes in cycle t, noting which of its
@@ -592,8 +566,8 @@ static void fill_tick(sim_cycle *m, int64_t t, uint64_t queue_start)
 /* The pipeline's last stage in cycle t: the writes due at its end. */
 static void writes_due(sim_cycle *m, int64_t t)
 {
-    while (m->wq_n && m->wq[m->wq_head].at == t) {
-        const pending_write *pw = &m->wq[m->wq_head];
+    while (m->wq.n && ((const pending_write *)queue_front(&m->wq))->at == t) {
+        const pending_write *pw = queue_front(&m->wq);
         alb_event *e = event(m, ALB_EV_WRITE, t);
         if (!e)
             return;
@@ -603,11 +577,8 @@ static void writes_due(sim_cycle *m, int64_t t)
         e->face = pw->face;
         e->level = pw->level;
         memcpy(e->rgb, pw->rgb, sizeof e->rgb);
-        m->wq_head++;
-        m->wq_n--;
+        queue_drop(&m->wq, 1);
     }
-    if (!m->wq_n)
-        m->wq_head = 0;
 }
 
 /* ---- frames ---- */
@@ -836,7 +807,7 @@ static void tick(sim_cycle *m, int64_t t)
     parser_tick(m, t, fifo_start);
     engine_tick(m, t, queue_start);
     fill_tick(m, t, queue_start);
-    if (m->wq_n)
+    if (m->wq.n)
         writes_due(m, t);
     if (m->fifo.push) {
         alb_sim_counters *c = bins_at(&m->bins, t);
@@ -866,6 +837,8 @@ alb_err sim_cycle_open(sim_cycle **out, const alb_profile *p, const sim_cycle_co
     m->prev_retire = -1;
     m->fill.last_write = -1;
     m->latency = 1 + p->divider_latency + p->shade_latency;
+    m->evq = ITEM_QUEUE(alb_event);
+    m->wq = ITEM_QUEUE(pending_write);
     alb_ws_reader_init(&m->rd, NULL, 0, m->name);
     m->rd.max_faces = p->frame_faces;
     alb_err e = alb_vp_create(&m->vp, p, m->d);
@@ -911,8 +884,8 @@ void sim_cycle_close(sim_cycle *m)
     free(m->pipe.stage);
     free(m->ev);
     free(m->frames);
-    free(m->evq);
-    free(m->wq);
+    queue_free(&m->evq);
+    queue_free(&m->wq);
     bins_free(&m->bins);
     cycle_map_free(&m->map);
     alb_frame_free(&m->frame);
@@ -996,18 +969,13 @@ uint64_t sim_cycle_now(const sim_cycle *m) { return (uint64_t)m->t; }
 
 size_t sim_cycle_events(const sim_cycle *m, const alb_event **ev)
 {
-    *ev = m->evq + m->ev_head;
-    return m->ev_n;
+    *ev = queue_front(&m->evq);
+    return m->evq.n;
 }
 
 void sim_cycle_consume(sim_cycle *m, size_t k)
 {
-    if (k > m->ev_n)
-        k = m->ev_n;
-    m->ev_head += k;
-    m->ev_n -= k;
-    if (!m->ev_n)
-        m->ev_head = 0;
+    queue_drop(&m->evq, k);
 }
 
 const alb_frame *sim_cycle_frame(const sim_cycle *m, const alb_vp_stats **st, const alb_sim_counters **c)
@@ -1091,17 +1059,17 @@ alb_err sim_run_cycle(const alb_profile *p, const uint32_t *w, size_t n, const c
         e = m->err;
     while (!e && !sim_cycle_done(m)) {
         e = sim_cycle_step(m, 4096, 0, NULL);
-        if (!e && m->ev_n && opt->on_events) {
-            if (opt->on_events(opt->events_ctx, m->evq + m->ev_head, m->ev_n))
+        if (!e && m->evq.n && opt->on_events) {
+            if (opt->on_events(opt->events_ctx, queue_front(&m->evq), m->evq.n))
                 e = ALB_ERR_IO;
-            sim_cycle_consume(m, m->ev_n);
+            sim_cycle_consume(m, m->evq.n);
         }
         if (!e && interrupted)
             e = alb_diag_at(d, ALB_ERR_INTERRUPTED, name, 0, 0, "interrupted at cycle %lld; the trace "
                         "is complete up to it", (long long)m->t);
     }
-    if (!e && m->ev_n && opt->on_events &&
-        opt->on_events(opt->events_ctx, m->evq + m->ev_head, m->ev_n))
+    if (!e && m->evq.n && opt->on_events &&
+        opt->on_events(opt->events_ctx, queue_front(&m->evq), m->evq.n))
         e = ALB_ERR_IO;
     /* once interrupted, the process is on its way out: a second signal must
      * not cut the trace short */
@@ -1122,6 +1090,8 @@ alb_err sim_run_cycle(const alb_profile *p, const uint32_t *w, size_t n, const c
 
 static const char *const event_names[] = {"push", "pop", "load", "start", "cell",
                                           "end",  "fill", "write", "frame"};
+
+size_t alb_event_size(void) { return sizeof(alb_event); }
 
 const char *alb_sim_event_name(uint32_t kind)
 {

@@ -28,6 +28,20 @@ alb_sim_counters *bins_at(sim_bins *b, int64_t t);
 int bins_retire(sim_bins *b, int64_t r);
 #define CNT(field) offsetof(alb_sim_counters, field)
 
+/* A first-in first-out queue of fixed-size items in one array (events,
+ * writes in flight): items [head, head + n) are queued. */
+typedef struct {
+    void *a;
+    size_t head, n, cap, size;
+} item_queue;
+#define ITEM_QUEUE(type) ((item_queue){NULL, 0, 0, 0, sizeof(type)})
+/* Room for one more at the tail, zeroed; NULL if out of memory. */
+void *queue_push(item_queue *q);
+/* The oldest item (n > 0), and the queue without its k oldest. */
+static inline void *queue_front(const item_queue *q) { return (char *)q->a + q->head * q->size; }
+void queue_drop(item_queue *q, size_t k);
+void queue_free(item_queue *q);
+
 /* Per-pixel time (docs/microarchitecture.md): charges per cell, per level,
  * spread over the samples at the end of the frame. */
 typedef struct {

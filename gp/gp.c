@@ -602,3 +602,41 @@ alb_err alb_gp_run(alb_gp *gp, alb_ws_buf *out, alb_gp_stats *total, alb_diag *d
         *total = sum;
     return ALB_OK;
 }
+
+alb_err alb_gp_compile_file(const char *scene, const char *profile, const char *const *sets,
+                            uint32_t **w, size_t *n, alb_diag *d)
+{
+    alb_diag local;
+    if (!d)
+        d = &local;
+    alb_diag_init(d, NULL);
+    *w = NULL;
+    *n = 0;
+    alb_profile p;
+    alb_err e = alb_profile_open(&p, profile, sets, d);
+    if (e)
+        return e;
+    alb_scene s;
+    e = scene ? alb_scene_load(scene, &s, d) : alb_scene_load_builtin(&s, d);
+    if (e)
+        return e;
+    if ((e = alb_scene_resolve_screenspace(&s, p.width, p.height, d))) {
+        alb_scene_free(&s);
+        return e;
+    }
+    alb_gp *gp = NULL;
+    alb_ws_buf b;
+    alb_ws_buf_init(&b);
+    e = alb_gp_create(&gp, &s, &p, d);
+    if (!e)
+        e = alb_gp_run(gp, &b, NULL, d);
+    alb_gp_destroy(gp);
+    alb_scene_free(&s);
+    if (e) {
+        alb_ws_buf_free(&b);
+        return e;
+    }
+    *w = b.w;
+    *n = b.n;
+    return ALB_OK;
+}

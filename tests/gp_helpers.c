@@ -1,6 +1,8 @@
 /* gp_helpers.c — see gp_helpers.h. */
 #include "gp_helpers.h"
+#include "../tools/scenegen.h"
 
+#include <dirent.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -154,3 +156,93 @@ char *builtin_scene_copy(void)
     }
     return copy;
 }
+
+void profile_set_all(alb_profile *p, const char *sets)
+{
+    char buf[256], err[256];
+    snprintf(buf, sizeof buf, "%s", sets);
+    for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
+        alb_profile_set(p, tok, err, sizeof err);
+}
+
+int stream_of(const char *text, const alb_profile *p, alb_ws_buf *b)
+{
+    alb_scene s;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_ws_buf_init(b);
+    if (alb_scene_parse(text, strlen(text), "t", &s, &d))
+        return -1;
+    alb_gp *gp = NULL;
+    alb_err e = alb_gp_create(&gp, &s, p, &d);
+    if (!e)
+        e = alb_gp_run(gp, b, NULL, &d);
+    alb_gp_destroy(gp);
+    alb_scene_free(&s);
+    return e ? -1 : 0;
+}
+
+void vector_profile(const char *name, alb_profile *p)
+{
+    char path[600], opts[1024] = "";
+    snprintf(path, sizeof path, "test-vectors/%s/options", name);
+    FILE *f = fopen(path, "r");
+    if (f) {
+        size_t k = fread(opts, 1, sizeof opts - 1, f);
+        opts[k] = 0;
+        fclose(f);
+    }
+    alb_profile_lookup("a512", p);
+    char err[256];
+    for (char *tok = strtok(opts, " \n"); tok; tok = strtok(NULL, " \n")) {
+        if (!strcmp(tok, "--profile") && (tok = strtok(NULL, " \n")))
+            alb_profile_lookup(tok, p);
+        else if (!strcmp(tok, "--set") && (tok = strtok(NULL, " \n")))
+            alb_profile_set(p, tok, err, sizeof err);
+    }
+}
+
+unsigned for_each_vector(vector_fn fn, void *ctx)
+{
+    DIR *dir = opendir("test-vectors");
+    if (!dir)
+        return 0;
+    unsigned n = 0;
+    struct dirent *de;
+    while ((de = readdir(dir))) {
+        if (de->d_name[0] == '.')
+            continue;
+        char path[600];
+        snprintf(path, sizeof path, "test-vectors/%s/expected.stream", de->d_name);
+        alb_ws_buf b;
+        alb_ws_buf_init(&b);
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        if (alb_ws_read_file(path, &b.w, &b.n, &d))
+            continue;   /* not a vector */
+        alb_profile p;
+        vector_profile(de->d_name, &p);
+        fn(de->d_name, &p, &b, ctx);
+        alb_ws_buf_free(&b);
+        n++;
+    }
+    closedir(dir);
+    return n;
+}
+
+char *random_frames_stream(uint64_t seed, const scenegen_params *gp, unsigned extra,
+                           const alb_profile *p, alb_ws_buf *b)
+{
+    char *text = scenegen_random(seed, gp), *more = NULL;
+    if (text && (more = realloc(text, strlen(text) + 7 * extra + 1)) != NULL) {
+        text = more;
+        for (unsigned i = 0; i < extra; i++)
+            strcat(text, "\nframe\n");
+    }
+    if (!more || stream_of(text, p, b)) {
+        free(more ? more : text);
+        return NULL;
+    }
+    return text;
+}
+

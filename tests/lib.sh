@@ -25,3 +25,5 @@ finish() {
     echo "$pass passed, $fail failed"
     [[ $fail -eq 0 && $pass -gt 0 ]]
 }
+
+source "$(dirname "${BASH_SOURCE[0]}")/sanitizers.sh"

@@ -44,6 +44,9 @@ run vectors "$bin" vectors check test-vectors
 run malformed bash tests/malformed.sh "$bin"
 run fuzz-replay bash tests/fuzz-replay.sh "$build" "${unit[@]}"
 run firmware bash tests/firmware.sh "$build"
+run dpi bash tests/dpi.sh "$build"
+run python bash tests/python.sh "$build"
+run install bash tests/install.sh "$build"
 run usb-umockdev bash tests/usb-umockdev.sh "$build" "$bin"
 echo "$total_pass passed, $total_fail failed"
 [[ $status -eq 0 && $total_fail -eq 0 ]]

@@ -12,15 +12,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Apply "key=value key=value ..." to a profile (the test's own, valid). */
-static void profile_set_all(alb_profile *p, const char *sets)
-{
-    char buf[256], err[256];
-    snprintf(buf, sizeof buf, "%s", sets);
-    for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
-        alb_profile_set(p, tok, err, sizeof err);
-}
-
 #define MAX_FRAMES 8
 
 typedef struct {
@@ -187,23 +178,6 @@ TEST(timing_full_fifo_stalls_the_gp)
 }
 
 /* The stream of a scene text for profile p. */
-static int stream_of(const char *text, const alb_profile *p, alb_ws_buf *b)
-{
-    alb_scene s;
-    alb_diag d;
-    alb_diag_init(&d, NULL);
-    alb_ws_buf_init(b);
-    if (alb_scene_parse(text, strlen(text), "t", &s, &d))
-        return -1;
-    alb_gp *gp = NULL;
-    alb_err e = alb_gp_create(&gp, &s, p, &d);
-    if (!e)
-        e = alb_gp_run(gp, b, NULL, &d);
-    alb_gp_destroy(gp);
-    alb_scene_free(&s);
-    return e ? -1 : 0;
-}
-
 static bool counters_equal(const alb_sim_counters *a, const alb_sim_counters *b)
 {
 #define EQ(field) if (a->field != b->field) return false;
@@ -673,24 +647,6 @@ TEST(timing_vcd_pixel_writes_of_the_worked_example)
 }
 
 
-/* A random scene with `extra` more `frame` lines (each copies the last) and
- * its stream in *b; the scene's text (to free), or NULL on failure. */
-static char *random_frames_stream(uint64_t seed, const scenegen_params *gp, unsigned extra,
-                                  const alb_profile *p, alb_ws_buf *b)
-{
-    char *text = scenegen_random(seed, gp), *more = NULL;
-    if (text && (more = realloc(text, strlen(text) + 7 * extra + 1)) != NULL) {
-        text = more;
-        for (unsigned i = 0; i < extra; i++)
-            strcat(text, "\nframe\n");
-    }
-    if (!more || stream_of(text, p, b)) {
-        free(more ? more : text);
-        return NULL;
-    }
-    return text;
-}
-
 /* Over whole traces of random scenes (several frames, odd fill rates and
  * latencies, stalls): the samples written by the pipeline's last stage sum
  * to the frames' samples_written, and the samples through it to
@@ -759,47 +715,16 @@ TEST(timing_vcd_pixel_writes_match_the_counters)
 
 /* cycle == timed == functional on every golden vector's stream, with the
  * vector's own profile (its options file: --profile and --set only). */
+static void vector_fidelities(const char *name, const alb_profile *p, const alb_ws_buf *b,
+                              void *ctx)
+{
+    (void)ctx;
+    check_fidelities(p, b, name);
+}
+
 TEST(timing_fidelities_agree_on_every_vector)
 {
-    DIR *dir = opendir("test-vectors");
-    CHECK(dir != NULL);
-    if (!dir)
-        return;
-    struct dirent *de;
-    unsigned n = 0;
-    while ((de = readdir(dir))) {
-        if (de->d_name[0] == '.')
-            continue;
-        char path[600], opts[1024] = "";
-        snprintf(path, sizeof path, "test-vectors/%s/options", de->d_name);
-        FILE *f = fopen(path, "r");
-        if (f) {
-            size_t k = fread(opts, 1, sizeof opts - 1, f);
-            opts[k] = 0;
-            fclose(f);
-        }
-        alb_profile p;
-        alb_profile_lookup("a512", &p);
-        char err[256];
-        for (char *tok = strtok(opts, " \n"); tok; tok = strtok(NULL, " \n")) {
-            if (!strcmp(tok, "--profile") && (tok = strtok(NULL, " \n")))
-                alb_profile_lookup(tok, &p);
-            else if (!strcmp(tok, "--set") && (tok = strtok(NULL, " \n")))
-                alb_profile_set(&p, tok, err, sizeof err);
-        }
-        snprintf(path, sizeof path, "test-vectors/%s/expected.stream", de->d_name);
-        alb_ws_buf b;
-        alb_ws_buf_init(&b);
-        alb_diag d;
-        alb_diag_init(&d, NULL);
-        if (alb_ws_read_file(path, &b.w, &b.n, &d))
-            continue;   /* not a vector */
-        check_fidelities(&p, &b, de->d_name);
-        alb_ws_buf_free(&b);
-        n++;
-    }
-    closedir(dir);
-    CHECK(n >= 12);
+    CHECK(for_each_vector(vector_fidelities, NULL) >= 12);
 }
 
 /* The timed model fed a stream in pieces of any size (the simulated board's

@@ -106,3 +106,40 @@ size_t alb_frame_count_differences(const alb_frame *a, const alb_frame *b)
                 (a->cycles && b->cycles && a->cycles[i] != b->cycles[i]);
     return diff;
 }
+
+bool alb_frame_first_diff(const alb_frame *a, const alb_frame *b, size_t *at,
+                          const char **channel, uint64_t *va, uint64_t *vb, size_t *count)
+{
+    size_t n = (size_t)a->width * a->height, found = 0;
+    for (size_t i = 0; i < n; i++) {
+        const char *ch = NULL;
+        uint64_t x = 0, y = 0;
+        static const char *const rgb[3] = {"vp.R", "vp.G", "vp.B"};
+        if (a->face[i] != b->face[i])
+            ch = "face.id", x = a->face[i], y = b->face[i];
+        for (int c = 0; c < 3 && !ch; c++)
+            if (a->rgb[3 * i + c] != b->rgb[3 * i + c])
+                ch = rgb[c], x = a->rgb[3 * i + c], y = b->rgb[3 * i + c];
+        if (!ch && a->depth[i] != b->depth[i])
+            ch = "vp.depth", x = a->depth[i], y = b->depth[i];
+        if (!ch && a->level[i] != b->level[i])
+            ch = "vp.level", x = a->level[i], y = b->level[i];
+        if (!ch && a->coverage[i] != b->coverage[i])
+            ch = "vp.coverage", x = a->coverage[i], y = b->coverage[i];
+        if (!ch && a->cycles && b->cycles && a->cycles[i] != b->cycles[i])
+            ch = "vp.cycles", x = a->cycles[i], y = b->cycles[i];
+        if (!ch)
+            continue;
+        if (!found++) {
+            *at = i;
+            *channel = ch;
+            *va = x;
+            *vb = y;
+            if (!count)
+                return true;
+        }
+    }
+    if (count)
+        *count = found;
+    return found > 0;
+}

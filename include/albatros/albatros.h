@@ -7,6 +7,8 @@
 #define ALBATROS_H
 
 #include "diag.h"
+#include "dpi.h"
+#include "dump.h"
 #include "exr.h"
 #include "file.h"
 #include "json.h"

@@ -24,6 +24,11 @@ typedef enum {
 
 const char *alb_strerror(alb_err e);
 
+/* Free what the library allocated for the caller (streams of
+ * alb_ws_read_file and alb_gp_compile_file): for bindings whose allocator
+ * is not the library's. */
+void alb_free(void *p);
+
 typedef struct {
     char file[256];
     unsigned line, col;    /* 1-based; 0 = not applicable */

@@ -35,6 +35,10 @@ int alb_file_read_text(FILE *f, char **buf, size_t *len);
  * *why (static text) says why: the system's reason, "is a directory",
  * "is a FIFO, not a regular file", ... */
 FILE *alb_file_open_input(const char *path, bool regular_only, const char **why);
+/* The whole file at path as alb_file_read_all reads it, with the error
+ * described in d ("cannot open: ...", "read error: ...", "too large for
+ * memory"). */
+alb_err alb_file_load(const char *path, char **buf, size_t *len, alb_diag *d);
 
 /* ---- outputs ---- */
 

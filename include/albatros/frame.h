@@ -49,6 +49,13 @@ typedef struct {
     double psnr;                /* dB against 2^colour_bits - 1; +inf if equal */
 } alb_frame_diff;
 void alb_frame_compare(const alb_frame *a, const alb_frame *b, alb_frame_diff *r);
+/* The first pixel (raster order) and plane where two frames of one size
+ * differ, in the order face.id, vp.R, vp.G, vp.B, vp.depth, vp.level,
+ * vp.coverage, vp.cycles (where both have them): true with *at the pixel's
+ * index, *channel its name and *va, *vb the values; false if none.  *count
+ * (may be NULL) gets the number of pixels that differ. */
+bool alb_frame_first_diff(const alb_frame *a, const alb_frame *b, size_t *at,
+                          const char **channel, uint64_t *va, uint64_t *vb, size_t *count);
 /* Pixels where any plane differs — colour, depth, face, level, coverage, and
  * cycles where both have them; (size_t)-1 if the sizes or formats differ. */
 size_t alb_frame_count_differences(const alb_frame *a, const alb_frame *b);

@@ -50,6 +50,14 @@ alb_err alb_gp_run(alb_gp *gp, alb_ws_buf *out, alb_gp_stats *st, alb_diag *d);
 
 void alb_gp_stats_add(alb_gp_stats *sum, const alb_gp_stats *s);
 
+/* The whole road from a scene file to its word stream in one call, for
+ * testbenches and bindings: scene (docs/scene-format.md; NULL: the built-in
+ * scene) through the GP of the named profile with "key=value" overrides
+ * (NULL-terminated, or NULL).  *w is malloc'd (alb_free), *n its words.
+ * OBJ files need a camera: load them with alb_scene_load_obj. */
+alb_err alb_gp_compile_file(const char *scene, const char *profile, const char *const *sets,
+                            uint32_t **w, size_t *n, alb_diag *d);
+
 #pragma GCC visibility pop
 
 #endif

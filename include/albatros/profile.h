@@ -4,6 +4,8 @@
 #ifndef ALBATROS_PROFILE_H
 #define ALBATROS_PROFILE_H
 
+#include "diag.h"
+
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -59,6 +61,10 @@ const char *const *alb_profile_names(void);
 int alb_profile_set(alb_profile *p, const char *assignment, char *err, size_t errlen);
 /* Check the constraints between fields; -1 with a message on failure. */
 int alb_profile_check(const alb_profile *p, char *err, size_t errlen);
+/* The named profile (NULL: a512) with "key=value" overrides (a
+ * NULL-terminated list, or NULL), checked: what --profile and --set give.
+ * ALB_ERR_CONFIG with d saying why. */
+alb_err alb_profile_open(alb_profile *p, const char *name, const char *const *sets, alb_diag *d);
 /* One line per field, "key=value", as accepted by alb_profile_set. */
 void alb_profile_describe(const alb_profile *p, char *buf, size_t len);
 

@@ -83,6 +83,9 @@ typedef struct {
     uint32_t crc;             /* FRAME: CRC-32 of the resolved frame (docs/usb-protocol.md) */
 } alb_event;
 
+/* sizeof(alb_event), for bindings that lay the struct out themselves. */
+size_t alb_event_size(void);
+
 /* The kind's name ("push", ...), NULL for anything else; a comma-separated
  * list of names, or "all", into a mask (-1 naming the bad one); one event as
  * the text line of docs/cosim.md (snprintf's return). */
