@@ -357,6 +357,7 @@ alb_err alb_out_open(alb_out *o, const char *path, unsigned flags, alb_diag *d)
 {
     out_reset(o, path);
     if ((flags & ALB_OUT_DASH) && strcmp(path, "-") == 0) {
+        o->path = "stdout";   /* for messages */
         o->fd = STDOUT_FILENO;
         o->is_stdout = true;
         o->seekable = lseek(o->fd, 0, SEEK_CUR) >= 0;

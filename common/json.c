@@ -92,13 +92,17 @@ void alb_json_begin_array(alb_json *j) { open_container(j, '[', false, false); }
 void alb_json_begin_lines(alb_json *j) { open_container(j, '[', false, true); }
 void alb_json_end_array(alb_json *j) { close_container(j, ']', false); }
 
-/* Bytes of the UTF-8 sequence at s (at most n), 0 if it is not one:
- * overlong forms, surrogates and code points above U+10FFFF are not. */
-static size_t utf8_len(const unsigned char *s, size_t n)
+/* The UTF-8 sequence at s (at most n bytes): its length if whole and
+ * valid, else 0 with *bad the bytes to replace by one U+FFFD — the lead
+ * byte and what follows of a valid start (Unicode's "maximal subpart", as
+ * Python and browsers decode): overlong forms, surrogates and code points
+ * above U+10FFFF are not UTF-8. */
+static size_t utf8_len(const unsigned char *s, size_t n, size_t *bad)
 {
     unsigned char c = s[0];
     size_t len;
     unsigned char lo = 0x80, hi = 0xBF;
+    *bad = 1;
     if (c >= 0xC2 && c <= 0xDF)
         len = 2;
     else if (c >= 0xE0 && c <= 0xEF) {
@@ -116,11 +120,12 @@ static size_t utf8_len(const unsigned char *s, size_t n)
     } else {
         return 0;
     }
-    if (n < len || s[1] < lo || s[1] > hi)
-        return 0;
-    for (size_t k = 2; k < len; k++)
-        if (s[k] < 0x80 || s[k] > 0xBF)
+    for (size_t k = 1; k < len; k++) {
+        if (k >= n || s[k] < (k == 1 ? lo : 0x80) || s[k] > (k == 1 ? hi : 0xBF)) {
+            *bad = k;
             return 0;
+        }
+    }
     return len;
 }
 
@@ -146,13 +151,13 @@ static void put_string(FILE *f, const char *str, size_t n)
             fputc(c, f);
             i++;
         } else {
-            size_t len = utf8_len(s + i, n - i);
+            size_t bad, len = utf8_len(s + i, n - i, &bad);
             if (len) {
                 fwrite(s + i, 1, len, f);
                 i += len;
             } else {
                 fputs("\\ufffd", f);   /* not UTF-8: the replacement character */
-                i++;
+                i += bad;
             }
         }
     }

@@ -363,7 +363,10 @@ bool cli_isatty_stderr(void) { return isatty(2) != 0; }
 char *cli_frame_path(const char *path, unsigned number, unsigned nframes)
 {
     const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
-    if (nframes <= 1)
+    struct stat st;
+    /* a device or FIFO takes every frame, as it is: /dev/null.0000 would
+     * be a new file in /dev */
+    if (nframes <= 1 || (stat(path, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)))
         return alb_strprintf("%s", path);
     if (!dot || (slash && dot < slash))
         dot = path + strlen(path);

@@ -289,15 +289,24 @@ static uint32_t *frame_numbers(const uint32_t *w, size_t n, unsigned *count)
     return num;
 }
 
-/* --events: each batch of the cycle model's events as text lines. */
+/* --events: each batch of the cycle model's events as text lines; the
+ * first failed write's errno kept for the message. */
+typedef struct {
+    FILE *f;
+    int err;
+} events_ctx;
+
 static int write_events(void *ctx, const alb_event *ev, size_t n)
 {
-    FILE *f = ctx;
+    events_ctx *c = ctx;
     char line[160];
     for (size_t i = 0; i < n; i++) {
         int len = alb_sim_event_format(&ev[i], line, sizeof line);
-        if (len < 0 || fwrite(line, 1, (size_t)len, f) != (size_t)len)
+        errno = 0;
+        if (len < 0 || fwrite(line, 1, (size_t)len, c->f) != (size_t)len) {
+            c->err = errno ? errno : EIO;
             return -1;
+        }
     }
     return 0;
 }
@@ -367,12 +376,13 @@ static int run_vp(render_args *a, const alb_profile *prof, const uint32_t *w, si
                              alb_sim_trace_unit_name(i); i++)
             if (a->vcd_units >> i & 1 && alb_vcd_keep_scope(opt.vcd, alb_sim_trace_unit_name(i))) {
                 fprintf(stderr, "albatros %s: --vcd-units: too many units\n", a->cmd);
-                alb_vcd_close(opt.vcd);
+                alb_vcd_abort(opt.vcd);
                 return 2;
             }
     }
     alb_out events_out;
     FILE *events = NULL;
+    events_ctx ec = {NULL, 0};
     if (a->events) {
         alb_diag ed;
         alb_diag_init(&ed, NULL);
@@ -380,31 +390,35 @@ static int run_vp(render_args *a, const alb_profile *prof, const uint32_t *w, si
             !(events = alb_out_stdio(&events_out, &ed))) {
             alb_diag_print(&ed, stderr);
             if (opt.vcd)
-                alb_vcd_close(opt.vcd);
+                alb_vcd_abort(opt.vcd);
             return 1;
         }
         opt.events = a->events_only_given ? a->events_only : ALB_EV_ALL;
         opt.on_events = write_events;
-        opt.events_ctx = events;
+        ec.f = events;
+        opt.events_ctx = &ec;
     }
     sink_ctx s = {a, alb_profile_levels(prof)};
     json_head(a, prof, true);
     alb_err e = alb_sim_run(prof, w, n, name, &opt, write_outputs, &s, &d);
     json_tail(a);
-    if (opt.vcd && alb_vcd_close(opt.vcd)) {
-        fprintf(stderr, "albatros %s: %s: write error (the trace was not written)\n", a->cmd,
-                a->vcd);
+    int vcd_err = opt.vcd ? alb_vcd_close(opt.vcd) : 0;
+    if (vcd_err) {
+        fprintf(stderr, "albatros %s: %s: write error: %s (the trace was not written)\n", a->cmd,
+                a->vcd, strerror(vcd_err));
         e = e ? e : ALB_ERR_IO;
     }
     if (events) {
         alb_diag ed;
         alb_diag_init(&ed, NULL);
-        /* a failed write (events_ctx) or flush: the old file, if any, stays */
-        if (ferror(events) || alb_out_commit(&events_out, &ed)) {
-            if (!ed.msg[0])
-                alb_out_abort(&events_out);
-            fprintf(stderr, "albatros %s: %s: write error%s%s\n", a->cmd, a->events,
-                    ed.msg[0] ? ": " : "", ed.msg[0] ? ed.msg : "");
+        /* a failed write (write_events) or flush: the old file, if any, stays */
+        if (ec.err) {
+            alb_out_abort(&events_out);
+            fprintf(stderr, "albatros %s: %s: write error: %s\n", a->cmd,
+                    strcmp(a->events, "-") ? a->events : "stdout", strerror(ec.err));
+            e = e ? e : ALB_ERR_IO;
+        } else if (alb_out_commit(&events_out, &ed)) {
+            alb_diag_print(&ed, stderr);
             e = e ? e : ALB_ERR_IO;
         }
     }

@@ -70,7 +70,7 @@ static void catch_signals(void)
 /* Whatever a subcommand printed must have reached stdout: a full disk, a
  * closed pipe (with SIGPIPE ignored) or a device error is an error, not
  * exit status 0. */
-static int close_stdout(void)
+static int close_stdout(bool quiet)
 {
     errno = 0;
     bool bad = fflush(stdout) != 0 || ferror(stdout);
@@ -79,7 +79,7 @@ static int close_stdout(void)
         bad = true;
         err = errno;
     }
-    if (bad)
+    if (bad && !quiet)
         fprintf(stderr, "albatros: stdout: write error: %s\n", err ? strerror(err) : "I/O error");
     return bad ? -1 : 0;
 }
@@ -94,18 +94,19 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
         usage(stdout);
-        return close_stdout() ? 1 : 0;
+        return close_stdout(false) ? 1 : 0;
     }
     if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "version") == 0) {
         printf("albatros %s\n", ALBATROS_VERSION);
-        return close_stdout() ? 1 : 0;
+        return close_stdout(false) ? 1 : 0;
     }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         if (strcmp(argv[1], commands[i].name) == 0) {
             catch_signals();
             int rc = commands[i].run(argc - 2, argv + 2);
             cli_forget_files();
-            if (close_stdout() && rc == 0)
+            /* a run that failed has said why (a write to "-" among them) */
+            if (close_stdout(rc != 0) && rc == 0)
                 rc = commands[i].write_failed;
             return rc;
         }

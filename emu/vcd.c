@@ -48,7 +48,8 @@ static void flush(alb_vcd *v)
         if (k < 0) {
             if (errno == EINTR)
                 continue;
-            v->failed = 1;
+            if (!v->failed)
+                v->failed = errno ? errno : EIO;
             break;
         }
         off += (size_t)k;
@@ -248,6 +249,16 @@ void alb_vcd_end(alb_vcd *v, uint64_t cycle)
     }
 }
 
+void alb_vcd_abort(alb_vcd *v)
+{
+    if (!v)
+        return;
+    if (active == v)
+        active = NULL;
+    alb_out_abort(&v->out);
+    free(v);
+}
+
 int alb_vcd_close(alb_vcd *v)
 {
     if (!v)
@@ -260,8 +271,8 @@ int alb_vcd_close(alb_vcd *v)
     int bad = v->failed;
     if (bad)
         alb_out_abort(&v->out);   /* the old trace, if any, stays */
-    else
-        bad = alb_out_commit(&v->out, &d) != ALB_OK;
+    else if (alb_out_commit(&v->out, &d) != ALB_OK)
+        bad = errno ? errno : EIO;
     free(v);
-    return bad ? -1 : 0;
+    return bad;
 }

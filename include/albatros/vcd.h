@@ -36,8 +36,11 @@ void alb_vcd_time(alb_vcd *v, uint64_t cycle, int half);
 void alb_vcd_set(alb_vcd *v, unsigned id, uint64_t value);
 /* A final timestamp after the last cycle. */
 void alb_vcd_end(alb_vcd *v, uint64_t cycle);
-/* Flush and close; -1 if any write failed. */
+/* Flush and close: the trace goes under its name (file.h); 0, or the
+ * errno of the first failed write (the old file, if any, is then kept). */
 int alb_vcd_close(alb_vcd *v);
+/* Give up before the run: nothing is written, an old trace stays. */
+void alb_vcd_abort(alb_vcd *v);
 
 #pragma GCC visibility pop
 
