@@ -167,8 +167,8 @@ int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, 
     if (strcmp(name, "fov") == 0) {
         char *end;
         double v = strtod(value, &end);
-        if (end == value || *end || !(v > 0 && v < 180)) {
-            snprintf(err, len, "--fov %s: expected degrees in (0, 180)", value);
+        if (end == value || *end || !(v >= ALB_SCENE_MIN_FOV && v < 180)) {
+            snprintf(err, len, "--fov %s: expected degrees in [%g, 180)", value, ALB_SCENE_MIN_FOV);
             return -1;
         }
         o->cam.fov_y = v;

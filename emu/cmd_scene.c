@@ -64,6 +64,13 @@ static int scene_opt(void *ctx, const char *name, const char *value)
         fprintf(stderr, "albatros scene: --%s %s: expected a number up to 10000000\n", name, value);
         return -1;
     }
+    /* a scene needs an object: 0 faces or 0 slivers would make one that
+     * every reader refuses ("scene has no objects") */
+    if (v == 0 && strcmp(name, "seed")) {
+        fprintf(stderr, "albatros scene: --%s 0: expected 1 to 10000000 (a scene needs a "
+                        "face)\n", name);
+        return -1;
+    }
     if (strcmp(name, "seed") == 0) {
         a->seed = v;
     } else if (strcmp(name, "faces") == 0) {

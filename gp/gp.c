@@ -150,8 +150,9 @@ static alb_err check_stream_values(const alb_scene *s, alb_diag *d)
 {
     if (!(s->near >= FLT_MIN && s->near <= FLT_MAX))
         return alb_diag_at(d, ALB_ERR_LIMIT, s->file, s->near_line, s->near_col,
-                       "near %g is outside %g .. %g: the word stream stores near as IEEE-754 "
-                       "binary32", s->near, FLT_MIN, FLT_MAX);
+                       "near %.17g is outside %.17g .. %.17g: the word stream stores near as "
+                       "IEEE-754 binary32, normal numbers only", s->near, (double)FLT_MIN,
+                       (double)FLT_MAX);
     uint32_t wn, wf;
     if (s->fog && !(fog_word(s->fog_far, s->near, &wf) && fog_word(s->fog_near, s->near, &wn)))
         return alb_diag_at(d, ALB_ERR_LIMIT, s->file, s->fog_line, s->fog_col,

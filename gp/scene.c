@@ -19,6 +19,8 @@ typedef struct {
     unsigned len, col;
 } token;
 
+#define NO_QUOTE 0u   /* parser.open_quote: every quote was closed */
+
 typedef struct {
     alb_scene *s;
     alb_diag *d;
@@ -26,6 +28,7 @@ typedef struct {
     unsigned line;
     token tok[MAX_TOKENS];
     unsigned ntok;
+    unsigned open_quote;          /* column of a '"' the line did not close */
     alb_scene_object *obj;        /* inside object ... end */
     uint8_t colour[3];
     int texture;
@@ -294,9 +297,20 @@ alb_err alb_scene_check_face(const alb_scene *s, const alb_scene_object *o, cons
                        f->id, o->name);
     vec3 nn = alb_scene_face_newell(o, f);
     double nl = v3_len(nn);
-    if (!(nl > TOL_AREA * L * L))
+    if (!(nl > TOL_AREA * L * L)) {
+        /* no area because a vertex is used twice (not in a row: that is a
+         * zero-length edge), folding the face onto itself: say so, not
+         * "collinear" (f 1 2 1 3) */
+        for (unsigned k = 0; k < n; k++)
+            for (unsigned j = k + 2; j < n; j++)
+                if (o->idx[f->first + k] == o->idx[f->first + j] && !(k == 0 && j == n - 1))
+                    return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, vertex_col(f, cols, j),
+                                   "face %u of object '%s' has zero area: vertex %u is used "
+                                   "twice (as its vertex %u and %u), folding it onto itself",
+                                   f->id, o->name, vertex_number(o, f, k), k + 1, j + 1);
         return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
                        "face %u of object '%s' has zero area (collinear vertices)", f->id, o->name);
+    }
     /* Planar: every vertex within TOL_PLANE L of the plane of the Newell
      * normal through the centroid. */
     vec3 u = v3_scale(nn, 1 / nl);
@@ -333,6 +347,7 @@ alb_err alb_scene_check_face(const alb_scene *s, const alb_scene_object *o, cons
 static void tokenize(parser *p, const char *line, size_t len)
 {
     p->ntok = 0;
+    p->open_quote = NO_QUOTE;
     size_t i = 0;
     while (i < len) {
         while (i < len && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r'))
@@ -344,6 +359,8 @@ static void tokenize(parser *p, const char *line, size_t len)
             start = ++i;
             while (i < len && line[i] != '"')
                 i++;
+            if (i >= len && !p->open_quote)
+                p->open_quote = (unsigned)start;   /* the quote's own column */
         } else {
             while (i < len && line[i] != ' ' && line[i] != '\t' && line[i] != '\r' && line[i] != '#')
                 i++;
@@ -372,10 +389,25 @@ perr(parser *p, unsigned col, const char *fmt, ...)
     return alb_diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, col, "%s", msg);
 }
 
+/* A word as a message quotes it: at most 40 characters, and those that
+ * would not print (a form feed, a vertical tab) as \x0c. */
+static void quote_word(char *out, size_t cap, const char *s, unsigned len)
+{
+    size_t n = 0;
+    for (unsigned i = 0; i < len && i < 40 && n + 5 < cap; i++) {
+        unsigned char c = (unsigned char)s[i];
+        if (c >= 0x20 && c < 0x7F)
+            out[n++] = (char)c;
+        else
+            n += (size_t)snprintf(out + n, cap - n, "\\x%02x", c);
+    }
+    out[n] = 0;
+}
+
 static alb_err err_found(parser *p, const token *t, const char *expected)
 {
-    char got[48];
-    snprintf(got, sizeof got, "%.*s", (int)(t->len > 40 ? 40 : t->len), t->s);
+    char got[200];
+    quote_word(got, sizeof got, t->s, t->len);
     return alb_diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, t->col, "expected %s, found '%s'",
                    expected, got);
 }
@@ -631,14 +663,17 @@ static alb_err st_observer(parser *p)
         if (tok_is(&p->tok[i], "fov")) {
             if ((e = num(p, i + 1, &v)))
                 return e;
-            if (!(v > 0 && v < 180))
-                return perr(p, p->tok[i + 1].col, "field of view must be in (0, 180) degrees");
+            if (!(v >= ALB_SCENE_MIN_FOV && v < 180))
+                return perr(p, p->tok[i + 1].col, "field of view %g must be in [%g, 180) "
+                            "degrees: a narrower view magnifies beyond what the GP's doubles "
+                            "hold", v, ALB_SCENE_MIN_FOV);
             o->fov_y = v;
         } else if (tok_is(&p->tok[i], "aspect")) {
             if ((e = aspect_ratio(p, i + 1, &v)))
                 return e;
-            if (!(v > 0 && v < 100))
-                return perr(p, p->tok[i + 1].col, "aspect must be in (0, 100)");
+            if (!(v >= ALB_SCENE_MIN_ASPECT && v < 100))
+                return perr(p, p->tok[i + 1].col, "aspect %g must be in [%g, 100)", v,
+                            ALB_SCENE_MIN_ASPECT);
             o->aspect = v;
         } else {
             return err_tok(p, i, "at, yaw, pitch, roll, fov or aspect");
@@ -1090,9 +1125,20 @@ alb_err alb_scene_parse(const char *text, size_t len, const char *name, alb_scen
         pos = end + 1;
         if (p.ntok == 0)
             continue;
+        if (p.open_quote) {
+            e = alb_diag_at(d, ALB_ERR_PARSE, p.file, p.line, p.open_quote,
+                        "unterminated quote: the '\"' here is not closed on its line");
+            break;
+        }
         if (p.ntok > MAX_TOKENS) {
-            e = alb_diag_at(d, ALB_ERR_PARSE, p.file, p.line, p.tok[MAX_TOKENS - 1].col,
-                        "more than %d words on one line", MAX_TOKENS);
+            /* a face is the one statement that long: its own limit says more */
+            if (tok_is(&p.tok[0], "f") && p.obj)
+                e = alb_diag_at(d, ALB_ERR_LIMIT, p.file, p.line, p.tok[0].col,
+                            "face has more than %d vertices (%u words on the line); split it "
+                            "(docs/limits.md)", ALB_SCENE_MAX_FACE_VERTICES, p.ntok - 1);
+            else
+                e = alb_diag_at(d, ALB_ERR_PARSE, p.file, p.line, p.tok[MAX_TOKENS - 1].col,
+                            "more than %d words on one line", MAX_TOKENS);
             break;
         }
         if (!header) {

@@ -16,6 +16,11 @@
 #pragma GCC visibility push(default)
 
 #define ALB_SCENE_MAX_FACE_VERTICES 32
+/* The narrowest view (degrees, vertical) and the smallest aspect the GP's
+ * doubles carry: below, the screen scaling 1/tan(fov/2) overflows the
+ * observer transform's inverse (docs/limits.md). */
+#define ALB_SCENE_MIN_FOV 1e-6
+#define ALB_SCENE_MIN_ASPECT 1e-6
 #define ALB_SCENE_NAME_MAX 64
 
 enum { ALB_SV_INTENSITY = 1, ALB_SV_NORMAL = 2, ALB_SV_UV = 4 };
