@@ -284,7 +284,8 @@ static void out_free_names(alb_out *o)
     o->dirfd = -1;
     free(o->tmp);
     free(o->base);
-    o->tmp = o->base = NULL;
+    free(o->dir);
+    o->tmp = o->base = o->dir = NULL;
 }
 
 /* Six letters that make a temporary name unlikely to be taken; a taken one
@@ -394,7 +395,7 @@ alb_err alb_out_open(alb_out *o, const char *path, unsigned flags, alb_diag *d)
     }
     o->dirfd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     int err = errno;
-    free(dir);
+    o->dir = dir;
     if (o->dirfd < 0) {
         out_free_names(o);
         return out_fail(d, path, "cannot create", err);
@@ -403,6 +404,11 @@ alb_err alb_out_open(alb_out *o, const char *path, unsigned flags, alb_diag *d)
     if (e && o->dirfd >= 0)
         out_free_names(o);
     return e;
+}
+
+char *alb_out_temp_path(const alb_out *o)
+{
+    return o->dirfd >= 0 && o->tmp ? alb_strprintf("%s/%s", o->dir, o->tmp) : NULL;
 }
 
 FILE *alb_out_stdio(alb_out *o, alb_diag *d)

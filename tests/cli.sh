@@ -11,6 +11,11 @@ for sub in gp dump vectors render vp reference compare accuracy scene; do
     expect 0 "usage: albatros $sub" "$bin" $sub --help
 done
 expect 0 'profile=a1024' "$bin" profiles
+# --version on every subcommand, as on the top level
+for sub in $("$bin" --help | sed -n 's/^  \([a-z]*\)  .*/\1/p'); do
+    expect 0 "^albatros [0-9]+\.[0-9]+\.[0-9]+$" "$bin" $sub --version
+done
+expect 0 "^albatros [0-9]+\.[0-9]+\.[0-9]+$" "$bin" render --profile t32 --version
 
 # gp on the built-in scene: binary stream, hex dump, JSON
 expect 0 'faces:' "$bin" gp -o "$tmp/b.stream" --hex "$tmp/b.hex"

@@ -57,6 +57,7 @@ typedef struct {
     const char *path;        /* as given, for messages (borrowed) */
     int dirfd;               /* the target's directory; -1: straight through */
     char *tmp, *base;        /* the temporary name and the target's, in dirfd */
+    char *dir;               /* dirfd's path, as the target's name gives it */
     int slot;                /* in the list alb_out_remove_temps empties; -1 none */
     bool is_stdout;          /* "-" with ALB_OUT_DASH: stdout, left open */
     bool seekable;           /* fd takes pwrite and lseek (EXR needs it) */
@@ -71,6 +72,10 @@ alb_err alb_out_open(alb_out *o, const char *path, unsigned flags, alb_diag *d);
 /* A stdio stream on the output ("wb"; stdout for "-"); NULL if out of memory
  * (the output is then aborted and d says so). */
 FILE *alb_out_stdio(alb_out *o, alb_diag *d);
+/* The temporary file's path (malloc'd; NULL straight through or out of
+ * memory): for a program that writes the file itself (gnuplot) before
+ * alb_out_commit puts it in place. */
+char *alb_out_temp_path(const alb_out *o);
 /* Write all of buf to the output's descriptor (retrying short writes). */
 alb_err alb_out_write(alb_out *o, const void *buf, size_t n, alb_diag *d);
 /* Finish: flush, fsync, close and rename into place.  On any failure the
