@@ -102,7 +102,8 @@ help:
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev zlib1g-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev gnuplot-nox sdcc umockdev verilator iverilog python3 man-db
+            libhidapi-dev gnuplot-nox sdcc umockdev verilator iverilog python3 man-db \
+            valgrind openimageio-tools
 setup: deps
 	$(MAKE) all
 deps:

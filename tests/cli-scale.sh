@@ -7,10 +7,11 @@
 source "$(dirname "$0")/lib.sh"
 bin=$(realpath "$bin")
 
-# instructions NAME FILE...: the instructions albatros gp FILE --json executes
+# instructions FILE: the instructions albatros gp FILE --json executes (the
+# program itself, not make memcheck's valgrind wrapper)
 instructions() {
     valgrind --tool=cachegrind --cache-sim=no --cachegrind-out-file=/dev/null \
-        "$bin" gp "$@" --json 2>&1 >/dev/null | sed -n 's/.*I *refs: *//p' | tr -d ,
+        "${ALBATROS_UNWRAPPED:-$bin}" gp "$@" --json 2>&1 >/dev/null | sed -n 's/.*I *refs: *//p' | tr -d ,
 }
 if ! command -v valgrind > /dev/null; then
     bad "valgrind is needed to count instructions (apt-get install valgrind; make deps)"
