@@ -26,11 +26,12 @@ ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -pthread -Iinclude $(WARN) $(FPF
              $(shell pkg-config --cflags $(PKGS)) $(EXR_CFLAGS)
 LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm -pthread $(EXTRA_LDLIBS)
 
-COMMON_SRC := common/diag.c common/file.c common/json.c common/memh.c common/profile.c common/words.c
-GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/gp.c gp/builtin.c
+COMMON_SRC := common/diag.c common/file.c common/json.c common/memh.c common/profile.c common/words.c \
+              common/crmath.c
+GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/polygon.c gp/gp.c gp/builtin.c
 VP_SRC     := vp/vp.c vp/fill.c vp/parallel.c vp/shade.c vp/frame.c
 SINK_SRC   := emu/exr.c emu/preview.c emu/sim.c emu/sim_timed.c emu/sim_cycle.c emu/vcd.c \
-              emu/model.c emu/dpi.c emu/dump.c
+              emu/model.c emu/dpi.c emu/dump.c emu/frame_out.c
 BRIDGE_SRC := emu/bridge/link.c emu/bridge/stream.c emu/bridge/transport_fault.c \
               emu/bridge/transport_usb.c
 TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools/methods.c tools/sweep.c \
@@ -52,21 +53,34 @@ LIB_SONAME := libalbatros.so.$(ALB_ABI)
 LIBALB_A   := $(BUILD)/lib/libalbatros.a
 LIBALB_SO  := $(BUILD)/lib/libalbatros.so.$(ALB_ABI).$(ALB_MINOR).$(ALB_PATCH)
 LIB_CFLAGS := -fPIC -fvisibility=hidden
-$(LIBALB_OBJ): EXTRA_CFLAGS += $(LIB_CFLAGS)
+# (a target-specific variable of its own: EXTRA_CFLAGS on the command line,
+# as CI and make asan give it, would override one added to EXTRA_CFLAGS)
+$(LIBALB_OBJ): OBJ_CFLAGS := $(LIB_CFLAGS)
 
 # What the albatros command adds to the library: the CLI, the references,
 # classic methods and stress scenes (tools/), and the simulated board with
 # the firmware core (firmware/sim/).  The command links the static library,
 # so it can use the public API only.
 CLIENT_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TOOLS_SRC) $(FW_SRC))
+# The tools' generated scenes use the GP's correctly rounded maths
+# (common/crmath.c), which the static library keeps to itself: linked again.
+CLIENT_OBJ += $(BUILD)/common/crmath.o
 EMU_OBJ    := $(patsubst %.c,$(BUILD)/%.o,$(EMU_SRC))
 TEST_OBJ   := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 # tests, fuzz harnesses and benchmarks reach inside the units: every object
 LIB_OBJ    := $(sort $(LIBALB_OBJ) $(CLIENT_OBJ))
 
 ALBATROS := $(BUILD)/albatros
+DPI_TB   := $(BUILD)/dpi/tb_vector
 UNIT     := $(BUILD)/tests/unit
 USB_DESC := $(BUILD)/tests/usb_descriptors
+# the board on an emulated USB bus (umockdev) and its permission shim
+USB_BOARD := $(BUILD)/tests/usb_board
+USB_SHIM  := $(BUILD)/tests/usb_access.so
+USB_ROGUE := $(BUILD)/tests/usb_rogue
+USB_BENCH := $(BUILD)/tests/usb_bench
+UMOCKDEV_CFLAGS = $(shell pkg-config --cflags umockdev-1.0)
+UMOCKDEV_LIBS   = $(shell pkg-config --libs umockdev-1.0)
 
 # the FX2LP firmware (sdcc): make firmware, make firmware-size
 include firmware/fx2/fx2.mk
@@ -75,12 +89,13 @@ COST     := $(BUILD)/tools/cost
 BENCH    := $(BUILD)/tools/bench
 BENCH_MODEL := $(BUILD)/tools/bench-model
 
-.PHONY: all test unit vectors bless asan memcheck bench demo setup deps clean help crosscheck sweep
+.PHONY: all test unit vectors bless asan memcheck bench demo setup deps clean help crosscheck sweep \
+        usb-bench
 # libFuzzer harnesses and their replay over the seeds and regressions
 include fuzz/fuzz.mk
 
 # the replay harnesses too, so a warning in them fails CI's -Werror build
-all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(REPLAYS)
+all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(USB_BOARD) $(USB_SHIM) $(USB_ROGUE) $(USB_BENCH) $(REPLAYS) $(DPI_TB)
 
 help:
 	@echo "make            build $(ALBATROS) and the tests"
@@ -92,18 +107,21 @@ help:
 	@echo "make asan       build and test under AddressSanitizer + UBSan"
 	@echo "make memcheck   the tests under valgrind memcheck (slow)"
 	@echo "make bench      print speed and work figures (docs/performance.md)"
-	@echo "make crosscheck the golden vectors from gcc -O0 and clang -O3 builds"
+	@echo "make usb-bench  USB bulk throughput through libusb on the emulated bus"
+	@echo "make crosscheck the golden vectors from gcc -O0, clang -O3 and musl-gcc builds"
 	@echo "make -j sweep   the stability and speed sweeps, report in docs/stability/"
 	@echo "make fuzz-TARGET [FUZZ_TIME=600]  fuzz one input path (clang + libFuzzer):"
 	@echo "                TARGET = $(FUZZ_TARGETS) (fuzz/README.md)"
 	@echo "make fuzz-replay  the fuzz harnesses over their seeds and regressions (in make test)"
 	@echo "make firmware   the FX2LP board firmware (sdcc); make firmware-size checks it fits"
+	@echo "make firmware-check  that image on the s51 simulator against the host core (in make test)"
+	@echo "make firmware-speed  its parsing speed on the bridge's stream, from s51's cycle counts"
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev zlib1g-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev gnuplot-nox sdcc umockdev verilator iverilog python3 man-db \
-            valgrind openimageio-tools
+            libhidapi-dev gnuplot-nox sdcc sdcc-ucsim umockdev libumockdev-dev verilator iverilog python3 man-db \
+            musl-tools valgrind openimageio-tools
 setup: deps
 	$(MAKE) all
 deps:
@@ -118,10 +136,10 @@ deps:
 # ---- build ----
 $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -MMD -MP -c $< -o $@
+	$(CC) $(ALL_CFLAGS) $(OBJ_CFLAGS) -MMD -MP -c $< -o $@
 
 $(BUILD)/gen/%.o: $(BUILD)/gen/%.c
-	$(CC) $(ALL_CFLAGS) -I. -c $< -o $@
+	$(CC) $(ALL_CFLAGS) $(OBJ_CFLAGS) -I. -c $< -o $@
 
 $(BUILD)/tools/embed: tools/embed.c
 	@mkdir -p $(dir $@)
@@ -147,10 +165,9 @@ $(LIBALB_SO): $(LIBALB_OBJ) lib/albatros.map
 
 # a SystemVerilog bench over DPI-C, built by Verilator against the shared
 # library (tests/dpi.sh)
-DPI_TB := $(BUILD)/dpi/tb_vector
 $(DPI_TB): include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv $(LIBALB_SO)
 	@mkdir -p $(BUILD)/dpi
-	verilator --binary -j 2 -Wall --Mdir $(BUILD)/dpi/obj --top-module tb_vector \
+	+verilator --binary -j 2 -Wall --Mdir $(BUILD)/dpi/obj --top-module tb_vector \
 	  include/albatros/albatros_pkg.sv tests/dpi/tb_vector.sv \
 	  -LDFLAGS "-L$(abspath $(BUILD)/lib) -lalbatros -Wl,-rpath,$(abspath $(BUILD)/lib) $(EXTRA_LDLIBS)" \
 	  -o tb_vector
@@ -175,12 +192,32 @@ $(USB_DESC): tests/usb_descriptors.c firmware/fx2/descriptors.c firmware/fx2/usb
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -D__xdata= tests/usb_descriptors.c firmware/fx2/descriptors.c -o $@ $(EXTRA_LDLIBS)
 
+# umockdev's API is GObject: the board links glib, nothing else does
+$(USB_BOARD): tests/usb_board.c firmware/fx2/descriptors.c firmware/fx2/usb.h $(LIB_OBJ)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(UMOCKDEV_CFLAGS) -D__xdata= tests/usb_board.c firmware/fx2/descriptors.c \
+	  $(LIB_OBJ) $(LDLIBS) $(UMOCKDEV_LIBS) -o $@
+
+# a host that breaks the board's rules on purpose: each check of usb_board fires
+$(USB_ROGUE): tests/usb_rogue.c
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $< -o $@ $(shell pkg-config --libs libusb-1.0) $(EXTRA_LDLIBS)
+
+# bulk throughput through libusb, a client of the public API (make usb-bench)
+$(USB_BENCH): $(BUILD)/tests/usb_bench.o $(LIBALB_A)
+	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
+
+# preloaded into any program, sanitized or not: built without the sanitizers
+$(USB_SHIM): tests/usb_access.c
+	@mkdir -p $(dir $@)
+	$(CC) -std=c11 $(WARN) $(CFLAGS) $(filter-out -fsanitize%,$(EXTRA_CFLAGS)) -fPIC -shared $< -o $@ -ldl
+
 $(UNIT): $(TEST_OBJ) $(LIB_OBJ)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
 # ---- tests: every runner prints "N passed, N failed"; tests/summary adds them ----
-test: $(ALBATROS) $(UNIT) $(REPLAYS) $(USB_DESC) $(DPI_TB)
+test: all
 	@bash tests/run-all.sh $(BUILD)
 
 unit: $(UNIT)
@@ -203,13 +240,43 @@ asan:
 	  EXTRA_CFLAGS="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer" \
 	  EXTRA_LDLIBS="-fsanitize=address,undefined,float-cast-overflow" test
 
-# bit-exact across compilers and optimisation: every golden vector (streams
-# and frames) from gcc -O0 and clang -O3 builds
-crosscheck:
+# bit-exact across compilers, optimisation and C libraries: every golden
+# vector (streams, frames, counters) from gcc -O0 and clang -O3 builds, and
+# from a musl-gcc build (a second C library: its libm must change nothing,
+# docs/number-formats.md §0)
+crosscheck: $(ALBATROS)
 	$(MAKE) BUILD=build-gcc-O0 OPT=-O0 build-gcc-O0/albatros
 	$(MAKE) BUILD=build-clang-O3 CC=clang OPT=-O3 build-clang-O3/albatros
 	build-gcc-O0/albatros vectors check test-vectors
 	build-clang-O3/albatros vectors check test-vectors
+	$(MAKE) $(MUSL_ALBATROS)
+	$(ALBATROS) vectors digest test-vectors > $(MUSL_BUILD)/expected.digests
+	$(MUSL_ALBATROS) vectors check --digests $(MUSL_BUILD)/expected.digests test-vectors
+
+# The musl build: musl-gcc cannot link the glibc-built libpng, libusb,
+# hidapi and OpenEXR, so ALB_NO_EXTERNAL leaves out what needs them (EXR and
+# PNG output, PNG textures, USB; render, stream and the tools): an albatros
+# with gp, dump, profiles and vectors check --digests, which compares the
+# frames by the digests the full build reads from the expected EXR files
+# (docs/golden-vectors.md, "Another C library").
+MUSL_CC       ?= musl-gcc
+MUSL_BUILD    := build-musl
+MUSL_ALBATROS := $(MUSL_BUILD)/albatros
+MUSL_SRC      := $(COMMON_SRC) $(GP_SRC) $(VP_SRC) emu/sim.c emu/sim_timed.c emu/sim_cycle.c \
+                 emu/vcd.c emu/model.c emu/frame_out.c emu/bridge/link.c firmware/crc32.c \
+                 emu/main.c emu/cli.c emu/cmd_gp.c emu/cmd_vectors.c
+MUSL_OBJ      := $(patsubst %.c,$(MUSL_BUILD)/%.o,$(MUSL_SRC)) $(MUSL_BUILD)/gen/builtin_scene.o
+MUSL_CFLAGS   := -std=c11 -D_POSIX_C_SOURCE=200809L -DALB_NO_EXTERNAL -pthread -Iinclude $(WARN) \
+                 $(FPFLAGS) -O2 $(EXTRA_CFLAGS)
+$(MUSL_BUILD)/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(MUSL_CC) $(MUSL_CFLAGS) -MMD -MP -c $< -o $@
+$(MUSL_BUILD)/gen/builtin_scene.o: $(BUILD)/gen/builtin_scene.c
+	@mkdir -p $(dir $@)
+	$(MUSL_CC) $(MUSL_CFLAGS) -I. -c $< -o $@
+$(MUSL_ALBATROS): $(MUSL_OBJ)
+	$(MUSL_CC) $(MUSL_CFLAGS) $^ -lm -pthread -o $@
+-include $(shell find $(MUSL_BUILD) -name '*.d' 2>/dev/null)
 
 # the stability sweep: one job per stress family (make -j runs them in
 # parallel), the speed sweep alone after them (its timings), then the report;
@@ -234,6 +301,11 @@ bench: $(COST) $(BENCH) $(BENCH_MODEL)
 	$(BENCH)
 	$(BENCH_MODEL)
 	$(COST)
+
+# MB/s through libusb against transfers in flight and their size, on the
+# emulated bus (docs/usb-protocol.md, "Throughput"); about two minutes
+usb-bench: $(USB_BOARD) $(USB_SHIM) $(USB_BENCH)
+	@bash tests/usb-bench.sh $(BUILD)
 
 # ---- install (docs/architecture.md, "Installed") ----
 PREFIX     ?= /usr/local
@@ -292,6 +364,6 @@ demo: $(ALBATROS)
 	$(ALBATROS) render -o out/builtin.exr --png out/builtin.png --stream out/builtin.stream
 
 clean:
-	rm -rf $(BUILD) $(FUZZ_BUILD) build-asan build-gcc-O0 build-clang-O3 build-clang out vector-diffs
+	rm -rf $(BUILD) $(FUZZ_BUILD) build-asan build-gcc-O0 build-clang-O3 build-clang build-musl out vector-diffs
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)

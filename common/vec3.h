@@ -4,6 +4,7 @@
 #define ALBATROS_VEC3_H
 
 #include "albatros/vec3.h"
+#include "crmath.h"
 
 #include <math.h>
 
@@ -76,18 +77,37 @@ static inline int m3_inverse_transpose(const mat3 *a, mat3 *r)
 
 /* Orientation from yaw (about y, toward +x), pitch (about x, toward +y) and
  * roll (about z, up toward +x), degrees; maps body axes to parent axes
- * (docs/scene-format.md, "Orientation"). */
+ * (docs/scene-format.md, "Orientation").  Each angle is reduced modulo 360
+ * exactly, then sin and cos are the correctly rounded ones of crmath.h, so
+ * the matrix does not depend on the C library (docs/number-formats.md §0). */
 static inline mat3 m3_orientation(double yaw_deg, double pitch_deg, double roll_deg)
 {
     const double k = VEC3_PI / 180;
-    double cy = cos(yaw_deg * k), sy = sin(yaw_deg * k);
-    double cp = cos(pitch_deg * k), sp = sin(pitch_deg * k);
-    double cr = cos(roll_deg * k), sr = sin(roll_deg * k);
+    double y = cr_deg_reduce(yaw_deg) * k, p = cr_deg_reduce(pitch_deg) * k,
+           r = cr_deg_reduce(roll_deg) * k;
+    double cy = cr_cos(y), sy = cr_sin(y), cp = cr_cos(p), sp = cr_sin(p);
+    double cr = cr_cos(r), sr = cr_sin(r);
     mat3 ry = {{{cy, 0, sy}, {0, 1, 0}, {-sy, 0, cy}}};
     mat3 rx = {{{1, 0, 0}, {0, cp, sp}, {0, -sp, cp}}};
     mat3 rz = {{{cr, sr, 0}, {-sr, cr, 0}, {0, 0, 1}}};
     mat3 t = m3_mul(&ry, &rx);
     return m3_mul(&t, &rz);
+}
+
+/* The orientation of an eye at `eye` looking toward `at` with `up` up (its
+ * body axes in the parent frame, as m3_orientation's columns): z the unit
+ * view direction, x = up x z normalised (right, in this left-handed frame),
+ * y = z x x.  Square roots only: no angle, no C library function but the
+ * correctly rounded sqrt. */
+static inline mat3 m3_look_at(vec3 eye, vec3 at, vec3 up)
+{
+    vec3 z = v3_sub(at, eye);
+    z = v3_scale(z, 1 / v3_len(z));
+    vec3 x = v3_cross(up, z);
+    x = v3_scale(x, 1 / v3_len(x));
+    vec3 y = v3_cross(z, x);
+    mat3 m = {{{x.x, y.x, z.x}, {x.y, y.y, z.y}, {x.z, y.z, z.z}}};
+    return m;
 }
 
 #endif

@@ -5,6 +5,7 @@
 #include "../common/vec3.h"
 
 #include <ctype.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,7 +25,11 @@ const char run_opts_help[] =
     "  --at X,Y,Z         look-at point (default 0,0,0)\n"
     "  --up X,Y,Z         up vector (default 0,1,0)\n"
     "  --fov DEG          vertical field of view (default 60)\n"
-    "  --size WxH         resolution (sets the profile's width and height)\n";
+    "  --size WxH         resolution (sets the profile's width and height)\n"
+    "Depth (docs/vp.md, section 4; every scene, OBJ or not):\n"
+    "  --near D           the depth scale: the depth store holds near/Z, saturating\n"
+    "                     nearer than D and resolving Z to about Z^2 / (D 2^depth_bits);\n"
+    "                     replaces the scene's `near` (default 0.1, OBJ files too)\n";
 
 void run_opts_init(run_opts *o)
 {
@@ -105,6 +110,11 @@ static int apply_override(run_opts *o, bool is_size, const char *value, char *er
 {
     if (is_size)
         return parse_size(o, value, err, len);
+    if (!strncmp(value, "near=", 5)) {
+        snprintf(err, len, "--set %s: near is the scene's depth scale, not a profile field: use "
+                 "--near %s", value, value + 5);
+        return -1;
+    }
     char msg[300];
     if (alb_profile_set(&o->prof, value, msg, sizeof msg)) {
         snprintf(err, len, "--set %s", msg);
@@ -164,6 +174,19 @@ int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, 
         o->cam_given = true;
         return 1;
     }
+    if (strcmp(name, "near") == 0) {
+        char *end;
+        double v = strtod(value, &end);
+        /* the word stream stores near as IEEE-754 binary32 (docs/word-format.md §1) */
+        if (end == value || *end || !(v >= FLT_MIN && v <= FLT_MAX)) {
+            snprintf(err, len, "--near %s: expected a distance in %g .. %g (the word stream "
+                     "stores near as IEEE-754 binary32)", value, FLT_MIN, FLT_MAX);
+            return -1;
+        }
+        o->near = v;
+        o->near_given = true;
+        return 1;
+    }
     if (strcmp(name, "fov") == 0) {
         char *end;
         double v = strtod(value, &end);
@@ -179,7 +202,7 @@ int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, 
 }
 
 static const char *const common_spec[] = {"profile=", "set=", "eye=", "at=", "up=",
-                                           "fov=", "size=", NULL};
+                                           "fov=", "size=", "near=", NULL};
 
 /* Does spec contain name, and does it take a value? 0 = absent, 1 = flag, 2 = value. */
 static int spec_kind(const char *const *spec, const char *name, size_t nlen)
@@ -312,8 +335,16 @@ int cli_load_scene(const char *path, const run_opts *o, alb_scene *s)
         alb_diag_print(&d, stderr);
         return 1;
     }
+    if (o->near_given) {
+        /* the depth scale alone: near/Z for every surface (a screen-space
+         * scene's near D/Dmax too), nothing else of the scene moves */
+        s->near = o->near;
+        s->near_line = s->near_col = 0;
+    }
     return 0;
 }
+
+bool cli_is_obj(const char *path) { return path && ends_with(path, ".obj"); }
 
 int cli_check_profile(const alb_profile *p)
 {
@@ -686,6 +717,7 @@ int cli_frames_claim(const cli_frames *o, const char *cmd, const uint32_t *numbe
     return rc;
 }
 
+#ifndef ALB_NO_EXTERNAL   /* the musl build writes no frames (Makefile: crosscheck) */
 enum { WRITE_EXR = -1, WRITE_DUMP = -2 };
 
 /* One output of a frame: the EXR, the dump or a PNG view (view >= 0). */
@@ -729,6 +761,7 @@ int cli_frames_write(const cli_frames *o, const alb_frame *f, unsigned nframes)
     }
     return 0;
 }
+#endif
 
 void cli_warn_saturated(const char *scene, const alb_gp_stats *st)
 {

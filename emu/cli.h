@@ -23,6 +23,8 @@ typedef struct {
     alb_profile prof;
     alb_scene_camera cam;
     bool cam_given;      /* any of --eye/--at/--up/--fov */
+    double near;         /* --near: the depth scale, replacing the scene's */
+    bool near_given;
     struct {
         bool is_size;     /* --size WxH, else --set KEY=VALUE */
         const char *value;
@@ -53,8 +55,11 @@ int cli_parse(const char *cmd, int argc, char **argv, const char *const *spec, o
               void *ctx, run_opts *o, const char **pos, int maxpos, int *npos);
 
 /* Load the scene named by path (NULL: the built-in scene; *.obj: OBJ with
- * the camera of o).  Prints the error and returns non-zero on failure. */
+ * the camera of o), with o's --near if given.  Prints the error and returns
+ * non-zero on failure. */
 int cli_load_scene(const char *path, const run_opts *o, alb_scene *s);
+/* Is path an OBJ file (by its extension, as cli_load_scene decides)? */
+bool cli_is_obj(const char *path);
 /* Validate the profile; prints the error. */
 int cli_check_profile(const alb_profile *p);
 

@@ -268,8 +268,33 @@ int cmd_compare(int argc, char **argv)
 typedef struct {
     unsigned random, faces;
     unsigned long long seed;
+    unsigned judged;          /* mask of the classes judged (tools/accuracy.h) */
+    double min_judged;        /* percent of the pixels that must be judged */
     bool json, help;
 } accuracy_args;
+
+/* --exclude near-clamp,underflow: the classes whose differences the user
+ * excuses (the others are excused always) */
+static int parse_exclude(accuracy_args *a, const char *value)
+{
+    for (const char *p = value; *p;) {
+        size_t len = strcspn(p, ",");
+        bool ok = false;
+        for (unsigned c = ACC_NEAR; c <= ACC_FAR; c++)
+            if (len == strlen(accuracy_class_name(c)) && !strncmp(p, accuracy_class_name(c), len)) {
+                a->judged &= ~(1u << c);
+                ok = true;
+            }
+        if (!ok) {
+            fprintf(stderr, "albatros accuracy: --exclude %s: '%.*s' is not near-clamp or "
+                            "underflow (edge bands and depth ties are always excluded)\n",
+                    value, (int)len, p);
+            return -1;
+        }
+        p += len + (p[len] == ',');
+    }
+    return 0;
+}
 
 static int accuracy_opt(void *ctx, const char *name, const char *value)
 {
@@ -287,6 +312,16 @@ static int accuracy_opt(void *ctx, const char *name, const char *value)
             a->faces = (unsigned)v;
         else
             a->seed = v;
+    } else if (strcmp(name, "exclude") == 0) {
+        return parse_exclude(a, value);
+    } else if (strcmp(name, "min-judged") == 0) {
+        double v = strtod(value, &end);
+        if (end == value || *end || !(v >= 0 && v <= 100)) {
+            fprintf(stderr, "albatros accuracy: --min-judged %s: expected a percentage 0..100\n",
+                    value);
+            return -1;
+        }
+        a->min_judged = v;
     } else if (strcmp(name, "json") == 0) {
         a->json = true;
     } else if (strcmp(name, "help") == 0) {
@@ -311,10 +346,78 @@ static int accuracy_scene_file(const char *path, const run_opts *o, accuracy *ac
     return rc;
 }
 
+static const char *const class_words[ACC_NCLASSES] = {
+    [ACC_CLEAR] = "clear of every bound",
+    [ACC_EDGE] = "in an edge band (half an intercept LSB)",
+    [ACC_NEAR] = "nearer than near (the depth store saturates)",
+    [ACC_FAR] = "beyond near x 2^depth_bits (the store underflows)",
+    [ACC_TIE] = "in a depth tie (within the depth forms' rounding)",
+};
+
+static double pct(size_t a, size_t b) { return b ? 100.0 * (double)a / (double)b : 0; }
+
+/* Which input scene k of the run was: a file, or a seed of --random. */
+static void scene_label(char *out, size_t len, unsigned k, const char *const *pos, int npos,
+                        const accuracy_args *a)
+{
+    if (k < (unsigned)npos)
+        snprintf(out, len, "%s", pos[k]);
+    else
+        snprintf(out, len, "random seed %llu", a->seed + (k - (unsigned)npos));
+}
+
+static void accuracy_report(const accuracy *acc, const accuracy_args *a, const alb_profile *p,
+                            const char *const *pos, int npos)
+{
+    size_t judged = accuracy_judged(acc, a->judged), errors = accuracy_errors(acc, a->judged);
+    if (a->json) {
+        alb_json j;
+        alb_json_init(&j, stdout);
+        alb_json_begin_object(&j);
+        alb_json_kv_uint(&j, "pixels", acc->pixels);
+        alb_json_kv_uint(&j, "covered", acc->covered);
+        alb_json_kv_uint(&j, "face_diff", acc->face_diff);
+        alb_json_kv_uint(&j, "judged", judged);
+        alb_json_kv_uint(&j, "errors", errors);
+        alb_json_key(&j, "classes");
+        alb_json_begin_object(&j);
+        for (unsigned c = 0; c < ACC_NCLASSES; c++) {
+            alb_json_key(&j, accuracy_class_name(c));
+            alb_json_begin_object(&j);
+            alb_json_kv_uint(&j, "pixels", acc->in_class[c]);
+            alb_json_kv_uint(&j, "differ", acc->diff_in_class[c]);
+            alb_json_kv_bool(&j, "judged", a->judged >> c & 1);
+            alb_json_end_object(&j);
+        }
+        alb_json_end_object(&j);
+        alb_json_end_object(&j);
+        alb_json_end_line(&j);
+        return;
+    }
+    printf("%zu pixels, %zu with a face: %zu with a different face (%.4f%%)\n", acc->pixels,
+           acc->covered, acc->face_diff, pct(acc->face_diff, acc->pixels));
+    for (unsigned c = 0; c < ACC_NCLASSES; c++) {
+        printf("  %-10s %10zu pixels (%6.2f%%) %8zu differ  %-8s  %s", accuracy_class_name(c),
+               acc->in_class[c], pct(acc->in_class[c], acc->pixels), acc->diff_in_class[c],
+               a->judged >> c & 1 ? "judged" : "excluded", class_words[c]);
+        if (a->judged >> c & 1 && acc->diff_in_class[c]) {
+            size_t i = acc->first_diff[c];
+            char label[300];
+            scene_label(label, sizeof label, acc->first_scene[c], pos, npos, a);
+            printf("; the first at pixel (%zu, %zu) of frame %u of %s", i % p->width,
+                   i / p->width, acc->first_frame[c], label);
+        }
+        putchar('\n');
+    }
+    printf("judged %zu of %zu pixels (%.2f%%): %zu errors\n", judged, acc->pixels,
+           pct(judged, acc->pixels), errors);
+}
+
 int cmd_accuracy(int argc, char **argv)
 {
-    static const char *const spec[] = {"random=", "faces=", "seed=", "json", "help", NULL};
-    accuracy_args a = {0, 12, 1, false, false};
+    static const char *const spec[] = {"random=", "faces=", "seed=", "exclude=", "min-judged=",
+                                       "json", "help", NULL};
+    accuracy_args a = {0, 12, 1, ACC_JUDGED, 90, false, false};
     run_opts o;
     run_opts_init(&o);
     const char *pos[64];
@@ -324,11 +427,22 @@ int cmd_accuracy(int argc, char **argv)
         return CLI_PARSE_EXIT(parsed);
     if (a.help || (npos == 0 && a.random == 0)) {
         printf("usage: albatros accuracy [SCENE...] [--random N [--faces F] [--seed S]]\n"
+               "                         [--exclude near-clamp,underflow] [--min-judged PCT]\n"
                "                         [--json] [--profile NAME] [--set KEY=VALUE]\n\n"
                "Render each scene (or N seeded random scenes of F faces) with the VP and the\n"
-               "exact reference and count the pixels whose face differs, overall and among\n"
-               "the pixels outside every quantisation bound (docs/reference.md), where the\n"
-               "VP must agree.  Exit 1 if any such pixel differs.  A SCENE is read as render\n"
+               "exact reference, and sort every pixel into one class (docs/reference.md):\n"
+               "  clear       outside every bound below: the VP must give the reference's face\n"
+               "  edge-band   within half an intercept LSB of an exact or an emitted edge\n"
+               "  near-clamp  its nearest face is nearer than near: the depth store saturates\n"
+               "              and faces there tie (the first drawn wins)\n"
+               "  underflow   its nearest face is beyond near x 2^depth_bits: not drawn\n"
+               "  depth-tie   its two nearest faces are within their depth rounding\n"
+               "Edge bands and depth ties are the quantisation the format allows and are\n"
+               "excluded.  Near clamp and underflow are limits of the depth store: a pixel\n"
+               "drawn wrong there is wrong, and counts as an error unless --exclude names\n"
+               "its class.  Exit 1 if any judged pixel differs, or if fewer than PCT percent\n"
+               "of the pixels are judged (--min-judged, default 90): a measurement that\n"
+               "cannot judge most of the picture does not pass.  A SCENE is read as render\n"
                "reads it: a .scene file, or a .obj file with the camera options of render.\n");
         return a.help ? 0 : 2;
     }
@@ -339,7 +453,7 @@ int cmd_accuracy(int argc, char **argv)
         return 2;
     }
     accuracy acc;
-    memset(&acc, 0, sizeof acc);
+    accuracy_init(&acc);
     for (int i = 0; i < npos; i++)
         if (accuracy_scene_file(pos[i], &o, &acc))
             return 2;
@@ -359,20 +473,19 @@ int cmd_accuracy(int argc, char **argv)
     }
     if (cli_isatty_stderr() && a.random >= 10)
         fputc('\n', stderr);
-    double pct = 100.0 * (double)acc.face_diff / (double)acc.pixels;
-    if (a.json) {
-        alb_json j;
-        alb_json_init(&j, stdout);
-        alb_json_begin_object(&j);
-        alb_json_kv_uint(&j, "pixels", acc.pixels);
-        alb_json_kv_uint(&j, "face_diff", acc.face_diff);
-        alb_json_kv_uint(&j, "clear", acc.clear);
-        alb_json_kv_uint(&j, "clear_diff", acc.clear_diff);
-        alb_json_end_object(&j);
-        alb_json_end_line(&j);
-    } else
-        printf("%zu pixels: %zu with a different face (%.4f%%); %zu clear of every bound "
-               "(%.2f%%), %zu of them different\n", acc.pixels, acc.face_diff, pct, acc.clear,
-               100.0 * (double)acc.clear / (double)acc.pixels, acc.clear_diff);
-    return acc.clear_diff ? 1 : 0;
+    accuracy_report(&acc, &a, &o.prof, pos, npos);
+    size_t judged = accuracy_judged(&acc, a.judged);
+    int rc = accuracy_errors(&acc, a.judged) ? 1 : 0;
+    if (pct(judged, acc.pixels) < a.min_judged) {
+        fprintf(stderr, "albatros accuracy: FAIL: only %.2f%% of the pixels could be judged "
+                        "(--min-judged %g): the result says little about the rest\n",
+                pct(judged, acc.pixels), a.min_judged);
+        rc = 1;
+    }
+    for (unsigned c = ACC_NEAR; c <= ACC_FAR; c++)
+        if (!(a.judged >> c & 1) && acc.diff_in_class[c])
+            fprintf(stderr, "albatros accuracy: warning: %zu differing pixels %s were excluded "
+                            "(--exclude %s)\n", acc.diff_in_class[c], class_words[c],
+                    accuracy_class_name(c));
+    return rc;
 }

@@ -24,6 +24,7 @@ void gp_stats_json(alb_json *j, const alb_gp_stats *s)
     alb_json_kv_uint(j, "edges_offscreen", s->edges_offscreen);
     alb_json_kv_uint(j, "bound_added", s->bound_added);
     alb_json_kv_uint(j, "bound_culled", s->bound_culled);
+    alb_json_kv_uint(j, "bound_excess", s->bound_excess);
     alb_json_kv_uint(j, "coef_saturated", s->coef_saturated);
     alb_json_kv_uint(j, "words", s->words);
     alb_json_end_object(j);
@@ -37,6 +38,10 @@ void gp_stats_text(FILE *f, const alb_gp_stats *s)
     fprintf(f, "  edges: %u out (%u bounding); dropped %u behind, %u degenerate, %u off-screen, "
                "%u bounding off-screen\n", s->edges_out, s->bound_added, s->edges_behind,
             s->edges_degenerate, s->edges_offscreen, s->bound_culled);
+    if (s->bound_excess)
+        fprintf(f, "  note: %u vert%s of faces not strictly convex on the screen called for a "
+                   "third bounding edge or more, left out (at most two per face; docs/gp.md)\n",
+                s->bound_excess, s->bound_excess == 1 ? "ex" : "ices");
     fprintf(f, "  words: %llu\n", s->words);
 }
 

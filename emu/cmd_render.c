@@ -38,6 +38,9 @@ typedef struct {
     bool events_only_given;
     uint32_t events_only;     /* --events-only KINDS */
     alb_profile prof;
+    /* how the input's near is changed, for the depth warnings: "'near' in
+     * SCENE or --near", "--near" (OBJ), ... (docs/vp.md §4) */
+    char near_fix[300];
     /* run state */
     unsigned nframes, done;
     const char *cmd;
@@ -174,6 +177,7 @@ static void stats_json(alb_json *j, const alb_frame *fr, const alb_vp_stats *st,
     alb_json_kv_uint(j, "samples_written", st->samples_written);
     alb_json_kv_uint(j, "depth_saturated", st->depth_saturated);
     alb_json_kv_uint(j, "depth_underflow", st->depth_underflow);
+    alb_json_kv_uint(j, "depth_ties", st->depth_ties);
     alb_json_kv_uint(j, "faces_shaded", st->faces_shaded);
     alb_json_kv_uint(j, "faces_textured", st->faces_textured);
     alb_json_kv_uint(j, "faces_fogged", st->faces_fogged);
@@ -204,19 +208,76 @@ typedef struct {
     unsigned levels;
 } sink_ctx;
 
-/* Bit widths a frame needed beyond the profile's (docs/vp.md §4). */
-static void width_warnings(const alb_frame *f, const alb_vp_stats *st)
+/* A distance for a message: 3 significant digits. */
+static void distance_text(char *out, size_t len, double z) { snprintf(out, len, "%.3g", z); }
+
+/* The largest "round" near (one significant digit, rounded down) that keeps
+ * the frame's nearest surface, at distance z, below the saturation of the
+ * depth store. */
+static double round_down(double z)
 {
+    double p = 1;
+    while (p * 10 <= z)
+        p *= 10;
+    while (p > z)
+        p /= 10;
+    return floor(z / p) * p;
+}
+
+/* Depth precision the frame needed beyond the profile's (docs/vp.md §4),
+ * with the fix that fits the input (a->near_fix).  A depth tie between
+ * faces is warned about when there are more tied samples than one screen
+ * side of samples: faces that cross each other tie along their crossing, a
+ * strip about one sample wide; more than that many is faces overlapping in
+ * one depth step over an area, where the face drawn first wins, nearer or
+ * not. */
+static void width_warnings(const render_args *a, const alb_frame *f, const alb_vp_stats *st)
+{
+    unsigned aa = f->aa_levels, sw = f->width << aa, sh = f->height << aa;
+    double full = ldexp(1, (int)f->depth_bits), near = f->near;
+    uint32_t dmax = 0;
+    for (size_t i = 0; i < (size_t)f->width * f->height; i++)
+        dmax = f->depth[i] > dmax ? f->depth[i] : dmax;
+    char znear[32];
+    distance_text(znear, sizeof znear, dmax ? near * full / dmax : 0);
     if (st->depth_saturated)
         fprintf(stderr, "albatros: warning: frame %u: %llu samples are nearer than near=%g: the "
-                        "depth store saturates and they tie (first face wins); lower 'near' in "
-                        "the scene\n", f->number, (unsigned long long)st->depth_saturated,
-                (double)f->near);
+                        "depth store saturates and they tie (first face wins); lower near "
+                        "(%s)\n", f->number, (unsigned long long)st->depth_saturated, near,
+                a->near_fix);
     if (st->depth_underflow)
         fprintf(stderr, "albatros: warning: frame %u: %llu samples are farther than near x "
-                        "2^depth_bits = %g and are not drawn; raise 'near' or depth_bits\n",
-                f->number, (unsigned long long)st->depth_underflow,
-                (double)f->near * ldexp(1, (int)f->depth_bits));
+                        "2^depth_bits = %g and are not drawn; raise depth_bits (--set "
+                        "depth_bits=%u) or near (%s)%s%s%s\n",
+                f->number, (unsigned long long)st->depth_underflow, near * full,
+                f->depth_bits < 32 ? 32 : f->depth_bits, a->near_fix,
+                dmax ? ": the nearest surface of the frame is at Z = " : "", dmax ? znear : "",
+                dmax && dmax < full - 1 ? ", as far as near may go" : "");
+    if (st->depth_ties > (sw > sh ? sw : sh)) {
+        uint64_t c = st->tie_sample % sw, r = st->tie_sample / sw;
+        double z = near * full / (double)st->tie_depth, step = z / (double)st->tie_depth;
+        char zt[32], dz[32], dz32[32];
+        distance_text(zt, sizeof zt, z);
+        distance_text(dz, sizeof dz, step);
+        distance_text(dz32, sizeof dz32, step * ldexp(1, (int)f->depth_bits - 32));
+        fprintf(stderr, "albatros: warning: frame %u: %llu samples where two faces fell into one "
+                        "depth step, so the face drawn first kept them, nearer or not: e.g. "
+                        "faces %llu (kept) and %llu at pixel (%llu, %llu), depth %llu of 2^%u, "
+                        "Z = %s, "
+                        "where one step is %s in Z; raise depth_bits (--set depth_bits=32: "
+                        "a step of %s there) or near (%s)",
+                f->number, (unsigned long long)st->depth_ties, (unsigned long long)st->tie_kept,
+                (unsigned long long)st->tie_lost, (unsigned long long)(c >> aa),
+                (unsigned long long)(r >> aa), (unsigned long long)st->tie_depth, f->depth_bits,
+                zt, dz, dz32, a->near_fix);
+        if (dmax && dmax < full - 1) {
+            char zn[32];
+            distance_text(zn, sizeof zn, round_down(0.9 * near * full / dmax));
+            fprintf(stderr, ": the nearest surface is at Z = %s, so near up to %s keeps it", znear,
+                    zn);
+        }
+        fputc('\n', stderr);
+    }
 }
 
 static int write_outputs(void *ctx, const alb_frame *f, const alb_vp_stats *st, const alb_sim_counters *sc)
@@ -224,7 +285,7 @@ static int write_outputs(void *ctx, const alb_frame *f, const alb_vp_stats *st, 
     sink_ctx *s = ctx;
     render_args *a = s->a;
     if (st)
-        width_warnings(f, st);
+        width_warnings(a, f, st);
     if (cli_frames_write(&a->out, f, a->nframes))
         return -1;
     if (a->json) {
@@ -698,6 +759,11 @@ int cmd_render(int argc, char **argv)
     alb_scene scene;
     if (cli_load_scene(npos ? pos[0] : NULL, &o, &scene))
         return 1;
+    if (cli_is_obj(npos ? pos[0] : NULL))
+        snprintf(a.near_fix, sizeof a.near_fix, "--near D; now %g", scene.near);
+    else
+        snprintf(a.near_fix, sizeof a.near_fix, "'near' in %s or --near D; now %g",
+                 npos ? pos[0] : "the scene", scene.near);
     int claimed = claim_outputs(&a);
     if (claimed) {
         alb_scene_free(&scene);
@@ -761,6 +827,8 @@ int cmd_vp(int argc, char **argv)
         return 1;
     }
     set_provenance(&a, o.prof.name, alb_fidelity_name(a.fid), pos[0]);
+    /* the stream's near is its CONFIG word, the GP's */
+    snprintf(a.near_fix, sizeof a.near_fix, "the GP's --near D, then a new stream");
     int rc = run_vp(&a, &o.prof, w, n, pos[0]);
     free(w);
     return rc;

@@ -38,6 +38,8 @@ static void on_stop(int sig) { stream_stop = sig; }
 typedef struct {
     bool sim, json, quiet, help, no_readback, frames;
     unsigned vid, pid, wait_ms, timeout_ms, sim_payload;
+    unsigned usb_transfers;   /* 0: the transport's defaults */
+    size_t usb_buffer;
     const char *serial, *stream;
     alb_tr_faults faults;
     bool any_fault;
@@ -147,10 +149,18 @@ static int link_opt(void *ctx, const char *name, const char *value)
     else if (!strcmp(name, "vid")) return parse_usb_id(a->cmd, name, value, &a->vid);
     else if (!strcmp(name, "pid")) return parse_usb_id(a->cmd, name, value, &a->pid);
     else {
-        unsigned long long max = !strcmp(name, "sim-payload") ? PROTO_MAX_PAYLOAD : 600000;
+        unsigned long long max = !strcmp(name, "sim-payload") ? PROTO_MAX_PAYLOAD
+                               : !strcmp(name, "usb-transfers") ? ALB_TR_USB_MAX_TRANSFERS
+                               : !strcmp(name, "usb-buffer") ? ALB_TR_USB_MAX_BYTES : 600000;
         if (parse_num(a->cmd, name, value, max, &v))
             return -1;
+        if ((!strcmp(name, "usb-transfers") || !strcmp(name, "usb-buffer")) && v == 0) {
+            fprintf(stderr, "albatros %s: --%s 0: expected at least 1\n", a->cmd, name);
+            return -1;
+        }
         if (!strcmp(name, "sim-payload")) a->sim_payload = (unsigned)v;
+        else if (!strcmp(name, "usb-transfers")) a->usb_transfers = (unsigned)v;
+        else if (!strcmp(name, "usb-buffer")) a->usb_buffer = (size_t)v;
         else if (!strcmp(name, "wait")) a->wait_ms = (unsigned)v;
         else if (!strcmp(name, "timeout")) a->timeout_ms = (unsigned)v;
     }
@@ -164,11 +174,14 @@ static alb_transport *open_link(const link_args *a, const alb_profile *p, sim_bo
                               bool hid_only)
 {
     char err[600];
+    /* the board may NAK as long as a RESULT may take (--timeout) */
+    alb_tr_usb_tuning tune = {a->usb_transfers, a->usb_buffer, a->timeout_ms};
     alb_transport *t = a->sim ? sim_board_transport(p, a->sim_payload, err, sizeof err)
                      : hid_only ? alb_transport_hid_open((uint16_t)a->vid, (uint16_t)a->pid, a->serial,
                                                      a->wait_ms, err, sizeof err)
-                                : alb_transport_usb_open((uint16_t)a->vid, (uint16_t)a->pid, a->serial,
-                                                     a->wait_ms, err, sizeof err);
+                                : alb_transport_usb_open_tuned((uint16_t)a->vid, (uint16_t)a->pid,
+                                                           a->serial, a->wait_ms, &tune, err,
+                                                           sizeof err);
     if (!t) {
         fprintf(stderr, "albatros %s: %s\n", a->cmd, err);
         return NULL;
@@ -320,13 +333,67 @@ static void hex32(alb_json *j, const char *key, uint32_t v)
     alb_json_kv_string(j, key, h);
 }
 
+/* The USB link's line of the report: speed, packets, transfers, and what
+ * it recovered from. */
+static void usb_text(const alb_tr_usb_link *l)
+{
+    fprintf(stderr, "  USB: %s speed (%u Mbit/s), %u-byte bulk packets; %u transfers of %zu bytes in "
+                    "flight; %llu zero-length packets", l->speed, l->speed_mbps, l->out_packet,
+            l->out_transfers, l->out_bytes, (unsigned long long)l->zero_length_packets);
+    if (l->halts_cleared)
+        fprintf(stderr, "; %llu stall%s recovered", (unsigned long long)l->halts_cleared,
+                l->halts_cleared > 1 ? "s" : "");
+    if (l->out_timeouts)
+        fprintf(stderr, "; %llu OUT timeout%s", (unsigned long long)l->out_timeouts,
+                l->out_timeouts > 1 ? "s" : "");
+    if (l->resent_bytes)
+        fprintf(stderr, "; %llu bytes resent from where their transfers stopped",
+                (unsigned long long)l->resent_bytes);
+    if (l->in_partial)
+        fprintf(stderr, "; %llu IN transfer%s ended by timeout with data",
+                (unsigned long long)l->in_partial, l->in_partial > 1 ? "s" : "");
+    if (l->hid_by_libusb)
+        fprintf(stderr, "; HID through libusb (no hidraw node)");
+    fputc('\n', stderr);
+}
+
+static void usb_json(alb_json *j, const alb_tr_usb_link *l)
+{
+    alb_json_key(j, "usb");
+    alb_json_begin_object(j);
+    alb_json_kv_string(j, "speed", l->speed);
+    alb_json_kv_uint(j, "speed_mbps", l->speed_mbps);
+    alb_json_kv_uint(j, "out_packet", l->out_packet);
+    alb_json_kv_uint(j, "in_packet", l->in_packet);
+    alb_json_kv_uint(j, "out_transfers", l->out_transfers);
+    alb_json_kv_uint(j, "out_bytes", l->out_bytes);
+    alb_json_kv_uint(j, "zero_length_packets", l->zero_length_packets);
+    alb_json_kv_uint(j, "halts_cleared", l->halts_cleared);
+    alb_json_kv_uint(j, "out_timeouts", l->out_timeouts);
+    alb_json_kv_uint(j, "resent_bytes", l->resent_bytes);
+    alb_json_kv_uint(j, "in_partial", l->in_partial);
+    alb_json_kv_bool(j, "hid_by_libusb", l->hid_by_libusb);
+    alb_json_end_object(j);
+}
+
+/* A slow link is worth a word before the stream starts. */
+static void usb_note(alb_transport *t, FILE *log)
+{
+    alb_tr_usb_link l;
+    if (log && !alb_transport_usb_link(t, &l) && l.speed_mbps < 480)
+        fprintf(log, "stream: the board is on a %s-speed link (%u Mbit/s, %u-byte packets): "
+                     "about %s MB/s at most\n", l.speed, l.speed_mbps, l.out_packet,
+                l.speed_mbps >= 12 ? "1" : "0.1");
+}
+
 static const char *result_name(int rc, const char *ok)
 {
     return rc == EXIT_AGREE ? ok : rc == EXIT_DIFFER ? "differs"
            : rc == EXIT_INTERRUPTED ? "interrupted" : "failed";
 }
 
-static void report_text(const alb_stream_report *r, const alb_stream_frame *f, unsigned nf, int rc)
+static void report_text(const alb_stream_report *r, const alb_stream_frame *f, unsigned nf, int rc,
+                        const alb_tr_usb_link *usb)
 {
     if (r->interrupted)
         fprintf(stderr, "stream: interrupted: %u of %u frames confirmed by the board\n", r->frames,
@@ -349,6 +416,8 @@ static void report_text(const alb_stream_report *r, const alb_stream_frame *f, u
     if (r->reattaches)
         fprintf(stderr, "  the board disconnected %u time%s and came back; the stream started "
                         "over each time\n", r->reattaches, r->reattaches > 1 ? "s" : "");
+    if (usb)
+        usb_text(usb);
     link_text(r);
     if (r->first_problem[0])
         fprintf(stderr, "  first problem: %s\n", r->first_problem);
@@ -356,7 +425,8 @@ static void report_text(const alb_stream_report *r, const alb_stream_frame *f, u
         fprintf(stderr, "  hardware agrees with the emulator\n");
 }
 
-static void report_json(const alb_stream_report *r, const alb_stream_frame *f, unsigned nf, int rc)
+static void report_json(const alb_stream_report *r, const alb_stream_frame *f, unsigned nf, int rc,
+                        const alb_tr_usb_link *usb)
 {
     alb_json j;
     alb_json_init(&j, stdout);
@@ -383,6 +453,8 @@ static void report_json(const alb_stream_report *r, const alb_stream_frame *f, u
     alb_json_kv_uint(&j, "resumes", r->resumes);
     alb_json_kv_uint(&j, "queries", r->queries);
     alb_json_kv_uint(&j, "reattaches", r->reattaches);
+    if (usb)
+        usb_json(&j, usb);
     link_json(&j, r);
     alb_json_end_object(&j);
     alb_json_end_line(&j);
@@ -431,8 +503,11 @@ static int stream_frames_mode(const link_args *a, const alb_profile *p, const al
     if (so.log)
         fprintf(stderr, "frames: %u frames to send to %s\n", nf, a->sim ? "the simulated board" :
                 "the board");
+    usb_note(t, so.log);
     alb_stream_report r;
     rc = exit_of(alb_stream_tiles(t, tf, nf, &so, &r));
+    alb_tr_usb_link usb;
+    bool have_usb = alb_transport_usb_link(t, &usb) == 0;
     const char *display = "";
     if (!rc && board && nf) {
         uint32_t shown;
@@ -456,6 +531,8 @@ static int stream_frames_mode(const link_args *a, const alb_profile *p, const al
         alb_json_kv_fixed(&j, "seconds", r.seconds, 3);
         alb_json_kv_uint(&j, "resends", r.resumes);
         alb_json_kv_string(&j, "display", display);
+        if (have_usb)
+            usb_json(&j, &usb);
         link_json(&j, &r);
         alb_json_end_object(&j);
         alb_json_end_line(&j);
@@ -467,6 +544,8 @@ static int stream_frames_mode(const link_args *a, const alb_profile *p, const al
                         "%.2f MB in %.2f s (%.1f MB/s, %.1f frames/s); %llu resends\n", r.frames,
                 nf, (unsigned long long)r.packets, r.max_payload, (double)r.bytes / 1e6, r.seconds,
                 (double)r.bytes / 1e6 / secs, r.frames / secs, (unsigned long long)r.resumes);
+        if (have_usb)
+            usb_text(&usb);
         link_text(&r);
         if (r.first_problem[0])
             fprintf(stderr, "  first problem: %s\n", r.first_problem);
@@ -498,7 +577,11 @@ static const char stream_help[] =
     "  --wait MS          wait this long for the board to appear (hot-plug; default\n"
     "                     2000), and again after a disconnect: the stream then\n"
     "                     starts over (0: a disconnect ends it)\n"
-    "  --timeout MS       wait this long for a frame's result (default 2000)\n"
+    "  --timeout MS       wait this long for a frame's result, and for a board that\n"
+    "                     NAKs to take data (then the transfers in flight are\n"
+    "                     cancelled and their unsent bytes sent again; default 2000)\n"
+    "  --usb-transfers N  bulk OUT transfers in flight (default 16, at most 64)\n"
+    "  --usb-buffer BYTES each transfer's size (default 65536; whole packets)\n"
     "  --no-readback      do not fetch a differing frame to name its first wrong pixel\n"
     "  --frames           frames mode: the rendered frames, RGB888 tiles, to a display\n"
     "  --fault KIND=N     misbehave on purpose (N counts from 1); repeatable, up to\n"
@@ -527,7 +610,8 @@ int cmd_stream(int argc, char **argv)
 {
     static const char *const spec[] = {"sim", "json", "quiet", "q", "help", "no-readback", "vid=",
                                        "pid=", "serial=", "wait=", "timeout=", "stream=",
-                                       "fault=", "frames", "sim-payload=", NULL};
+                                       "fault=", "frames", "sim-payload=", "usb-transfers=",
+                                       "usb-buffer=", NULL};
     link_args a = {.vid = PROTO_VID, .pid = PROTO_PID, .wait_ms = 2000, .timeout_ms = 2000,
                    .flip_frame = -1, .cmd = "stream"};
     run_opts o;
@@ -612,16 +696,19 @@ int cmd_stream(int argc, char **argv)
     if (sopt.log)   /* also the sign, for a test, that Ctrl-C is now caught */
         fprintf(stderr, "stream: %u frames to send to %s\n", nf, a.sim ? "the simulated board" :
                 "the board");
+    usb_note(t, sopt.log);
     alb_stream_report r;
     rc = exit_of(alb_stream_run(t, b.w, b.n, frames, nf, &sopt, &r));
     t = r.link;   /* another after a disconnect, or none if the board did not come back */
+    alb_tr_usb_link usb;
+    bool have_usb = t && alb_transport_usb_link(t, &usb) == 0;
     if (t)
         t->ops->close(t);   /* cancels the transfers in flight, before a long report */
     t = NULL;
     if (a.json)
-        report_json(&r, frames, nf, rc);
+        report_json(&r, frames, nf, rc, have_usb ? &usb : NULL);
     else if (!a.quiet || rc)
-        report_text(&r, frames, nf, rc);
+        report_text(&r, frames, nf, rc, have_usb ? &usb : NULL);
     release_stop(&h);
 out:
     if (t)

@@ -2,7 +2,10 @@
  * vectors of test-vectors/ (docs/golden-vectors.md).  Each folder holds a
  * scene, its options, a README line and the expected outputs; check compares
  * exact bits and names the first difference; bless rewrites the expected
- * outputs on purpose. */
+ * outputs on purpose.  digest prints one number per expected frame, by which
+ * check --digests compares frames without reading EXR: a build without
+ * OpenEXR (ALB_NO_EXTERNAL, make crosscheck's musl build) checks every
+ * vector so (docs/golden-vectors.md, "Another C library"). */
 #include "cli.h"
 #include "albatros/file.h"
 #include "commands.h"
@@ -23,6 +26,20 @@ typedef struct {
     char dir[512];
     char name[256];
 } vector;
+
+/* The digests of expected frames (check --digests FILE), as `vectors
+ * digest` printed them: "NAME FRAME DIGEST" per line. */
+typedef struct {
+    char name[256];
+    unsigned frame;
+    uint32_t digest;
+} frame_digest;
+
+typedef struct {
+    frame_digest *d;
+    size_t n;
+    const char *file;
+} digest_table;
 
 /* Where the messages about the vector being checked go: stderr, or with
  * --junit a buffer that is copied to stderr and into the report. */
@@ -167,6 +184,7 @@ static int compare_streams(const char *name, const uint32_t *want, size_t nw, co
 /* ---- frames ---- */
 
 typedef struct {
+    const digest_table *digests;   /* check: compare frames by these, not EXR */
     const vector *v;
     const alb_profile *prof;
     const char *scene;       /* the vector's scene file (EXR provenance) */
@@ -239,8 +257,35 @@ static void frame_path(const vector *v, unsigned k, char *out, size_t len)
     snprintf(out, len, "%s/expected.%04u.exr", v->dir, k);
 }
 
+/* check --digests: the frame against the digest of its expected EXR */
+static int check_digest(frames_ctx *c, const alb_frame *f, unsigned k)
+{
+    const digest_table *t = c->digests;
+    for (size_t i = 0; i < t->n; i++)
+        if (t->d[i].frame == k && !strcmp(t->d[i].name, c->v->name)) {
+            uint32_t got = alb_frame_digest(f);
+            if (got == t->d[i].digest)
+                return 0;
+            fprintf(vlog, "FAIL %s: frame %u differs: digest %08x, expected %08x (%s; the "
+                          "full build's check names the pixel)\n", c->v->name, f->number, got,
+                    t->d[i].digest, t->file);
+            return 1;
+        }
+    fprintf(vlog, "FAIL %s: %s has no digest for frame %u\n", c->v->name, t->file, k);
+    return 1;
+}
+
+#ifdef ALB_NO_EXTERNAL
 static int check_frame(frames_ctx *c, const alb_frame *f, const char *path)
 {
+    (void)path;
+    return check_digest(c, f, c->frames - 1);
+}
+#else
+static int check_frame(frames_ctx *c, const alb_frame *f, const char *path)
+{
+    if (c->digests)
+        return check_digest(c, f, c->frames - 1);
     alb_frame want;
     alb_diag d;
     alb_diag_init(&d, NULL);
@@ -270,6 +315,7 @@ static int check_frame(frames_ctx *c, const alb_frame *f, const char *path)
     alb_frame_free(&want);
     return rc;
 }
+#endif
 
 static void check_counters(frames_ctx *c, const alb_frame *f, const char *line)
 {
@@ -308,6 +354,9 @@ static int frame_sink(void *ctx, const alb_frame *f, const alb_vp_stats *st, con
         }
     }
     if (c->bless) {
+#ifdef ALB_NO_EXTERNAL
+        c->failed = 1;   /* refused before: cmd_vectors */
+#else
         alb_diag d;
         alb_diag_init(&d, NULL);
         /* provenance without the folder: a vector blessed anywhere gives the
@@ -320,6 +369,7 @@ static int frame_sink(void *ctx, const alb_frame *f, const alb_vp_stats *st, con
             alb_diag_print(&d, vlog);
             c->failed = 1;
         }
+#endif
     } else if (!exists(path)) {
         fprintf(vlog, "FAIL %s: no %s (run 'make bless' to create it)\n", c->v->name, path);
         c->failed = 1;
@@ -363,12 +413,13 @@ static char **read_lines(const char *path, char **text, unsigned *n)
 /* Render the stream through the timed model (pixels, vp.cycles and the
  * counters, equal to the cycle model's by test); check or bless them. */
 static int vector_frames(const vector *v, const alb_profile *prof, const alb_ws_buf *stream, bool bless,
-                         const char *diff_dir)
+                         const char *diff_dir, const digest_table *digests)
 {
     char scene[600];
     if (scene_path(v, scene, sizeof scene))
         snprintf(scene, sizeof scene, "scene");
-    frames_ctx c = {.v = v, .prof = prof, .scene = scene, .bless = bless, .diff_dir = diff_dir};
+    frames_ctx c = {.digests = digests, .v = v, .prof = prof, .scene = scene, .bless = bless,
+                    .diff_dir = diff_dir};
     char cpath[600], spath[600], *ctext = NULL, *stext = NULL;
     snprintf(cpath, sizeof cpath, "%s/expected.cycles", v->dir);
     snprintf(spath, sizeof spath, "%s/expected.frames", v->dir);
@@ -431,7 +482,7 @@ static int vector_frames(const vector *v, const alb_profile *prof, const alb_ws_
 }
 
 /* 0 pass, 1 fail, 2 known failure. */
-static int check_vector(const vector *v, const char *diff_dir)
+static int check_vector(const vector *v, const char *diff_dir, const digest_table *digests)
 {
     alb_ws_buf got;
     alb_ws_buf_init(&got);
@@ -456,7 +507,7 @@ static int check_vector(const vector *v, const char *diff_dir)
         }
         /* the frames are checked from the stream just made, so a GP
          * difference does not hide a VP one */
-        rc |= vector_frames(v, &prof, &got, false, diff_dir);
+        rc |= vector_frames(v, &prof, &got, false, diff_dir, digests);
     } else {
         fprintf(vlog, "FAIL %s: could not run\n", v->name);
         rc = 1;
@@ -475,12 +526,13 @@ static int check_vector(const vector *v, const char *diff_dir)
     return rc;
 }
 
+#ifndef ALB_NO_EXTERNAL
 static int bless_vector(const vector *v)
 {
     alb_ws_buf got;
     alb_ws_buf_init(&got);
     alb_profile prof;
-    if (run_vector(v, &got, &prof) || vector_frames(v, &prof, &got, true, NULL)) {
+    if (run_vector(v, &got, &prof) || vector_frames(v, &prof, &got, true, NULL, NULL)) {
         alb_ws_buf_free(&got);
         return 1;
     }
@@ -517,6 +569,7 @@ static int bless_vector(const vector *v)
     alb_ws_buf_free(&got);
     return rc;
 }
+#endif
 
 static int cmp_names(const void *a, const void *b)
 {
@@ -566,7 +619,7 @@ static vector *list_vectors(const char *dir, size_t *count)
 typedef struct {
     const char *diff_dir;
     bool diff_dir_given, help;
-    const char *junit;
+    const char *junit, *digests;
 } vectors_args;
 
 static int vectors_opt(void *ctx, const char *name, const char *value)
@@ -577,6 +630,8 @@ static int vectors_opt(void *ctx, const char *name, const char *value)
         a->diff_dir_given = true;
     } else if (strcmp(name, "junit") == 0) {
         a->junit = value;
+    } else if (strcmp(name, "digests") == 0) {
+        a->digests = value;
     } else {
         a->help = true;
     }
@@ -585,16 +640,22 @@ static int vectors_opt(void *ctx, const char *name, const char *value)
 
 static void vectors_usage(FILE *f)
 {
-    fprintf(f, "usage: albatros vectors check [--diff-dir DIR] [--junit FILE] VECTORS [NAME...]\n"
-               "       albatros vectors bless VECTORS [NAME...]\n\n"
+    fprintf(f, "usage: albatros vectors check [--diff-dir DIR] [--junit FILE] [--digests FILE]\n"
+               "                              VECTORS [NAME...]\n"
+               "       albatros vectors bless VECTORS [NAME...]\n"
+               "       albatros vectors digest VECTORS [NAME...]\n\n"
                "check: run every golden vector in VECTORS (or the NAMEd ones) and compare its\n"
                "       word stream and frames bit for bit; the first difference is named\n"
                "       (word and field, pixel and channel), a diff image goes to DIR\n"
                "       (default ./vector-diffs); exit 1 on any.  --junit FILE: a JUnit XML\n"
                "       report, one test case per vector, a failure carrying the first\n"
-               "       difference (what Jenkins and GitLab read).\n"
+               "       difference (what Jenkins and GitLab read).  --digests FILE: compare\n"
+               "       the frames by the digests in FILE instead of the EXR files (a build\n"
+               "       without OpenEXR can only do so).\n"
                "bless: regenerate the expected outputs (a deliberate act: say why in the\n"
-               "       commit message).\n");
+               "       commit message).\n"
+               "digest: print NAME FRAME DIGEST for each expected frame (alb_frame_digest of\n"
+               "       its exact planes), for check --digests.\n");
 }
 
 /* ---- the JUnit report ---- */
@@ -695,7 +756,8 @@ static int write_junit(const char *path, const vector_result *r, size_t n)
 }
 
 /* Check one vector with its messages in a buffer as well as on stderr. */
-static int check_captured(const vector *v, const char *diff_dir, vector_result *r)
+static int check_captured(const vector *v, const char *diff_dir, const digest_table *digests,
+                          vector_result *r)
 {
     size_t len = 0;
     r->name = v->name;
@@ -703,10 +765,10 @@ static int check_captured(const vector *v, const char *diff_dir, vector_result *
     vlog = open_memstream(&r->text, &len);
     if (!vlog) {
         vlog = stderr;
-        return r->rc = check_vector(v, diff_dir);
+        return r->rc = check_vector(v, diff_dir, digests);
     }
     /* the known-failure line goes to stdout; keep it for the report too */
-    r->rc = check_vector(v, diff_dir);
+    r->rc = check_vector(v, diff_dir, digests);
     fclose(vlog);
     vlog = stderr;
     if (r->text)
@@ -724,9 +786,72 @@ static int check_captured(const vector *v, const char *diff_dir, vector_result *
     return r->rc;
 }
 
-/* Check or bless the vectors of dir named in names[] (all if n == 0). */
-static int vectors_run(bool bless, const char *dir, const char *const *names, int nnames,
-                       const char *diff_dir, const char *junit)
+/* Read a digest file; 0, or -1 after a message naming the line. */
+static int load_digests(const char *path, digest_table *t)
+{
+    char *text;
+    unsigned n;
+    char **lines = read_lines(path, &text, &n);
+    t->d = NULL;
+    t->n = 0;
+    t->file = path;
+    if (!lines) {
+        fprintf(stderr, "albatros vectors: --digests %s: cannot read: %s\n", path, strerror(errno));
+        return -1;
+    }
+    t->d = malloc((n ? n : 1) * sizeof *t->d);
+    int rc = t->d ? 0 : -1;
+    for (unsigned i = 0; i < n && !rc; i++) {
+        frame_digest *e = &t->d[t->n];
+        char tail;
+        if (!lines[i][0])
+            continue;
+        if (sscanf(lines[i], "%255s %u %8x %c", e->name, &e->frame, &e->digest, &tail) != 3) {
+            fprintf(stderr, "%s:%u: expected NAME FRAME DIGEST (hexadecimal), as 'albatros vectors "
+                            "digest' writes\n", path, i + 1);
+            rc = -1;
+        }
+        t->n++;
+    }
+    free(lines);
+    free(text);
+    if (rc) {
+        free(t->d);
+        t->d = NULL;
+    }
+    return rc;
+}
+
+#ifndef ALB_NO_EXTERNAL
+/* vectors digest: one line per expected frame of each vector */
+static int vector_digests(const vector *v)
+{
+    char path[600];
+    int rc = 0;
+    for (unsigned k = 0;; k++) {
+        frame_path(v, k, path, sizeof path);
+        if (!exists(path))
+            break;
+        alb_frame f;
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        if (alb_exr_read_frame(path, &f, &d)) {
+            alb_diag_print(&d, stderr);
+            rc = 1;
+            continue;
+        }
+        printf("%s %u %08x\n", v->name, k, alb_frame_digest(&f));
+        alb_frame_free(&f);
+    }
+    return rc;
+}
+#endif
+
+enum { ACT_CHECK, ACT_BLESS, ACT_DIGEST };
+
+/* Check, bless or digest the vectors of dir named in names[] (all if n == 0). */
+static int vectors_run(int act, const char *dir, const char *const *names, int nnames,
+                       const char *diff_dir, const char *junit, const digest_table *digests)
 {
     size_t n;
     vector *v = list_vectors(dir, &n);
@@ -735,8 +860,8 @@ static int vectors_run(bool bless, const char *dir, const char *const *names, in
         return 1;
     }
     unsigned passed = 0, failed = 0, known = 0, selected = 0;
-    vector_result *results = junit ? calloc(n ? n : 1, sizeof *results) : NULL;
-    if (junit && !results) {
+    vector_result *results = junit && act == ACT_CHECK ? calloc(n ? n : 1, sizeof *results) : NULL;
+    if (junit && act == ACT_CHECK && !results) {
         fprintf(stderr, "albatros vectors: out of memory\n");
         free(v);
         return 1;
@@ -747,9 +872,16 @@ static int vectors_run(bool bless, const char *dir, const char *const *names, in
             want |= strcmp(names[k], v[i].name) == 0;
         if (!want)
             continue;
-        int rc = bless     ? bless_vector(&v[i])
-                 : results ? check_captured(&v[i], diff_dir, &results[selected])
-                           : check_vector(&v[i], diff_dir);
+#ifdef ALB_NO_EXTERNAL
+        int rc = act != ACT_CHECK ? 1
+                 : results        ? check_captured(&v[i], diff_dir, digests, &results[selected])
+                                  : check_vector(&v[i], diff_dir, digests);
+#else
+        int rc = act == ACT_BLESS    ? bless_vector(&v[i])
+                 : act == ACT_DIGEST ? vector_digests(&v[i])
+                 : results           ? check_captured(&v[i], diff_dir, digests, &results[selected])
+                                     : check_vector(&v[i], diff_dir, digests);
+#endif
         selected++;
         if (rc == 0)
             passed++;
@@ -773,6 +905,11 @@ static int vectors_run(bool bless, const char *dir, const char *const *names, in
         free(results[i].text);
     free(results);
     free(v);
+    if (act == ACT_DIGEST) {
+        if (failed)
+            fprintf(stderr, "albatros vectors digest: %u vectors failed\n", failed);
+        return failed || selected == 0 ? 1 : 0;
+    }
     if (known)
         printf("%u known failures\n", known);
     printf("%u passed, %u failed\n", passed, failed);
@@ -781,8 +918,8 @@ static int vectors_run(bool bless, const char *dir, const char *const *names, in
 
 int cmd_vectors(int argc, char **argv)
 {
-    static const char *const spec[] = {"diff-dir=", "junit=", "help", NULL};
-    vectors_args a = {"vector-diffs", false, false, NULL};
+    static const char *const spec[] = {"diff-dir=", "junit=", "digests=", "help", NULL};
+    vectors_args a = {"vector-diffs", false, false, NULL, NULL};
     vlog = stderr;
     const char **pos = malloc(((size_t)argc + 1) * sizeof *pos);
     int npos, rc = 2;
@@ -800,23 +937,44 @@ int cmd_vectors(int argc, char **argv)
         rc = 0;
         goto done;
     }
-    bool bless = npos >= 1 && strcmp(pos[0], "bless") == 0;
-    if (npos < 2 || (!bless && strcmp(pos[0], "check"))) {
-        if (npos >= 1 && !bless && strcmp(pos[0], "check"))
+    int act = npos < 1                        ? -1
+              : strcmp(pos[0], "check") == 0  ? ACT_CHECK
+              : strcmp(pos[0], "bless") == 0  ? ACT_BLESS
+              : strcmp(pos[0], "digest") == 0 ? ACT_DIGEST
+                                              : -1;
+    if (npos < 2 || act < 0) {
+        if (npos >= 1 && act < 0)
             fprintf(stderr, "albatros vectors: unknown action '%s'\n\n", pos[0]);
         vectors_usage(stderr);
         goto done;
     }
-    if (bless && a.diff_dir_given) {
+    if (act != ACT_CHECK && a.diff_dir_given) {
         fprintf(stderr, "albatros vectors: --diff-dir is for check only (bless writes no diff "
                         "images)\n");
         goto done;
     }
-    if (bless && a.junit) {
+    if (act != ACT_CHECK && a.junit) {
         fprintf(stderr, "albatros vectors: --junit reports a check (bless compares nothing)\n");
         goto done;
     }
-    rc = vectors_run(bless, pos[1], pos + 2, npos - 2, a.diff_dir, a.junit);
+    if (act != ACT_CHECK && a.digests) {
+        fprintf(stderr, "albatros vectors: --digests is for check only\n");
+        goto done;
+    }
+#ifdef ALB_NO_EXTERNAL
+    if (act != ACT_CHECK || !a.digests) {
+        fprintf(stderr, "albatros vectors: this albatros was built with ALB_NO_EXTERNAL, without "
+                        "OpenEXR: it can only check, with --digests FILE from a full build's "
+                        "'albatros vectors digest'\n");
+        goto done;
+    }
+#endif
+    digest_table dt = {NULL, 0, NULL};
+    if (a.digests && load_digests(a.digests, &dt))
+        goto done;
+    rc = vectors_run(act, pos[1], pos + 2, npos - 2, a.diff_dir, a.junit,
+                     a.digests ? &dt : NULL);
+    free(dt.d);
 done:
     free(pos);
     return rc;

@@ -15,8 +15,11 @@ typedef struct {
                            1, or compare's 2 ("trouble": 1 means "differ") */
 } command;
 
+/* ALB_NO_EXTERNAL (make crosscheck's musl build): only what needs none of
+ * libpng, libusb, hidapi and OpenEXR */
 static const command commands[] = {
     {"gp", cmd_gp, "run the geometry processor: scene -> VP word stream", 1},
+#ifndef ALB_NO_EXTERNAL
     {"render", cmd_render, "render a scene: GP -> FIFO -> VP -> frames (EXR, PNG)", 1},
     {"vp", cmd_vp, "run the VP alone on a word stream (RTL replay)", 1},
     {"reference", cmd_reference, "render a scene with the exact double-precision reference", 1},
@@ -27,6 +30,7 @@ static const command commands[] = {
     {"scene", cmd_scene, "write a generated scene (random polygons, slivers, stress families)", 1},
     {"stream", cmd_stream, "stream to a board (USB or simulated) and check it against the emulator", 1},
     {"board", cmd_board, "list, inspect or reset boards over HID", 1},
+#endif
     {"dump", cmd_dump, "check a word stream and print it with field names", 1},
     {"vectors", cmd_vectors, "check (or bless) the golden vectors", 1},
     {"profiles", cmd_profiles, "list the family's profiles and their fields", 1},

@@ -1,6 +1,6 @@
 /* bound.c — the Albatros bounding-edge rule (§7, Fig. 2, code (20)): the
  * sector table and the 64-entry table memory that the 6-bit code of a vertex's
- * two edges addresses, as the hardware GP does.  tests/test_gp.c checks every
+ * two edges addresses, as the hardware GP does.  tests/test_bound.c checks every
  * entry against a geometric computation of the angle between the edges. */
 #include "gp_internal.h"
 

@@ -234,23 +234,28 @@ typedef struct {
     double ambient;
 } xform;
 
-static int object_xform(const alb_gp *gp, unsigned frame, unsigned oi, xform *x)
+/* The frame's part of every object's T: S V^T, computed once a frame. */
+static mat3 observer_part(const alb_gp *gp, const alb_scene_observer *ob)
 {
-    const alb_scene_frame *fr = &gp->scene->frames[frame];
-    const alb_scene_pose *pose = alb_scene_pose_at(gp->scene, frame, oi);
-    const alb_scene_observer *ob = &fr->obs;
     double aspect = ob->aspect > 0 ? ob->aspect : (double)gp->prof.width / gp->prof.height;
-    double sy = 1 / tan(ob->fov_y * VEC3_PI / 360), sx = sy / aspect;
-    mat3 q = m3_orientation(pose->yaw, pose->pitch, pose->roll);
-    mat3 o = m3_orientation(ob->pose.yaw, ob->pose.pitch, ob->pose.roll);
+    double sy = 1 / cr_tan(ob->fov_y * VEC3_PI / 360), sx = sy / aspect;
+    mat3 o = ob->look_at ? m3_look_at(ob->pose.pos, ob->at, ob->up)
+                         : m3_orientation(ob->pose.yaw, ob->pose.pitch, ob->pose.roll);
     mat3 v = m3_transpose(&o);
     mat3 s = {{{sx, 0, 0}, {0, sy, 0}, {0, 0, 1}}};
-    mat3 sv = m3_mul(&s, &v);
-    x->t = m3_mul(&sv, &q);
+    return m3_mul(&s, &v);
+}
+
+static int object_xform(const alb_scene *s, const alb_scene_frame *fr, unsigned frame,
+                        const mat3 *sv, unsigned oi, xform *x)
+{
+    const alb_scene_pose *pose = alb_scene_pose_at(s, frame, oi);
+    mat3 q = m3_orientation(pose->yaw, pose->pitch, pose->roll);
+    x->t = m3_mul(sv, &q);
     if (!m3_inverse_transpose(&x->t, &x->tk))
         return -1;
     mat3 qt = m3_transpose(&q);
-    x->r_sm = m3_apply(&qt, v3_sub(pose->pos, ob->pose.pos));
+    x->r_sm = m3_apply(&qt, v3_sub(pose->pos, fr->obs.pose.pos));
     x->light = m3_apply(&qt, fr->light.dir);
     x->ambient = fr->light.ambient;
     return 0;
@@ -313,9 +318,21 @@ static emit_result add_bound(const alb_gp *gp, alb_ws_face *wf, unsigned u, unsi
     return EMIT_OK;
 }
 
+/* The paper's rule (§7, code 20): at most two per face, because the sector
+ * differences around a convex polygon add up to 8 and each generating vertex
+ * takes 3 or 4.  A face that is not strictly convex on the screen — a vertex
+ * turning back within the scene parser's tolerance, or a straight vertex
+ * whose two edges rounding puts on either side of a sector border — steps
+ * back a sector (a difference of 7) and can then generate at three or more.
+ * The GP keeps the rule as a guarantee: the first two generating vertices in
+ * vertex order get bounding edges, later ones none (bound_excess counts
+ * them).  Bounding edges only bound, so this changes no covered sample. */
+#define BOUND_PER_FACE 2
+
 static emit_result bound_albatros(const alb_gp *gp, alb_ws_face *wf, const vec3 *p,
                                   const gp_line *lines, unsigned n, alb_gp_stats *st)
 {
+    unsigned generated = 0;
     for (unsigned k = 0; k < n; k++) {
         const gp_line *e1 = &lines[(k + n - 1) % n], *e2 = &lines[k];
         /* the vertex between edge k-1 and edge k must have a screen image */
@@ -325,6 +342,11 @@ static emit_result bound_albatros(const alb_gp *gp, alb_ws_face *wf, const vec3 
         unsigned rom = gp_bound_rom[code];
         if (!(rom & BOUND_ROM_GEN))
             continue;
+        if (generated == BOUND_PER_FACE) {
+            st->bound_excess++;
+            continue;
+        }
+        generated++;
         unsigned u = (rom & BOUND_ROM_U) != 0, r = rom & BOUND_ROM_R;
         double v = u ? p[k].x / p[k].z : p[k].y / p[k].z;
         if (add_bound(gp, wf, u, r, v, st) == EMIT_DROP_FACE)
@@ -365,12 +387,12 @@ static emit_result bound_bisector(const alb_gp *gp, alb_ws_face *wf, const vec3 
         double bx = b->x / b->z, by = b->y / b->z;
         double d1x = bx - a->x / a->z, d1y = by - a->y / a->z;
         double d2x = c->x / c->z - bx, d2y = c->y / c->z - by;
-        double l1 = hypot(d1x, d1y), l2 = hypot(d2x, d2y);
+        double l1 = cr_hypot(d1x, d1y), l2 = cr_hypot(d2x, d2y);
         if (!(l1 > 0 && l2 > 0))
             continue;
         /* interior bisector -d1/|d1| + d2/|d2|; the edge is perpendicular to it */
         double nx = -d1x / l1 + d2x / l2, ny = -d1y / l1 + d2y / l2;
-        if (!(hypot(nx, ny) > 1e-9))
+        if (!(cr_hypot(nx, ny) > 1e-9))
             continue;   /* a straight vertex needs no bounding edge */
         gp_line l = {nx, ny, -(nx * bx + ny * by)};
         if (add_line(gp, wf, l, st, true) == EMIT_DROP_FACE)
@@ -521,6 +543,7 @@ void alb_gp_stream_header(alb_gp *gp, alb_ws_buf *out)
 alb_err alb_gp_frame(alb_gp *gp, unsigned frame, alb_ws_buf *out, alb_gp_stats *st, alb_diag *d)
 {
     const alb_scene *s = gp->scene;
+    const alb_scene_frame *fr = &s->frames[frame];
     memset(st, 0, sizeof *st);
     size_t start = out->n;
     alb_ws_frame wf = {frame & 0xFFFFFF, rgb_word(s->background), s->fog, rgb_word(s->fog_rgb), 0, 0};
@@ -533,10 +556,11 @@ alb_err alb_gp_frame(alb_gp *gp, unsigned frame, alb_ws_buf *out, alb_gp_stats *
     alb_ws_face *face = malloc(sizeof *face);
     if (!face)
         return alb_diag_at(d, ALB_ERR_NOMEM, s->file, 0, 0, "out of memory");
+    mat3 sv = observer_part(gp, &fr->obs);
     for (unsigned oi = 0; oi < s->nobj; oi++) {
         const alb_scene_object *o = &s->obj[oi];
         xform x;
-        if (object_xform(gp, frame, oi, &x)) {
+        if (object_xform(s, fr, frame, &sv, oi, &x)) {
             free(face);
             return alb_diag_at(d, ALB_ERR_GEOMETRY, s->file, o->line, 0,
                            "frame %u: object '%s' has a singular observer transform", frame,
@@ -574,6 +598,7 @@ void alb_gp_stats_add(alb_gp_stats *sum, const alb_gp_stats *s)
     ADD(faces_in); ADD(faces_out); ADD(faces_behind); ADD(faces_backfacing);
     ADD(faces_edge_on); ADD(faces_offscreen); ADD(edges_out); ADD(edges_behind);
     ADD(edges_degenerate); ADD(edges_offscreen); ADD(bound_added); ADD(bound_culled);
+    ADD(bound_excess);
     ADD(coef_saturated); ADD(words);
 #undef ADD
     if (!sum->saturated_line && s->saturated_line) {

@@ -59,4 +59,13 @@ alb_ws_form gp_quantise_form(double a, double b, double c, unsigned coef_bits, i
  * N.(A, B, C) = 0.  Returns 0, or -1 if the determinant k.N vanishes. */
 int gp_solve_linear(const vec3 r[3], const double val[3], vec3 n, double out[4]);
 
+/* A closed planar polygon given by its n edge vectors (dx[k], dy[k]), edge k
+ * leaving vertex k, in a plane frame where the polygon runs counter-clockwise
+ * if convex (gp/polygon.c).  REFLEX: *vertex is a vertex turning right by a
+ * sine below -tol_sin (or by 90 degrees or more, or doubling back); otherwise
+ * *vertex is how many times the polygon winds, CONVEX when once. */
+typedef enum { GP_TURNS_CONVEX, GP_TURNS_REFLEX, GP_TURNS_NOT_SIMPLE } gp_turns;
+gp_turns gp_polygon_turns(const double *dx, const double *dy, unsigned n, double tol_sin,
+                          unsigned *vertex);
+
 #endif

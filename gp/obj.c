@@ -4,6 +4,7 @@
 #include "albatros/scene.h"
 #include "../common/vec3.h"
 #include "albatros/file.h"
+#include "gp_internal.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -306,6 +307,8 @@ typedef struct {
     unsigned *poly;          /* vertex indices of the face being read */
     unsigned cap_poly;
     unsigned ndegenerate, first_degenerate;
+    unsigned fnum;           /* the 'f' statement being imported, from 0: the id of
+                                every face made of it (docs/vp.md §7) */
     alb_diag chk;              /* why the last alb_scene_check_face failed */
 } importer;
 
@@ -613,8 +616,10 @@ static alb_err face_ref(importer *im, reader *r, const otok *t, unsigned *out)
 
 /* ---- faces: geometry ---- */
 
-/* Append a face and check it; one that fails is taken back out again, so
- * that face ids stay consecutive.  *ok says which. */
+/* Append a face and check it; one that fails is taken back out again.  Its
+ * id is its 'f' statement's number, not its place among the faces made: the
+ * triangles of a split polygon share their polygon's, and a skipped face
+ * moves no later one, so face.id is the OBJ's face order.  *ok says which. */
 static alb_err emit_face(importer *im, const unsigned *vi, unsigned n, bool *ok)
 {
     alb_scene *s = im->s;
@@ -622,6 +627,7 @@ static alb_err emit_face(importer *im, const unsigned *vi, unsigned n, bool *ok)
     alb_scene_face *f = alb_scene_add_face(s, o, vi, n);
     if (!f)
         return ALB_ERR_NOMEM;
+    f->id = im->fnum;
     f->line = im->line;
     f->col = im->col;
     if (im->cur_mat >= 0)
@@ -741,20 +747,18 @@ static double orient(const pvert *a, const pvert *b, const pvert *c)
     return (b->x - a->x) * (c->y - a->y) - (b->y - a->y) * (c->x - a->x);
 }
 
-/* Convex in the plane: no right turn, one revolution in all. */
+/* Convex in the plane: no right turn, one revolution in all (the rule of
+ * alb_scene_check_face, gp/polygon.c). */
 static bool convex2d(const polygon *pg)
 {
-    double total = 0;
-    for (unsigned k = 0; k < pg->n; k++) {
-        const pvert *a = &pg->v[(k + pg->n - 1) % pg->n], *b = &pg->v[k],
-                    *c = &pg->v[(k + 1) % pg->n];
-        double dot = (b->x - a->x) * (c->x - b->x) + (b->y - a->y) * (c->y - b->y);
-        double turn = atan2(orient(a, b, c), dot);
-        if (turn < -TOL_TURN)
-            return false;
-        total += turn;
+    double ex[OBJ_MAX_POLY], ey[OBJ_MAX_POLY];
+    unsigned k;
+    for (k = 0; k < pg->n; k++) {
+        const pvert *a = &pg->v[k], *b = &pg->v[(k + 1) % pg->n];
+        ex[k] = b->x - a->x;
+        ey[k] = b->y - a->y;
     }
-    return fabs(total - 2 * VEC3_PI) <= 1e-6;
+    return gp_polygon_turns(ex, ey, pg->n, TOL_TURN, &k) == GP_TURNS_CONVEX;
 }
 
 /* p, known to be on the line ab, lies on the segment ab. */
@@ -803,8 +807,8 @@ static bool simple2d(const polygon *pg)
 
 static double ear_eps(const pvert *a, const pvert *b, const pvert *c)
 {
-    double l1 = hypot(b->x - a->x, b->y - a->y), l2 = hypot(c->x - b->x, c->y - b->y),
-           l3 = hypot(a->x - c->x, a->y - c->y);
+    double l1 = cr_hypot(b->x - a->x, b->y - a->y), l2 = cr_hypot(c->x - b->x, c->y - b->y),
+           l3 = cr_hypot(a->x - c->x, a->y - c->y);
     double L = fmax(l1, fmax(l2, l3));
     return TOL_EAR * L * L;
 }
@@ -967,7 +971,9 @@ static alb_err st_f(importer *im, reader *r, unsigned col)
     if (n < 3)
         return rerr(r, r->end_col, "a face needs at least 3 vertices, found %u", n);
     im->col = col;
-    return add_polygon(im, n);
+    e = add_polygon(im, n);
+    im->fnum++;
+    return e;
 }
 
 /* ---- statements ---- */
@@ -1139,18 +1145,15 @@ static alb_err camera_size_check(const alb_scene_camera *c, alb_diag *d)
     return ALB_OK;
 }
 
-/* Yaw and pitch turn the observer's +Z onto the view direction; roll then
- * turns its +Y (column 1 of m3_orientation) about +Z toward `up`: the up axis
- * is cos(roll) Y0 + sin(roll) X0 for the zero-roll axes X0, Y0. */
+/* A look-at observer: the GP builds its orientation from the vectors
+ * (m3_look_at), with no round trip through angles, so no transcendental
+ * function of the C library touches the camera (docs/number-formats.md §0). */
 static void camera_observer(const alb_scene_camera *c, alb_scene_observer *obs)
 {
-    const double deg = 180 / VEC3_PI;
-    vec3 f = v3_sub(c->at, c->eye);
-    double yaw = atan2(f.x, f.z) * deg, pitch = atan2(f.y, hypot(f.x, f.z)) * deg;
-    mat3 m = m3_orientation(yaw, pitch, 0);
-    vec3 x0 = v3(m.m[0][0], m.m[1][0], m.m[2][0]), y0 = v3(m.m[0][1], m.m[1][1], m.m[2][1]);
-    double roll = atan2(v3_dot(c->up, x0), v3_dot(c->up, y0)) * deg;
-    obs->pose = (alb_scene_pose){c->eye, yaw, pitch, roll};
+    obs->pose = (alb_scene_pose){c->eye, 0, 0, 0};
+    obs->look_at = true;
+    obs->at = c->at;
+    obs->up = c->up;
     obs->fov_y = c->fov_y;
     obs->aspect = (double)c->width / c->height;
 }

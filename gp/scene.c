@@ -4,6 +4,7 @@
 #include "albatros/scene.h"
 #include "../common/vec3.h"
 #include "albatros/file.h"
+#include "gp_internal.h"
 
 #include <errno.h>
 #include <math.h>
@@ -194,7 +195,7 @@ vec3 alb_scene_face_newell(const alb_scene_object *o, const alb_scene_face *f)
  * face's longest edge L. */
 #define TOL_AREA   1e-12   /* |Newell| / L^2 below this: collinear */
 #define TOL_PLANE  1e-6    /* distance from the plane / L above this: non-planar */
-#define TOL_TURN   1e-9    /* radians: a turn this far negative is a reflex vertex */
+#define TOL_TURN   1e-9    /* sine of a turn this far negative: a reflex vertex */
 
 /* The number by which the face's k-th vertex is written: 1-based in its
  * object, as on an `f` line (the index itself for OBJ's positive indices). */
@@ -321,24 +322,33 @@ alb_err alb_scene_check_face(const alb_scene *s, const alb_scene_object *o, cons
     for (unsigned k = 0; k < n; k++)
         if (fabs(v3_dot(u, v3_sub(alb_scene_face_vertex(o, f, k), c))) > TOL_PLANE * L)
             return not_planar(s, o, f, cols, TOL_PLANE * L, d);
-    /* Convex and simple: every turn is non-negative about the Newell normal
-     * and the turns add up to one full revolution. */
-    double total = 0;
+    /* Convex and simple: no turn about the Newell normal below -TOL_TURN (its
+     * sine), and one revolution in all; in the plane's frame (a, b), a x b =
+     * u, so that a left turn about u is a left turn there (gp/polygon.c). */
+    vec3 axis = fabs(u.x) <= fabs(u.y) && fabs(u.x) <= fabs(u.z) ? v3(1, 0, 0)
+                : fabs(u.y) <= fabs(u.z) ? v3(0, 1, 0) : v3(0, 0, 1);
+    vec3 pa = v3_cross(axis, u);
+    pa = v3_scale(pa, 1 / v3_len(pa));
+    vec3 pb = v3_cross(u, pa);
+    double ex[ALB_SCENE_MAX_FACE_VERTICES], ey[ALB_SCENE_MAX_FACE_VERTICES];
     for (unsigned k = 0; k < n; k++) {
-        vec3 a = alb_scene_face_vertex(o, f, (k + n - 1) % n), b = alb_scene_face_vertex(o, f, k),
-             e = alb_scene_face_vertex(o, f, (k + 1) % n);
-        vec3 e1 = v3_sub(b, a), e2 = v3_sub(e, b);
-        double turn = atan2(v3_dot(v3_cross(e1, e2), u), v3_dot(e1, e2));
-        if (turn < -TOL_TURN)
-            return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, vertex_col(f, cols, k),
-                           "face %u of object '%s' is not convex at vertex %u", f->id, o->name,
-                           vertex_number(o, f, k));
-        total += turn;
+        vec3 e = v3_sub(alb_scene_face_vertex(o, f, (k + 1) % n), alb_scene_face_vertex(o, f, k));
+        ex[k] = v3_dot(e, pa);
+        ey[k] = v3_dot(e, pb);
     }
-    if (fabs(total - 2 * VEC3_PI) > 1e-6)
+    unsigned k;
+    switch (gp_polygon_turns(ex, ey, n, TOL_TURN, &k)) {
+    case GP_TURNS_CONVEX:
+        break;
+    case GP_TURNS_REFLEX:
+        return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, vertex_col(f, cols, k),
+                       "face %u of object '%s' is not convex at vertex %u", f->id, o->name,
+                       vertex_number(o, f, k));
+    case GP_TURNS_NOT_SIMPLE:
         return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
                        "face %u of object '%s' is not a simple convex polygon (it winds %.2f times)",
-                       f->id, o->name, total / (2 * VEC3_PI));
+                       f->id, o->name, (double)(int)k);
+    }
     return ALB_OK;
 }
 

@@ -5,7 +5,9 @@
 #include "albatros/file.h"
 
 #include <errno.h>
+#ifndef ALB_NO_EXTERNAL
 #include <png.h>
+#endif
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,6 +30,16 @@ alb_err alb_scene_texture_checker(alb_scene_texture *t, unsigned log2size, const
     return ALB_OK;
 }
 
+#ifdef ALB_NO_EXTERNAL
+/* The build without external libraries (make crosscheck's musl build,
+ * docs/golden-vectors.md): no libpng, so no PNG textures. */
+alb_err alb_scene_texture_png(alb_scene_texture *t, const char *path, alb_diag *d)
+{
+    (void)t;
+    return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot read the PNG texture '%s': this albatros "
+                   "was built with ALB_NO_EXTERNAL, without libpng", path);
+}
+#else
 /* libpng reports every short read as "Read Error": a read that failed at
  * the end of the file means the file was cut short. */
 static alb_err png_failed(alb_diag *d, const char *path, FILE *f, const char *doing,
@@ -151,3 +163,4 @@ alb_err alb_scene_texture_png(alb_scene_texture *t, const char *path, alb_diag *
     fclose(f);
     return e;
 }
+#endif

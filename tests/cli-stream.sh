@@ -29,6 +29,9 @@ object gem moving yaw 10
  f 6 4 1
 end'
 { echo "$gem"; for ((i = 1; i <= 150; i++)); do printf 'frame\n pose gem yaw %d\n' $((7 * i)); done; } > "$tmp/long.scene"
+# the signal tests' stream: long enough (about a second and a half to send)
+# that a signal sent once it has begun cannot miss it on a loaded machine
+{ echo "$gem"; for ((i = 1; i <= 1500; i++)); do printf 'frame\n pose gem yaw %d\n' $((7 * i)); done; } > "$tmp/longer.scene"
 { echo "$gem"; for ((i = 1; i <= 40; i++)); do printf 'frame\n pose gem yaw %d\n' $((9 * i)); done; } > "$tmp/forty.scene"
 
 # the board's payload comes from its INFO report: a board that takes 492
@@ -68,32 +71,42 @@ expect 0 "first link error: board: bad CRC at packet 39 \(TILE: frame 0, tile at
     "$bin" stream --sim --frames --profile a256 --sim-payload 492 --fault truncate=40
 expect 0 '"resends": 1, "display": "identical"' \
     "$bin" stream --sim --frames --profile a256 --sim-payload 492 --fault truncate=40 --json
+# the last packet of a frame cut short, nothing behind it: the QUERY goes
+# behind zero bytes that complete it, the gap shows, the frame is resumed
+printf 'albatros-scene 1\nobject t\n v -1 -1 4\n v 1 -1 4\n v 0 1 4\n f 1 2 3\nend\n' > "$tmp/tri.scene"
+expect 0 "1 of 1 frames match .*1 resumes, 1 queries" "$bin" stream --sim --wait 0 "$tmp/tri.scene" --fault truncate=3
+expect 0 "hardware agrees" "$bin" stream --sim --wait 0 "$tmp/tri.scene" --sim-payload 492 --fault truncate=3
+expect 0 "4 of 4 frames match .*1 queries" "$bin" stream --sim --wait 0 --fault truncate=7
+# the stream's END cut short: the closing PING goes again behind the padding
+expect 0 "first link error: board: sequence gap: packet 3 \(WORDS: words 26\.\.26, the stream's end\) never arrived" \
+    "$bin" stream --sim --wait 0 "$tmp/tri.scene" --fault truncate=4
+# a silent board: the time the host waited, measured
+expect 3 "the board stopped answering: no RESULT for frame [0-9]+ in [0-9]+\.[0-9]+ s after sending up to frame [0-9]+ and a QUERY \(each read waits up to 2000 ms\)" \
+    "$bin" stream --sim --wait 0 --profile a256 --fault silence=30
 expect 0 "truncate=N +send only the first half of the N-th packet" "$bin" stream --help
 expect 0 "corrupt=N +flip a bit of the N-th byte sent" "$bin" stream --help
 
 # Ctrl-C: stopped once the stream has begun (its first line, printed once
 # the handler is in place), however slowly the emulator's run before it goes
-"$bin" stream --sim --profile a256 "$tmp/long.scene" > "$tmp/int.out" 2>&1 &
+"$bin" stream --sim --profile a256 "$tmp/longer.scene" > "$tmp/int.out" 2>&1 &
 pid=$!
-for ((i = 0; i < 3000; i++)); do grep -q '^stream: 150 frames to send' "$tmp/int.out" && break; sleep 0.1; done
+for ((i = 0; i < 6000; i++)); do grep -q '^stream: 1500 frames to send' "$tmp/int.out" && break; sleep 0.02; done
 kill -INT $pid
 wait $pid
 rc=$?
-[[ $rc -eq 130 ]] && grep -qE '^stream: interrupted: [0-9]+ of 150 frames confirmed by the board$' "$tmp/int.out" &&
-    grep -qE '^stream: [0-9]+ of 150 frames match the emulator' "$tmp/int.out" &&
+[[ $rc -eq 130 ]] && grep -qE '^stream: interrupted: [0-9]+ of 1500 frames confirmed by the board$' "$tmp/int.out" &&
+    grep -qE '^stream: [0-9]+ of 1500 frames match the emulator' "$tmp/int.out" &&
     ! grep -qE 'no result|DIFFERS' "$tmp/int.out" && ok || bad "SIGINT: exit $rc: $(cat "$tmp/int.out")"
-n=$(sed -nE 's/^stream: interrupted: ([0-9]+) of 150.*/\1/p' "$tmp/int.out")
-[[ -n $n && $n -lt 150 ]] && ok || bad "SIGINT: $n frames confirmed: not interrupted?"
-# SIGTERM the same; the board falls silent early and the host waits for it,
-# so the signal cannot come after a finished stream however loaded the machine
-"$bin" stream --sim --profile a256 "$tmp/long.scene" --fault silence=3000 --timeout 600000 \
-    > "$tmp/term.out" 2>&1 &
+n=$(sed -nE 's/^stream: interrupted: ([0-9]+) of 1500.*/\1/p' "$tmp/int.out")
+[[ -n $n && $n -lt 1500 ]] && ok || bad "SIGINT: $n frames confirmed: not interrupted?"
+# SIGTERM the same
+"$bin" stream --sim --profile a256 "$tmp/longer.scene" > "$tmp/term.out" 2>&1 &
 pid=$!
-for ((i = 0; i < 3000; i++)); do grep -q '^stream: 150 frames to send' "$tmp/term.out" && break; sleep 0.1; done
+for ((i = 0; i < 6000; i++)); do grep -q '^stream: 1500 frames to send' "$tmp/term.out" && break; sleep 0.02; done
 kill -TERM $pid
 wait $pid
 rc=$?
-[[ $rc -eq 130 ]] && grep -qE '^stream: interrupted: [0-9]+ of 150 frames confirmed' "$tmp/term.out" &&
+[[ $rc -eq 130 ]] && grep -qE '^stream: interrupted: [0-9]+ of 1500 frames confirmed' "$tmp/term.out" &&
     ok || bad "SIGTERM: exit $rc: $(cat "$tmp/term.out")"
 
 # board: JSON where asked, the usage names --wait

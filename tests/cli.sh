@@ -72,6 +72,19 @@ expect 1 "frame 0 differs at pixel \([0-9]+, [0-9]+\): vp.R expected 200, got 10
 echo "flipped on purpose" > "$tmp/v/tri/KNOWN-FAILURE"
 expect 0 "known failure tri" "$bin" vectors check "$tmp/v"
 expect 1 "no vector named 'zzz'" "$bin" vectors check "$tmp/v" zzz
+rm "$tmp/v/tri/KNOWN-FAILURE"
+"$bin" vectors bless "$tmp/v" >/dev/null
+# frames by digest (what the musl build of make crosscheck checks with): the
+# digests of the expected EXR files, a frame that differs, a broken file
+"$bin" vectors digest "$tmp/v" > "$tmp/dg" && grep -qE '^tri 0 [0-9a-f]{8}$' "$tmp/dg" && ok || bad "vectors digest: $(cat "$tmp/dg")"
+expect 0 "1 passed, 0 failed" "$bin" vectors check --digests "$tmp/dg" "$tmp/v"
+sed 's/ [0-9a-f]*$/ 0badf00d/' "$tmp/dg" > "$tmp/dg-bad"
+expect 1 "FAIL tri: frame 0 differs: digest [0-9a-f]{8}, expected 0badf00d" "$bin" vectors check --digests "$tmp/dg-bad" "$tmp/v"
+printf 'tri zero\n' > "$tmp/dg-bad"
+expect 2 "dg-bad:1: expected NAME FRAME DIGEST" "$bin" vectors check --digests "$tmp/dg-bad" "$tmp/v"
+: > "$tmp/dg-bad"
+expect 1 "has no digest for frame 0" "$bin" vectors check --digests "$tmp/dg-bad" "$tmp/v"
+expect 2 "--digests is for check only" "$bin" vectors bless --digests "$tmp/dg" "$tmp/v"
 
 # render, vp replay, reference, compare
 printf 'albatros-scene 1\nobserver fov 90\nobject t\n v -1 -1 5\n v 1 -1 5\n v 0 1 5\n f 1 2 3\nend\n' > "$tmp/t.scene"
@@ -102,9 +115,20 @@ expect 2 'is 256x256 .*is 512x512' "$bin" compare "$tmp/t.exr" "$tmp/b512.exr"
 expect 2 'cannot' "$bin" compare "$tmp/t.exr" "$tmp/none.exr"
 expect 2 "nothing to write" "$bin" render
 expect 2 "views are colour" "$bin" render --view bogus:x.png
-expect 0 '0 of them different' "$bin" accuracy "$tmp/t.scene" --profile a256
+expect 0 '^judged [0-9]+ of 65536 pixels .*: 0 errors$' "$bin" accuracy "$tmp/t.scene" --profile a256
 "$bin" scene random --faces 5 --seed 3 -o "$tmp/r.scene" && "$bin" scene random --faces 5 --seed 3 | cmp -s - "$tmp/r.scene" && ok || bad "scene random not deterministic"
-expect 0 '0 of them different' "$bin" accuracy --random 3 --profile a256
+expect 0 '^judged [0-9]+ of 196608 pixels .*: 0 errors$' "$bin" accuracy --random 3 --profile a256
+# accuracy judges what it cannot excuse: two quads nearer than near tie in
+# the saturated depth store (the first drawn wins, the reference takes the
+# nearer); differences there are errors unless excused, and an excused run
+# that judges too little of the picture fails too
+printf 'albatros-scene 1\nnear 1\nobserver fov 90\nobject a\n v -1 -1 0.5\n v 1 -1 0.5\n v 1 1 0.5\n v -1 1 0.5\n f 1 2 3 4 colour 200 0 0\nend\nobject b\n v -2 -2 0.2\n v 2 -2 0.2\n v 2 2 0.2\n v -2 2 0.2\n f 1 2 3 4 colour 0 200 0\nend\n' > "$tmp/clamp.scene"
+expect 1 '^  near-clamp +65536 pixels .* 65536 differ +judged .*the first at pixel \(0, 0\) of frame 0 of' "$bin" accuracy "$tmp/clamp.scene" --profile a256
+expect 1 'only 0\.00% of the pixels could be judged' "$bin" accuracy "$tmp/clamp.scene" --profile a256 --exclude near-clamp
+expect 0 'warning: 65536 differing pixels nearer than near .* were excluded' "$bin" accuracy "$tmp/clamp.scene" --profile a256 --exclude near-clamp,underflow --min-judged 0
+expect 0 '"near-clamp": \{"pixels": 65536, "differ": 65536, "judged": false\}' "$bin" accuracy "$tmp/clamp.scene" --profile a256 --exclude near-clamp --min-judged 0 --json
+expect 2 "--exclude edge-band: 'edge-band' is not near-clamp or underflow" "$bin" accuracy "$tmp/clamp.scene" --exclude edge-band
+expect 2 "--min-judged 101: expected a percentage" "$bin" accuracy "$tmp/clamp.scene" --min-judged 101
 
 # fidelities: the replay of a stream gives the full run's cycles; counters
 "$bin" render "$tmp/t.scene" --profile a256 --fidelity timed --json -q --stream "$tmp/ts.stream" > "$tmp/full.json"

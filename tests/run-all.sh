@@ -44,8 +44,10 @@ for t in tests/cli-*.sh; do   # one per area: cli-stream.sh, cli-stability.sh, .
 done
 run vectors "$bin" vectors check test-vectors
 run malformed bash tests/malformed.sh "$bin"
+run doc-numbers bash tests/doc-numbers.sh "$bin" "$build"
 run fuzz-replay bash tests/fuzz-replay.sh "$build" "${unit[@]}"
 run firmware bash tests/firmware.sh "$build"
+run firmware-s51 bash tests/firmware-s51.sh "$build" "${unit[@]}"
 run dpi bash tests/dpi.sh "$build"
 run python bash tests/python.sh "$build"
 run install bash tests/install.sh "$build"

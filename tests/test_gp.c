@@ -469,3 +469,64 @@ TEST(gp_refuses_values_the_stream_cannot_hold)
     gp_on_text("fog 1 2 3 1 1.0003\n", &c);   /* 2560 and round(2560.768) */
     CHECK(c.e == ALB_OK && c.frame.fog_near == 2560 && c.frame.fog_far == 2561);
 }
+
+/* The paper's rule gives a convex polygon at most two bounding edges; a
+ * face the parser's convexity tolerance accepts — here a triangle whose
+ * vertical side has a vertex pushed in by 1e-11 of the screen, a turn of sine
+ * -5e-11 — steps back a sector at the dent, and the table then generates at
+ * the three corners (sectors 1 -> 4 -> 7 -> 6 -> 1: differences 3, 3, 7, 3).
+ * The GP keeps the first two (docs/gp.md, "Bounding edges"). */
+TEST(bounding_edges_at_most_two_per_face)
+{
+    static const char text[] =
+        "albatros-scene 1\nobserver fov 90\nobject t\n v 2.5 3 5\n v -3 1 5\n v 2.5 -1.001 5\n"
+        " v 2.49999999995 1 5\n f 1 2 3 4\nend\n";
+    gp_run_result r;
+    if (gp_run_text(text, "bound=albatros", &r)) {
+        CHECK_MSG(0, "%s", r.err);
+        return;
+    }
+    CHECK(r.nfaces == 1 && r.st.bound_added == 2 && r.st.bound_excess == 1);
+    if (r.nfaces == 1) {
+        /* own edges first, then the bounding edges of the first two corners
+         * in vertex order: A = (0.5, 0.6) and B = (-0.6, 0.2), both under
+         * sector differences of 3 */
+        CHECK_EQ(r.faces[0].n_edges, 4 + 2);
+        const alb_ws_edge *ba = &r.faces[0].edge[4], *bb = &r.faces[0].edge[5];
+        unsigned frac = r.cfg.edge_frac_bits;
+        CHECK(ba->x1 == ba->x2 && bb->x1 == bb->x2);
+        CHECK_NEAR(intercept_value(ba->x1, frac), ba->u ? 0.5 : 0.6, ldexp(1, -(int)frac));
+        CHECK_NEAR(intercept_value(bb->x1, frac), bb->u ? -0.6 : 0.2, ldexp(1, -(int)frac));
+    }
+    gp_run_free(&r);
+    /* and never more than two on dented polygons, the dented side along
+     * each of the eight sector borders (multiples of 45 degrees) or not */
+    uint64_t seed = 5;
+    unsigned faces = 0, excess = 0;
+    for (int i = 0; i < 400; i++) {
+        char buf[2048];
+        double rot = (i % 8) * VEC3_PI / 4 + (i % 16 < 8 ? 0 : t_uniform(&seed, -0.3, 0.3));
+        double dent = t_uniform(&seed, 1e-12, 1e-10), at = t_uniform(&seed, 0.2, 0.8);
+        int n = snprintf(buf, sizeof buf, "albatros-scene 1\nobserver fov 90\nobject t\n");
+        /* a triangle (0.5,0.6) (-0.6,0.2) (0.5,-0.2) turned by rot, with a
+         * point of its third side pushed in by `dent` */
+        const double tri[4][2] = {{0.5, 0.6}, {-0.6, 0.2}, {0.5, -0.2}, {0.5, -0.2 + 0.8 * at}};
+        for (int k = 0; k < 4; k++) {
+            double x = tri[k][0] - (k == 3 ? dent : 0), y = tri[k][1];
+            double xr = x * cr_cos(rot) - y * cr_sin(rot), yr = x * cr_sin(rot) + y * cr_cos(rot);
+            n += snprintf(buf + n, sizeof buf - (size_t)n, " v %.17g %.17g 5\n", 5 * xr, 5 * yr);
+        }
+        snprintf(buf + n, sizeof buf - (size_t)n, " f 1 2 3 4\nend\n");
+        if (gp_run_text(buf, "bound=albatros", &r)) {
+            CHECK_MSG(0, "%s", r.err);
+            return;
+        }
+        CHECK_MSG(r.st.bound_added + r.st.bound_culled <= 2 * r.st.faces_out,
+                  "rotation %g: %u bounding edges on %u faces", rot,
+                  r.st.bound_added + r.st.bound_culled, r.st.faces_out);
+        faces += r.st.faces_out;
+        excess += r.st.bound_excess;
+        gp_run_free(&r);
+    }
+    CHECK_MSG(faces == 400 && excess > 0, "%u faces, %u excess", faces, excess);
+}

@@ -44,6 +44,8 @@ static void log_take(ev_log *l, alb_model *m)
 {
     const alb_event *ev;
     size_t k = alb_model_events(m, &ev);
+    if (!k)
+        return;
     if (l->n + k > l->cap) {
         size_t cap = l->cap ? l->cap : 1024;
         while (cap < l->n + k)

@@ -113,7 +113,7 @@ TEST(obj_nonconvex_polygon_is_split)
     double area = 0;
     for (unsigned i = 0; i < o->nf; i++) {
         CHECK_EQ(o->f[i].count, 3);
-        CHECK_EQ(o->f[i].id, i);
+        CHECK_EQ(o->f[i].id, 0);   /* the triangles share the hexagon's: OBJ face 0 */
         area += v3_len(alb_scene_face_newell(o, &o->f[i])) / 2;
         alb_diag chk;
         alb_diag_init(&chk, NULL);
@@ -203,10 +203,15 @@ TEST(obj_camera_orientation)
         return;
     }
     const alb_scene_observer *o = &s.frames[0].obs;
-    mat3 m = m3_orientation(o->pose.yaw, o->pose.pitch, o->pose.roll);
+    CHECK(o->look_at);
+    mat3 m = m3_look_at(o->pose.pos, o->at, o->up);
     vec3 f = m3_apply(&m, v3(0, 0, 1)), up = m3_apply(&m, v3(0, 1, 0));
+    vec3 right = m3_apply(&m, v3(1, 0, 0));
     CHECK_NEAR(f.x, -1, 1e-12);
     CHECK_NEAR(up.y, 1, 1e-12);
+    /* looking along scene -x with y up, the right hand is scene +z: OBJ -z,
+     * as forward x up = (-1,0,0) x (0,1,0) in the OBJ's right-handed frame */
+    CHECK_NEAR(right.z, 1, 1e-12);
     CHECK_NEAR(o->aspect, 2, 0);
     alb_scene_free(&s);
     /* the default OBJ eye (0, 0, 5) is scene (0, 0, -5) looking along +z */
@@ -216,7 +221,10 @@ TEST(obj_camera_orientation)
         return;
     }
     o = &s.frames[0].obs;
-    CHECK(fabs(o->pose.yaw) + fabs(o->pose.pitch) + fabs(o->pose.roll) < 1e-9);
+    m = m3_look_at(o->pose.pos, o->at, o->up);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            CHECK(m.m[i][j] == (i == j));   /* exactly the identity: no angle */
     CHECK_NEAR(o->pose.pos.z, -5, 0);
     alb_scene_free(&s);
     /* bad cameras are errors naming the option */
@@ -267,4 +275,76 @@ TEST(obj_camera_check_takes_extreme_values)
     c.fov_y = 1e-300;
     CHECK(alb_scene_camera_check(&c, &d) == ALB_ERR_CONFIG);
     CHECK_STR_CONTAINS(d.msg, "[1e-06, 180)");
+
+/* face.id is the OBJ's face order (docs/vp.md §7): a skipped degenerate face
+ * keeps its number (no later id shifts) and the triangles a polygon is split
+ * into share their polygon's, in the scene, the stream and the frame. */
+TEST(obj_face_ids_follow_the_file)
+{
+    const char *path = write_file("ids.obj",
+        "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nv 0 0 0\nv 1.2 -1 0\nv 2.2 -1 0\nv 1.7 1 0\n"
+        "v -2.4 -1 0\nv -1.4 -1 0\nv -1.4 1 0\nv -1.9 0 0\nv -2.4 1 0\n"
+        "f 1 2 5\n"            /* 0: a triangle */
+        "f 1 5 3\n"            /* 1: collinear, skipped */
+        "f 6 7 8\n"            /* 2: a triangle */
+        "f 9 10 11 12 13\n"    /* 3: a pentagon, reflex at 12: split */
+        "f 5 2 3\n");          /* 4: a triangle */
+    alb_scene s;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_scene_camera cam = default_camera();
+    if (alb_scene_load_obj(path, &cam, &s, &d)) {
+        CHECK_MSG(0, "%s", d.msg);
+        return;
+    }
+    const alb_scene_object *o = &s.obj[0];
+    CHECK_EQ(d.warnings, 1);   /* the collinear face, skipped */
+    CHECK_EQ(o->nf, 6);        /* 3 triangles and the pentagon's 3 */
+    unsigned count[5] = {0};
+    for (unsigned i = 0; i < o->nf; i++)
+        if (o->f[i].id < 5)
+            count[o->f[i].id]++;
+    CHECK(count[0] == 1 && count[1] == 0 && count[2] == 1 && count[3] == 3 && count[4] == 1);
+    /* the frame shows the file's numbers, each where its face is */
+    alb_profile p;
+    alb_profile_lookup("a256", &p);
+    alb_gp *gp = NULL;
+    alb_vp *vp = NULL;
+    alb_ws_buf b;
+    alb_ws_buf_init(&b);
+    alb_frame fr;
+    CHECK(alb_gp_create(&gp, &s, &p, &d) == ALB_OK && alb_gp_run(gp, &b, NULL, &d) == ALB_OK &&
+          alb_vp_create(&vp, &p, &d) == ALB_OK && alb_vp_frame_alloc(vp, &fr, false) == 0);
+    alb_ws_reader r;
+    alb_ws_reader_init(&r, b.w, b.n, "ids");
+    static alb_ws_event ev;
+    unsigned seen = 0;
+    while (!r.ended && alb_ws_next(&r, &ev, &d) == ALB_OK) {
+        if (ev.kind == ALB_WS_EV_CONFIG)
+            alb_vp_config(vp, &ev.u.config, &d);
+        else if (ev.kind == ALB_WS_EV_FRAME)
+            alb_vp_frame_begin(vp, &ev.u.frame);
+        else if (ev.kind == ALB_WS_EV_FACE) {
+            seen |= 1u << ev.u.face.id;
+            alb_vp_face(vp, &ev.u.face, &d);
+        } else if (ev.kind == ALB_WS_EV_FRAME_END)
+            alb_vp_frame_end(vp, &fr);
+    }
+    CHECK_EQ(seen, 1u << 0 | 1u << 2 | 1u << 3 | 1u << 4);
+    /* screen positions of the faces' insides: the eye at OBJ (0, 0, 5),
+     * fov 60, looks at the origin; x = X / (5 tan 30) */
+    static const struct { double x, y; unsigned id; } at[] = {
+        {0, -0.6, 0}, {1.7, -0.5, 2}, {-2.2, -0.8, 3}, {-1.5, 0.6, 3}, {-2.3, 0.6, 3},
+        {0.6, 0, 4}};
+    for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
+        double sx = at[i].x / (5 * 0.57735026918962576), sy = at[i].y / (5 * 0.57735026918962576);
+        unsigned px = (unsigned)((sx + 1) / 2 * 256), py = (unsigned)((1 - sy) / 2 * 256);
+        CHECK_MSG(fr.face[(size_t)py * 256 + px] == at[i].id, "at (%g, %g): face %u, expected %u",
+                  at[i].x, at[i].y, fr.face[(size_t)py * 256 + px], at[i].id);
+    }
+    alb_frame_free(&fr);
+    alb_vp_destroy(vp);
+    alb_ws_buf_free(&b);
+    alb_gp_destroy(gp);
+    alb_scene_free(&s);
 }

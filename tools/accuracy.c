@@ -1,8 +1,9 @@
-/* accuracy.c — VP against reference with the quantisation bounds of
- * docs/reference.md: a pixel is "clear" when its centre is farther than half
- * an intercept LSB (along the edge's U axis) from every exact edge line and
- * every emitted (quantised) edge, and the depths of the two nearest faces
- * there differ by more than their forms' rounding. */
+/* accuracy.c — VP against reference, each pixel in one class of
+ * docs/reference.md: within half an intercept LSB (along the edge's U axis)
+ * of an exact or an emitted (quantised) edge; its nearest face nearer than
+ * near (the depth store saturates) or beyond near 2^depth_bits (it
+ * underflows); the two nearest faces within their forms' rounding; or clear
+ * of all of these. */
 #include "accuracy.h"
 #include "../common/vec3.h"
 #include "ref.h"
@@ -76,21 +77,23 @@ static const alb_ws_face *find_emitted(const emitted *em, uint32_t id)
  * three terms, |x|, |y| <= 1. */
 static double depth_bound(const alb_ws_face *f) { return f ? 1.5 * ldexp(1, f->depth.exp) : 0; }
 
-static bool pixel_clear(const ref_frame *rf, const emitted *em, const alb_profile *p, double near,
-                        double x, double y)
+/* The class of the pixel centred at (x, y) (accuracy.h); *covered if the
+ * reference has a face there. */
+static accuracy_class pixel_class(const ref_frame *rf, const emitted *em, const alb_profile *p,
+                                  double near, double x, double y, bool *covered)
 {
     double delta = ldexp(1, -(int)(em->frac + 1)) * (1 + 1e-9) + 1e-12;
     vec3 dir = {x, y, 1};
     double q[2] = {0, 0};
     const alb_ws_face *fq[2] = {NULL, NULL};
+    bool edge = false;
     for (unsigned i = 0; i < rf->n; i++) {
         const ref_face *f = &rf->faces[i];
         bool in = true;
         for (unsigned k = 0; k < f->n; k++) {
             if (!(fabs(f->edge[k].x) + fabs(f->edge[k].y) > 0))
                 continue;
-            if (exact_distance(f->edge[k], x, y) <= delta)
-                return false;
+            edge |= exact_distance(f->edge[k], x, y) <= delta;
             in &= v3_dot(f->edge[k], dir) >= 0;
         }
         double qi = in ? v3_dot(f->plane_n, dir) / f->plane_d : 0;
@@ -101,19 +104,63 @@ static bool pixel_clear(const ref_frame *rf, const emitted *em, const alb_profil
             q[1] = qi, fq[1] = find_emitted(em, f->id);
         }
     }
-    for (unsigned i = 0; i < em->n; i++)
+    *covered = q[0] > 0;
+    for (unsigned i = 0; i < em->n && !edge; i++)
         for (unsigned k = 0; k < em->f[i].n_edges; k++)
-            if (emitted_distance(&em->f[i].edge[k], em->frac, x, y) <= delta)
-                return false;
+            edge |= emitted_distance(&em->f[i].edge[k], em->frac, x, y) <= delta;
+    if (edge)
+        return ACC_EDGE;
     double store = ldexp(1, -(int)p->depth_bits);
     double tol = depth_bound(fq[0]) + depth_bound(fq[1]) + 2 * store;
     if (q[0] > 0 && near * q[0] >= 1 - tol)
-        return false;   /* nearer than `near`: the depth store saturates */
+        return ACC_NEAR;    /* nearer than `near`: the depth store saturates */
     if (q[0] > 0 && near * q[0] <= tol)
-        return false;   /* beyond the depth store's range */
+        return ACC_FAR;     /* beyond the depth store's range */
     if (q[1] > 0 && near * (q[0] - q[1]) <= tol)
-        return false;   /* a depth tie within rounding */
-    return true;
+        return ACC_TIE;     /* a depth tie within rounding */
+    return ACC_CLEAR;
+}
+
+const char *accuracy_class_name(accuracy_class c)
+{
+    static const char *const names[ACC_NCLASSES] = {"clear", "edge-band", "near-clamp",
+                                                    "underflow", "depth-tie"};
+    return c < ACC_NCLASSES ? names[c] : "?";
+}
+
+size_t accuracy_judged(const accuracy *a, unsigned judged)
+{
+    size_t n = 0;
+    for (unsigned c = 0; c < ACC_NCLASSES; c++)
+        n += judged >> c & 1 ? a->in_class[c] : 0;
+    return n;
+}
+
+size_t accuracy_errors(const accuracy *a, unsigned judged)
+{
+    size_t n = 0;
+    for (unsigned c = 0; c < ACC_NCLASSES; c++)
+        n += judged >> c & 1 ? a->diff_in_class[c] : 0;
+    return n;
+}
+
+void accuracy_init(accuracy *a) { memset(a, 0, sizeof *a); }
+
+void accuracy_add(accuracy *sum, const accuracy *a)
+{
+    sum->pixels += a->pixels;
+    sum->covered += a->covered;
+    sum->face_diff += a->face_diff;
+    for (unsigned c = 0; c < ACC_NCLASSES; c++) {
+        if (a->diff_in_class[c] && !sum->diff_in_class[c]) {
+            sum->first_diff[c] = a->first_diff[c];
+            sum->first_frame[c] = a->first_frame[c];
+            sum->first_scene[c] = sum->scenes + a->first_scene[c];
+        }
+        sum->in_class[c] += a->in_class[c];
+        sum->diff_in_class[c] += a->diff_in_class[c];
+    }
+    sum->scenes += a->scenes;
 }
 
 int accuracy_measure(const alb_scene *s, const alb_profile *p, unsigned frame, const uint32_t *stream,
@@ -127,20 +174,21 @@ int accuracy_measure(const alb_scene *s, const alb_profile *p, unsigned frame, c
         ref_frame_free(&rf);
         return -1;
     }
-    memset(out, 0, sizeof *out);
-    out->first_clear_diff = (size_t)-1;
+    accuracy_init(out);
     for (unsigned y = 0; y < p->height; y++)
         for (unsigned x = 0; x < p->width; x++) {
             size_t i = (size_t)y * p->width + x;
-            bool differs = vp->face[i] != ref->face[i];
+            bool differs = vp->face[i] != ref->face[i], covered;
+            accuracy_class c = pixel_class(&rf, &em, p, s->near, ref_sample_x(x, p->width),
+                                           ref_sample_y(y, p->height), &covered);
             out->pixels++;
+            out->covered += covered;
             out->face_diff += differs;
-            if (!pixel_clear(&rf, &em, p, s->near, ref_sample_x(x, p->width),
-                             ref_sample_y(y, p->height)))
-                continue;
-            out->clear++;
-            if (differs && out->clear_diff++ == 0)
-                out->first_clear_diff = i;
+            out->in_class[c]++;
+            if (differs && out->diff_in_class[c]++ == 0) {
+                out->first_diff[c] = i;
+                out->first_frame[c] = frame;
+            }
         }
     free(em.f);
     ref_frame_free(&rf);
@@ -164,15 +212,11 @@ static int measure_frame(void *ctx, const alb_frame *f, const alb_vp_stats *st)
     if (ref_render(m->s, m->p, f->number, &ref))
         return m->rc = -1;
     int rc = accuracy_measure(m->s, m->p, f->number, m->b->w, m->b->n, f, &ref, &a);
+    a.scenes = 0;
     alb_frame_free(&ref);
     if (rc)
         return m->rc = -1;
-    if (a.clear_diff && m->acc->clear_diff == 0)
-        m->acc->first_clear_diff = a.first_clear_diff;
-    m->acc->pixels += a.pixels;
-    m->acc->face_diff += a.face_diff;
-    m->acc->clear += a.clear;
-    m->acc->clear_diff += a.clear_diff;
+    accuracy_add(m->acc, &a);
     return 0;
 }
 
@@ -182,7 +226,9 @@ int accuracy_of_scene(const alb_scene *s, const alb_profile *p, accuracy *acc, a
     alb_vp *vp = NULL;
     alb_ws_buf b;
     alb_ws_buf_init(&b);
-    measure_ctx m = {s, p, &b, acc, 0};
+    accuracy one;
+    accuracy_init(&one);
+    measure_ctx m = {s, p, &b, &one, 0};
     alb_err e = alb_gp_create(&gp, s, p, d);
     if (!e)
         e = alb_gp_run(gp, &b, NULL, d);
@@ -195,6 +241,9 @@ int accuracy_of_scene(const alb_scene *s, const alb_profile *p, accuracy *acc, a
     alb_vp_destroy(vp);
     alb_gp_destroy(gp);
     alb_ws_buf_free(&b);
+    one.scenes = 1;   /* its frames' first differences are of scene 0 of one */
+    if (!e)
+        accuracy_add(acc, &one);
     return e ? -1 : 0;
 }
 

@@ -9,22 +9,96 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Observer space as in docs/gp.md: P = S O^T (Q R + pos - E). */
-static void object_to_observer(const alb_scene_frame *fr, const alb_scene_pose *pose, double aspect,
-                               mat3 *m, vec3 *t, mat3 *inv)
+/* The camera, computed here from the scene's own values and not with the
+ * GP's matrices (m3_orientation, m3_look_at) or its correctly rounded maths:
+ * each elementary rotation is applied to vectors as docs/scene-format.md
+ * words it ("yaw turns forward (+z) toward +x, pitch turns forward toward +y,
+ * roll turns up (+y) toward +x", applied roll first, as the product
+ * Ry Rx Rz), in long double with the C library's sinl and cosl; a look-at
+ * camera by Gram-Schmidt on up against the view direction.  A mistake in
+ * the GP's camera therefore shows as a difference (docs/reference.md). */
+typedef long double ldbl;
+typedef struct {
+    ldbl v[3];
+} lvec;
+
+static lvec lv(ldbl x, ldbl y, ldbl z) { return (lvec){{x, y, z}}; }
+static ldbl lv_dot(lvec a, lvec b) { return a.v[0] * b.v[0] + a.v[1] * b.v[1] + a.v[2] * b.v[2]; }
+
+static lvec lv_unit(lvec a)
+{
+    ldbl l = sqrtl(lv_dot(a, a));
+    return lv(a.v[0] / l, a.v[1] / l, a.v[2] / l);
+}
+
+/* Turn v by deg degrees in the plane of axes `from` and `to`, `from` toward
+ * `to`: from -> cos from + sin to, to -> cos to - sin from. */
+static lvec turn_plane(lvec v, int from, int to, double deg)
+{
+    ldbl a = (ldbl)deg * 3.14159265358979323846264338327950288L / 180;
+    ldbl c = cosl(a), s = sinl(a), f = v.v[from], t = v.v[to];
+    v.v[from] = c * f - s * t;
+    v.v[to] = s * f + c * t;
+    return v;
+}
+
+enum { AX_X, AX_Y, AX_Z };
+
+/* A body vector of a pose in the parent frame: roll, then pitch, then yaw. */
+static lvec pose_apply(const alb_scene_pose *p, lvec v)
+{
+    v = turn_plane(v, AX_Y, AX_X, p->roll);
+    v = turn_plane(v, AX_Z, AX_Y, p->pitch);
+    return turn_plane(v, AX_Z, AX_X, p->yaw);
+}
+
+/* The observer's right, up and forward axes in the world. */
+static void observer_axes(const alb_scene_observer *ob, lvec axes[3])
+{
+    if (ob->look_at) {
+        lvec f = lv_unit(lv((ldbl)ob->at.x - ob->pose.pos.x, (ldbl)ob->at.y - ob->pose.pos.y,
+                            (ldbl)ob->at.z - ob->pose.pos.z));
+        lvec u = lv(ob->up.x, ob->up.y, ob->up.z);
+        ldbl k = lv_dot(u, f);
+        u = lv_unit(lv(u.v[0] - k * f.v[0], u.v[1] - k * f.v[1], u.v[2] - k * f.v[2]));
+        /* right = up x forward in this left-handed frame (x = y x z) */
+        axes[0] = lv(u.v[1] * f.v[2] - u.v[2] * f.v[1], u.v[2] * f.v[0] - u.v[0] * f.v[2],
+                     u.v[0] * f.v[1] - u.v[1] * f.v[0]);
+        axes[1] = u;
+        axes[2] = f;
+        return;
+    }
+    for (int a = 0; a < 3; a++)
+        axes[a] = pose_apply(&ob->pose, lv(a == 0, a == 1, a == 2));
+}
+
+/* Observer space P = (sx X, sy Y, Z), (X, Y, Z) the eye's right, up and
+ * forward components of (Q R + pos - E): P = m R + t, and R = inv (P - t). */
+static void object_to_observer(const alb_scene_frame *fr, const alb_scene_pose *pose, double aspect, mat3 *m, vec3 *t,
+                               mat3 *inv, mat3 *q_out)
 {
     const alb_scene_observer *ob = &fr->obs;
-    double a = ob->aspect > 0 ? ob->aspect : aspect;
-    double sy = 1 / tan(ob->fov_y * VEC3_PI / 360), sx = sy / a;
-    mat3 q = m3_orientation(pose->yaw, pose->pitch, pose->roll);
-    mat3 o = m3_orientation(ob->pose.yaw, ob->pose.pitch, ob->pose.roll);
-    mat3 ot = m3_transpose(&o), qt = m3_transpose(&q);
-    mat3 s = {{{sx, 0, 0}, {0, sy, 0}, {0, 0, 1}}}, si = {{{1 / sx, 0, 0}, {0, 1 / sy, 0}, {0, 0, 1}}};
-    mat3 so = m3_mul(&s, &ot);
-    *m = m3_mul(&so, &q);
-    *t = m3_apply(&so, v3_sub(pose->pos, ob->pose.pos));
-    mat3 qo = m3_mul(&qt, &o);
-    *inv = m3_mul(&qo, &si);   /* (S O^T Q)^-1 = Q^T O S^-1 */
+    ldbl a = ob->aspect > 0 ? ob->aspect : aspect;
+    ldbl half = (ldbl)ob->fov_y * 3.14159265358979323846264338327950288L / 360;
+    ldbl scale[3] = {cosl(half) / sinl(half) / a, cosl(half) / sinl(half), 1};
+    lvec eye[3], body[3];
+    observer_axes(ob, eye);
+    for (int j = 0; j < 3; j++)
+        body[j] = pose_apply(pose, lv(j == 0, j == 1, j == 2));   /* Q's columns */
+    lvec off = lv((ldbl)pose->pos.x - ob->pose.pos.x, (ldbl)pose->pos.y - ob->pose.pos.y,
+                  (ldbl)pose->pos.z - ob->pose.pos.z);
+    double tv[3];
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            m->m[i][j] = (double)(scale[i] * lv_dot(eye[i], body[j]));
+            /* the axes are orthonormal: the inverse is the transpose, over
+             * the scale */
+            inv->m[j][i] = (double)(lv_dot(eye[i], body[j]) / scale[i]);
+            q_out->m[i][j] = (double)body[j].v[i];
+        }
+        tv[i] = (double)(scale[i] * lv_dot(eye[i], off));
+    }
+    *t = v3(tv[0], tv[1], tv[2]);
 }
 
 static void prepare_face(ref_face *rf, const vec3 *p, unsigned n)
@@ -67,12 +141,11 @@ int ref_prepare(const alb_scene *s, const alb_profile *prof, unsigned frame, ref
         return -1;
     for (unsigned oi = 0; oi < s->nobj; oi++) {
         const alb_scene_object *o = &s->obj[oi];
-        mat3 m, inv;
+        mat3 m, inv, q;
         vec3 t;
-        const alb_scene_pose *pose = alb_scene_pose_at(s, frame, oi);
-        object_to_observer(fr, pose, (double)prof->width / prof->height, &m, &t, &inv);
-        mat3 qt = m3_orientation(pose->yaw, pose->pitch, pose->roll);
-        qt = m3_transpose(&qt);
+        object_to_observer(fr, alb_scene_pose_at(s, frame, oi), (double)prof->width / prof->height,
+                           &m, &t, &inv, &q);
+        mat3 qt = m3_transpose(&q);
         for (unsigned j = 0; j < o->nf; j++) {
             const alb_scene_face *f = &o->f[j];
             vec3 p[ALB_SCENE_MAX_FACE_VERTICES], c = {0, 0, 0};

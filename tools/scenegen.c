@@ -76,7 +76,7 @@ static bool polygon(text_buf *b, uint64_t *s, const scenegen_params *p, unsigned
     }
     /* plane basis: a normal tilted at most 70 degrees from the view axis */
     double th = uniform(s, 0, 70) * VEC3_PI / 180, ph = uniform(s, 0, 2 * VEC3_PI);
-    vec3 nrm = v3(sin(th) * cos(ph), sin(th) * sin(ph), -cos(th));
+    vec3 nrm = v3(cr_sin(th) * cr_cos(ph), cr_sin(th) * cr_sin(ph), -cr_cos(th));
     vec3 u = v3_cross(nrm, v3(0, 1, 0));
     u = v3_scale(u, 1 / v3_len(u));
     vec3 w = v3_cross(nrm, u);
@@ -91,7 +91,7 @@ static bool polygon(text_buf *b, uint64_t *s, const scenegen_params *p, unsigned
         }
     vec3 v[8];
     for (unsigned k = 0; k < n; k++)
-        v[k] = v3_add(c, v3_add(v3_scale(u, r * cos(ang[k])), v3_scale(w, r * sin(ang[k]))));
+        v[k] = v3_add(c, v3_add(v3_scale(u, r * cr_cos(ang[k])), v3_scale(w, r * cr_sin(ang[k]))));
     /* reject near-duplicate angles, which make slivers of zero area */
     for (unsigned k = 0; k < n; k++)
         if (v3_len(v3_sub(v[k], v[(k + 1) % n])) < 1e-2 * r)
@@ -152,7 +152,7 @@ char *scenegen_slivers(uint64_t seed, unsigned per_angle)
         for (unsigned rep = 0; rep < per_angle; rep++, k++) {
             double th = uniform(&s, 0, 2 * VEC3_PI), len = uniform(&s, 0.6, 1.4);
             double cx = uniform(&s, -0.5, 0.5), cy = uniform(&s, -0.5, 0.5);
-            double w = len * tan(angles[a] * VEC3_PI / 360), dx = cos(th), dy = sin(th);
+            double w = len * cr_tan(angles[a] * VEC3_PI / 360), dx = cr_cos(th), dy = cr_sin(th);
             /* base corners, then the tip: counter-clockwise on the screen */
             double p[3][2] = {{cx + dy * w, cy - dx * w}, {cx + dx * len, cy + dy * len},
                               {cx - dy * w, cy + dx * w}};

@@ -133,7 +133,7 @@ static void gen_sliver(st_buf *b, double angle, uint64_t *s)
     for (unsigned k = 0; k < 8; k++) {
         double th = uniform(s, 0, 2 * VEC3_PI), len = uniform(s, 0.6, 1.2);
         double cx = uniform(s, -0.4, 0.4), cy = uniform(s, -0.4, 0.4), z = 5 + 0.01 * k;
-        double w = len * tan(angle * VEC3_PI / 360), dx = cos(th), dy = sin(th);
+        double w = len * cr_tan(angle * VEC3_PI / 360), dx = cr_cos(th), dy = cr_sin(th);
         vec3 v[3] = {v3((cx + dy * w) * z, (cy - dx * w) * z, z),
                      v3((cx + dx * len) * z, (cy + dy * len) * z, z),
                      v3((cx - dy * w) * z, (cy + dx * w) * z, z)};
@@ -195,12 +195,12 @@ static void gen_texture_far(st_buf *b, double S, uint64_t *s)
 static void gen_interpenetrating(st_buf *b, double angle, uint64_t *s)
 {
     double th = angle * VEC3_PI / 180, y0 = uniform(s, -0.5, 0.5), roll = uniform(s, 0, 360);
-    double cr = cos(roll * VEC3_PI / 180), sr = sin(roll * VEC3_PI / 180);
+    double cr = cr_cos(roll * VEC3_PI / 180), sr = cr_sin(roll * VEC3_PI / 180);
     vec3 a[4], c[4];
     screen_rect(a, -0.5, -0.5, 0.5, 0.5, 6);
     const double xs[4] = {-2.5, 2.5, 2.5, -2.5}, ss[4] = {-3, -3, 3, 3};
     for (int k = 0; k < 4; k++)
-        c[k] = v3(xs[k], y0 + ss[k] * cos(th), 6 + ss[k] * sin(th));
+        c[k] = v3(xs[k], y0 + ss[k] * cr_cos(th), 6 + ss[k] * cr_sin(th));
     for (int k = 0; k < 4; k++) {   /* roll both about the z axis */
         a[k] = v3(cr * a[k].x - sr * a[k].y, sr * a[k].x + cr * a[k].y, a[k].z);
         c[k] = v3(cr * c[k].x - sr * c[k].y, sr * c[k].x + cr * c[k].y, c[k].z);
@@ -218,7 +218,7 @@ static void gen_cyclic(st_buf *b, double sigma, uint64_t *s)
     const double R = 0.5, Z0 = 10, dz = 1;
     double rot = uniform(s, 0, 2 * VEC3_PI), px[3], py[3];
     for (int i = 0; i < 3; i++) {   /* crossing X(i, i+1) */
-        px[i] = R * cos(rot + 2 * VEC3_PI * i / 3), py[i] = R * sin(rot + 2 * VEC3_PI * i / 3);
+        px[i] = R * cr_cos(rot + 2 * VEC3_PI * i / 3), py[i] = R * cr_sin(rot + 2 * VEC3_PI * i / 3);
     }
     double side = R * sqrt(3), w = sigma * side, ext = 0.6 * w + 0.1;
     unsigned first = (unsigned)(next(s) % 3);
@@ -247,7 +247,7 @@ static void gen_degenerate(st_buf *b, double ratio, uint64_t *s)
     for (unsigned k = 0; k < 10; k++) {
         double th = uniform(s, 0, 2 * VEC3_PI), base = 0.8, t = uniform(s, 0.2, 0.8);
         double cx = uniform(s, -0.3, 0.3), cy = uniform(s, -0.3, 0.3), z = 5 + 0.01 * k;
-        double dx = cos(th), dy = sin(th), h = ratio * base;
+        double dx = cr_cos(th), dy = cr_sin(th), h = ratio * base;
         double ax = cx - dx * base / 2, ay = cy - dy * base / 2;
         vec3 v[3] = {v3(ax * z, ay * z, z), v3((ax + dx * base) * z, (ay + dy * base) * z, z),
                      v3((ax + dx * base * t - dy * h) * z, (ay + dy * base * t + dx * h) * z, z)};
@@ -314,7 +314,7 @@ static void gen_coords(st_buf *b, double e, uint64_t *s)
         vec3 v[5];
         for (int j = 0; j < 5; j++) {
             double a = 2 * VEC3_PI * j / 5 + uniform(s, -0.3, 0.3);
-            double x = r * cos(a), y = r * sin(a);
+            double x = r * cr_cos(a), y = r * cr_sin(a);
             v[j] = v3_scale(v3(cx + x, cy + y, z + tilt * x), scale);
         }
         face_coloured(b, k, v, 5, s);

@@ -28,6 +28,21 @@ void vp_flat_colour(const alb_vp *vp, const vp_face_setup *fs, uint16_t rgb[3])
         rgb[ch] = units_output((uint64_t)fs->rgb[ch] * 0xFF << fi, top, fi);
 }
 
+/* Ties in the depth store (equal d, 0 < d < max: two faces in one depth
+ * step, the earlier kept; ties at the saturated max are depth_saturated's):
+ * counted, and the one at the lowest sample index kept for the warning of
+ * docs/vp.md §4 — the same sample whatever the tiling. */
+static void note_ties(alb_vp *vp, uint64_t ties, size_t idx, uint32_t lost)
+{
+    if (!vp->st.depth_ties || idx < vp->st.tie_sample) {
+        vp->st.tie_sample = idx;
+        vp->st.tie_kept = vp->s_face[idx];
+        vp->st.tie_lost = lost;
+        vp->st.tie_depth = vp->s_depth[idx];
+    }
+    vp->st.depth_ties += ties;
+}
+
 /* The samples of cell k for a face using `units`; a constant at each call
  * site, so every test of it below folds away. */
 static inline __attribute__((always_inline)) void
@@ -46,7 +61,8 @@ fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned 
     uint16_t *const s_rgb = vp->s_rgb;
     /* counted locally: the stores below are through uint8_t, which may alias
      * anything, and would make the compiler reload vp->st each sample */
-    uint64_t underflow = 0, saturated = 0, written = 0;
+    uint64_t underflow = 0, saturated = 0, written = 0, ties = 0;
+    size_t tie_idx = SIZE_MAX;
 
     /* every form stepped exactly along the rows: N(c + 1, r) = N(c, r) + step_c */
     int64_t z0 = units_form_at(&fs->depth, k->c0, k->r0);
@@ -97,6 +113,8 @@ fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned 
                             out[i] = units_fog_blend(out[i], vp->fog_rgb[i], vis, fi);
                     }
                 }
+            } else if (dv != 0 && dv == s_depth[idx] && dv != (uint32_t)dmax && ties++ == 0) {
+                tie_idx = idx;   /* raster order within the cell: the first is the lowest */
             }
             nz += fs->depth.step_c;
             if (units & U_SHADE)
@@ -114,7 +132,10 @@ fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k, const unsigned 
     vp->st.depth_underflow += underflow;
     vp->st.depth_saturated += saturated;
     vp->st.samples_written += written;
+    if (ties)
+        note_ties(vp, ties, tie_idx, id);
 }
+
 
 /* Every unit on: the same walk, each written sample through vp_shade_sample. */
 static void fill_all_units(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
@@ -128,6 +149,9 @@ static void fill_all_units(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k
             uint32_t dv = vp_depth_value(vp, nz, fs->depth.exp);
             vp->st.depth_underflow += dv == 0 && nz > 0;
             vp->st.depth_saturated += dv == (uint32_t)(((uint64_t)1 << vp->prof.depth_bits) - 1);
+            if (dv != 0 && dv == vp->s_depth[idx] &&
+                dv != (uint32_t)(((uint64_t)1 << vp->prof.depth_bits) - 1))
+                note_ties(vp, 1, idx, fs->id);
             if (dv == 0 || dv <= vp->s_depth[idx])
                 continue;
             vp->st.samples_written++;

@@ -1,7 +1,9 @@
-/* frame.c — allocation of frames and the depth-to-distance conversion. */
+/* frame.c — a frame's planes: allocation, copy, and the count of pixels
+ * where two frames differ.  Integers only, as everything in vp/: the output
+ * stage's floating point (the EXR Z distance, compare's error measures) is
+ * in emu/frame_out.c (docs/number-formats.md §0). */
 #include "albatros/frame.h"
 
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -57,40 +59,6 @@ int alb_frame_copy(alb_frame *dst, const alb_frame *src)
     dst->near = src->near;
     dst->number = src->number;
     return 0;
-}
-
-float alb_frame_z(const alb_frame *f, uint32_t d)
-{
-    if (d == 0)
-        return INFINITY;
-    /* one correctly rounded double division, then one rounding to float */
-    return (float)((double)f->near / ldexp((double)d, -(int)f->depth_bits));
-}
-
-void alb_frame_compare(const alb_frame *a, const alb_frame *b, alb_frame_diff *r)
-{
-    memset(r, 0, sizeof *r);
-    size_t n = (size_t)a->width * a->height;
-    double sq = 0, sum = 0;
-    r->pixels = n;
-    for (size_t i = 0; i < n; i++) {
-        r->face_diff += a->face[i] != b->face[i];
-        r->coverage_diff += a->coverage[i] != b->coverage[i];
-        bool differs = false;
-        for (int ch = 0; ch < 3; ch++) {
-            int d = (int)a->rgb[3 * i + ch] - (int)b->rgb[3 * i + ch];
-            unsigned ad = (unsigned)(d < 0 ? -d : d);
-            differs |= ad != 0;
-            if (ad > r->max_error)
-                r->max_error = ad;
-            sum += ad;
-            sq += (double)d * d;
-        }
-        r->colour_diff += differs;
-    }
-    r->mean_error = sum / (3.0 * (double)n);
-    double peak = ldexp(1, (int)a->colour_bits) - 1, mse = sq / (3.0 * (double)n);
-    r->psnr = mse > 0 ? 10 * log10(peak * peak / mse) : INFINITY;
 }
 
 size_t alb_frame_count_differences(const alb_frame *a, const alb_frame *b)

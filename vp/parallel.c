@@ -57,6 +57,14 @@ void vp_stats_add(alb_vp_stats *dst, const alb_vp_stats *src)
     ADD(samples_covered) ADD(samples_written) ADD(depth_saturated) ADD(depth_underflow)
     ADD(faces) ADD(edges) ADD(faces_shaded) ADD(faces_textured) ADD(faces_fogged)
 #undef ADD
+    /* the tie at the lowest sample: the same whichever tiles drew it */
+    if (src->depth_ties && (!dst->depth_ties || src->tie_sample < dst->tie_sample)) {
+        dst->tie_sample = src->tie_sample;
+        dst->tie_kept = src->tie_kept;
+        dst->tie_lost = src->tie_lost;
+        dst->tie_depth = src->tie_depth;
+    }
+    dst->depth_ties += src->depth_ties;
 }
 
 typedef struct {

@@ -2,7 +2,8 @@
  * stream's preamble, then frames in WORDS packets no more than `window`
  * frames ahead of the last RESULT; RESULTs compared with the emulator; on a
  * board ERROR the first unconfirmed frame is RESUMEd and resent; a missing
- * RESULT is asked for once with QUERY, then the board has stopped answering.
+ * RESULT is asked for once with QUERY, behind zero bytes that complete any
+ * packet the board holds half-received, then the board has stopped answering.
  * Payloads are as long as the board's INFO report allows.  Every loss is
  * counted, the first problem described, and the first loss on the link named
  * by the packet and what it carried (the streamer remembers what it sent). */
@@ -38,8 +39,9 @@ typedef struct {
     alb_stream_report *r;
     alb_link_rx rx;
     uint32_t seq;
-    uint8_t *pkt;             /* encode buffer */
+    uint8_t *pkt;             /* encode buffer: zero padding, then a packet */
     size_t max;               /* payload in use (board_payload) */
+    size_t board_max;         /* the board's largest payload (its INFO report) */
     sent_packet *sent;        /* SENT_RING, indexed by seq */
     bool need_resume, failed;
     bool gone;                /* the device disconnected; o->reattach will be tried */
@@ -150,14 +152,23 @@ static bool may_reattach(streamer *s, const char *doing, uint32_t seq)
     return true;
 }
 
-static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32_t len)
+/* One packet, after `pad` zero bytes (at most PAD_MAX) in the same write:
+ * the largest packet rounded up to whole USB packets. */
+#define PAD_MAX ((PROTO_MAX_PAYLOAD + PROTO_HEADER + PROTO_TRAILER + PROTO_BULK_MAXPKT - 1) / \
+                 PROTO_BULK_MAXPKT * PROTO_BULK_MAXPKT)
+
+static int send_padded(streamer *s, size_t pad, uint8_t type, const uint8_t *payload, uint32_t len)
 {
     if (s->gone)
         return -1;
     if (stopped(s))
         return -1;
     *sent_at(s, s->seq) = (sent_packet){s->seq, type, true, len >= 4 ? PROTO_GET32(payload) : 0, 0};
-    size_t n = alb_link_encode(s->pkt, type, s->seq++, payload, len);
+    memset(s->pkt, 0, pad);
+    size_t n = pad + alb_link_encode(s->pkt + pad, type, s->seq++, payload, len);
+    /* one packet a transfer: a packet then starts a USB packet, where the
+     * FX2 firmware parses it in place (firmware/fx2/main.c); a padding is a
+     * whole number of USB packets, so the packet behind it starts one too */
     alb_tr_status st = s->t->ops->write(s->t, s->pkt, n);
     if (st == ALB_TR_OK)
         st = s->t->ops->flush(s->t);
@@ -176,11 +187,39 @@ static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32
     return 0;
 }
 
+static int send_packet(streamer *s, uint8_t type, const uint8_t *payload, uint32_t len)
+{
+    return send_padded(s, 0, type, payload, len);
+}
+
 static int send_u32(streamer *s, uint8_t type, uint32_t v)
 {
     uint8_t p[4];
     PROTO_PUT32(p, v);
     return send_packet(s, type, p, 4);
+}
+
+/* QUERY for a RESULT that did not come.  The board may be waiting for the
+ * rest of a packet cut short (the last before the silence): with nothing
+ * behind it, the QUERY's own bytes would only fill that packet, fail its CRC
+ * and be lost with it.  So the QUERY goes behind zero bytes enough to
+ * complete any packet the board can hold (its largest payload, header and
+ * CRC): a packet held is completed, fails its CRC (ERROR BAD_CRC) and the
+ * board resynchronises; the zeros are garbage to it (no magic), and the
+ * QUERY is read as usual — its sequence number then shows the lost packet
+ * as a gap, and the frame is resumed (docs/usb-protocol.md, "Errors"). */
+static size_t flush_bytes(const streamer *s)
+{
+    size_t pad = s->board_max + PROTO_HEADER + PROTO_TRAILER;
+    pad = (pad + PROTO_BULK_MAXPKT - 1) / PROTO_BULK_MAXPKT * PROTO_BULK_MAXPKT;
+    return pad < PAD_MAX ? pad : PAD_MAX;
+}
+
+static int send_query(streamer *s, uint32_t frame)
+{
+    uint8_t p[4];
+    PROTO_PUT32(p, frame);
+    return send_padded(s, flush_bytes(s), PROTO_T_QUERY, p, 4);
 }
 
 /* The payload every board takes: one high-speed bulk packet less header and
@@ -207,6 +246,7 @@ static int board_payload(streamer *s, size_t least, bool words)
         return -1;
     }
     size_t max = info.max_payload;
+    s->board_max = max > PROTO_MAX_PAYLOAD ? PROTO_MAX_PAYLOAD : max;
     if (max > s->t->max_payload)
         max = s->t->max_payload;
     if (max > PROTO_MAX_PAYLOAD)
@@ -501,7 +541,7 @@ static void start(streamer *s, alb_transport *t, const alb_stream_opts *o, alb_s
     s->r = r;
     s->rb_frame = -1;
     alb_link_rx_init(&s->rx);
-    s->pkt = malloc(PROTO_HEADER + PROTO_MAX_PAYLOAD + PROTO_TRAILER);
+    s->pkt = malloc(PAD_MAX + PROTO_HEADER + PROTO_MAX_PAYLOAD + PROTO_TRAILER);
     s->sent = calloc(SENT_RING, sizeof *s->sent);
     if (!s->pkt || !s->sent) {
         problem(s, "out of memory");
@@ -515,9 +555,8 @@ static void start(streamer *s, alb_transport *t, const alb_stream_opts *o, alb_s
 static void reattach(streamer *s, size_t preamble)
 {
     s->gone = false;
-    s->r->reattaches++;
     note(s, "the board disconnected: waiting for it to come back (%u of at most %u)",
-         s->r->reattaches, s->o->reattach_max);
+         s->r->reattaches + 1, s->o->reattach_max);
     char err[600] = "";
     s->t = s->o->reattach(s->o->reattach_ctx, s->t, err, sizeof err);
     if (!s->t) {
@@ -525,6 +564,7 @@ static void reattach(streamer *s, size_t preamble)
         s->failed = true;
         return;
     }
+    s->r->reattaches++;   /* counted once it is back: the report says "came back" */
     /* what the old link left half-read is not the new board's */
     s->rx.start = s->rx.len = 0;
     s->rx.have_seq = false;
@@ -557,6 +597,7 @@ int alb_stream_run(alb_transport *t, const uint32_t *w, size_t n, alb_stream_fra
     s.can_reattach = o->reattach != NULL;
     size_t preamble = nframes ? frames[0].first_word : n;
     bool end_sent = false, queried = false;
+    double wait_from = 0;     /* when the host began to wait for the missing RESULT */
     if (!s.failed && !board_payload(&s, 4, true) && send_packet(&s, PROTO_T_RESET, NULL, 0) == 0)
         send_words(&s, 0, preamble);
     while (!s.failed && !stopped(&s)) {
@@ -589,14 +630,23 @@ int alb_stream_run(alb_transport *t, const uint32_t *w, size_t n, alb_stream_fra
         }
         if (first_unconfirmed(&s) == nframes) {
             /* a PING after the last packet: a loss of the stream's tail (no
-             * frame in it) still shows as a sequence gap, reported */
+             * frame in it) still shows as a sequence gap, reported.  A tail
+             * cut short would swallow the PING as it swallows a QUERY, so
+             * without a STATUS the PING goes again behind the padding */
+            s.have_status = false;
             if (!send_packet(&s, PROTO_T_PING, NULL, 0))
                 pump(&s, o->timeout_ms);
+            if (!s.have_status && !s.failed && !s.gone && !stopped(&s) &&
+                !send_padded(&s, flush_bytes(&s), PROTO_T_PING, NULL, 0))
+                pump(&s, o->timeout_ms);
+            if (!s.have_status && !s.failed && !s.gone && !stopped(&s))
+                note(&s, "the board did not answer the closing PING (every frame was confirmed)");
             break;
         }
         if (o->progress && o->log)
             fprintf(o->log, "\r%u/%u frames confirmed, %.1f MB sent", s.r->frames, nframes,
                     (double)s.r->bytes / 1e6);
+        double waiting = now();
         if (pump(&s, o->timeout_ms)) {
             queried = false;
             continue;
@@ -607,15 +657,20 @@ int alb_stream_run(alb_transport *t, const uint32_t *w, size_t n, alb_stream_fra
             continue;
         unsigned i = first_unconfirmed(&s);
         if (queried) {
-            problem(&s, "the board stopped answering: no RESULT for frame %u within %u ms after "
-                        "sending up to frame %u", frames[i].number, o->timeout_ms,
-                    s.next ? frames[s.next - 1].number : 0);
+            /* the time the host really waited: a board read returns early
+             * when the transport knows nothing can come (the simulated
+             * board answers at once or not at all) */
+            problem(&s, "the board stopped answering: no RESULT for frame %u in %.2f s after "
+                        "sending up to frame %u and a QUERY (each read waits up to %u ms)",
+                    frames[i].number, now() - wait_from, s.next ? frames[s.next - 1].number : 0,
+                    o->timeout_ms);
             s.failed = true;
             break;
         }
         s.r->queries++;
         queried = true;
-        send_u32(&s, PROTO_T_QUERY, frames[i].number);
+        wait_from = waiting;
+        send_query(&s, frames[i].number);
     }
     if (!s.failed && o->readback)
         for (unsigned i = 0; i < nframes && !s.failed; i++)

@@ -52,3 +52,51 @@ firmware-size: $(FX2_IHX)
 	      END { printf "code %d bytes (0x0000-0x%04X), xdata %d bytes, total %d of 16384\n", \
 	                   code, code - 1, xdata, code + xdata; exit (code + xdata > 16384) }' \
 	    $(FX2_IHX) $(FX2_OUT)/albatros-fx2.mem
+
+# ---- the image on the s51 simulator (Debian: sdcc-ucsim), firmware/fx2/test/ ----
+#
+#   make firmware-check  the image against the host build of the core (in make test)
+#   make firmware-speed  its parsing speed on the bridge's stream of the built-in
+#                        scene, counted by s51 (docs/usb-protocol.md)
+#
+# fx2_s51 is a host program: it drives s51 and plays the chip's USB side and
+# FPGA bus; the image it runs is the production one, unchanged.
+FX2_S51     := $(BUILD)/firmware/fx2/test/fx2_s51
+FX2_S51_SRC := $(addprefix firmware/fx2/test/,s51.c i8051.c listing.c fx2sim.c speed.c)
+FX2_S51_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(FX2_S51_SRC)) \
+               $(BUILD)/firmware/fx2/test/fx2_s51.o $(BUILD)/firmware/fx2/test/descriptors_host.o
+FX2_FASTPOLL := $(BUILD)/firmware/fx2/test/s51_fastpoll.so
+FX2_SPEED_STREAM := $(FX2_OUT)/s51/builtin.stream
+FX2_FPS     ?= 50
+
+.PHONY: firmware-check firmware-speed
+all: $(FX2_S51) $(FX2_FASTPOLL)
+test memcheck: $(FX2_S51) $(FX2_FASTPOLL)
+
+# the FX2 headers' memory qualifier means nothing on the host
+$(BUILD)/firmware/fx2/test/fx2_s51.o: firmware/fx2/test/fx2_s51.c
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -D__xdata= -MMD -MP -c $< -o $@
+$(BUILD)/firmware/fx2/test/descriptors_host.o: firmware/fx2/descriptors.c
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -D__xdata= -MMD -MP -c $< -o $@
+
+$(FX2_S51): $(FX2_S51_OBJ) $(LIB_OBJ)
+	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
+
+# preloaded into s51, so none of EXTRA_CFLAGS' sanitizers (s51_fastpoll.c)
+$(FX2_FASTPOLL): firmware/fx2/test/s51_fastpoll.c
+	@mkdir -p $(dir $@)
+	$(CC) -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) -O2 -shared -fPIC $< -o $@
+
+firmware-check: $(FX2_S51) $(FX2_FASTPOLL) $(FX2_IHX)
+	@bash tests/firmware-s51.sh $(BUILD)
+
+$(FX2_SPEED_STREAM): $(ALBATROS)
+	@mkdir -p $(dir $@)
+	$(ALBATROS) gp -q -o $@
+
+# both timings, in one run: s51's classic core (its clocks checked against the
+# opcode counts) and its Dallas 4-clock core (a second figure for the FX2's)
+firmware-speed: $(FX2_S51) $(FX2_FASTPOLL) $(FX2_IHX) $(FX2_SPEED_STREAM)
+	$(FX2_S51) speed $(FX2_IHX) $(FX2_SPEED_STREAM) --fps $(FX2_FPS) --profile

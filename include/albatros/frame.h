@@ -59,6 +59,10 @@ bool alb_frame_first_diff(const alb_frame *a, const alb_frame *b, size_t *at,
 /* Pixels where any plane differs — colour, depth, face, level, coverage, and
  * cycles where both have them; (size_t)-1 if the sizes or formats differ. */
 size_t alb_frame_count_differences(const alb_frame *a, const alb_frame *b);
+/* One number for the exact planes and format of a frame: CRC-32 over R, G,
+ * B, depth, face, level, coverage (and cycles if present) pixel by pixel,
+ * then the size and formats (emu/frame_out.c; docs/golden-vectors.md). */
+uint32_t alb_frame_digest(const alb_frame *f);
 
 #pragma GCC visibility pop
 

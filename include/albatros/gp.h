@@ -27,6 +27,8 @@ typedef struct {
     unsigned edges_offscreen;   /* eq. (18): line misses the screen, screen inside */
     unsigned bound_added;       /* bounding edges emitted */
     unsigned bound_culled;      /* bounding edges outside the screen, dropped */
+    unsigned bound_excess;      /* bound=albatros: vertices past a face's second that the
+                                   table generates for, left out (docs/gp.md) */
     unsigned coef_saturated;    /* forms whose exponent had to be clamped */
     unsigned long long words;   /* words emitted */
     /* the first face with a clamped form (0: none): its scene line, which

@@ -76,6 +76,11 @@ typedef struct {
     alb_scene_pose pose;
     double fov_y;            /* vertical field of view, degrees */
     double aspect;           /* width / height; 0 = from the profile */
+    /* A look-at camera (the OBJ importer's): the eye pose.pos looks toward
+     * `at` with `up` up, an orientation built from the vectors alone, with
+     * no angle (pose's yaw, pitch and roll are 0 and unused). */
+    bool look_at;
+    alb_vec3 at, up;
 } alb_scene_observer;
 
 typedef struct {

@@ -51,9 +51,51 @@ struct alb_transport {
 };
 
 /* USB: the first device with vid:pid (or the one with this serial); waits
- * up to wait_ms for it to appear (hot-plug).  NULL with *err on failure. */
+ * up to wait_ms for it to appear (hot-plug), and keeps trying for
+ * ALB_TR_USB_ACCESS_GRACE_MS while opening it is refused (LIBUSB_ERROR_ACCESS:
+ * udev applies its ACL a moment after the device arrives).  The HID
+ * interface is opened as well, waited for as long when a kernel driver holds
+ * it (its hidraw node follows the USB device).  NULL with *err on failure. */
 alb_transport *alb_transport_usb_open(uint16_t vid, uint16_t pid, const char *serial, unsigned wait_ms,
                                 char *err, size_t errlen);
+#define ALB_TR_USB_ACCESS_GRACE_MS 2000
+
+/* How the bulk link is driven (docs/usb-protocol.md, "Throughput"); 0 in a
+ * field means its default. */
+typedef struct {
+    unsigned out_transfers;   /* bulk OUT transfers in flight (default 16, at most 64) */
+    size_t out_bytes;         /* each one's buffer (default 65536), rounded down to a whole
+                                 number of the endpoint's packets, at most 16 MiB */
+    unsigned io_timeout_ms;   /* the board may NAK this long before the transfers in flight
+                                 are cancelled and their unsent bytes sent again, in order;
+                                 three such rounds without progress fail the link (5000) */
+} alb_tr_usb_tuning;
+#define ALB_TR_USB_MAX_TRANSFERS 64
+#define ALB_TR_USB_MAX_BYTES     (16u << 20)
+/* alb_transport_usb_open with tuning (NULL: the defaults). */
+alb_transport *alb_transport_usb_open_tuned(uint16_t vid, uint16_t pid, const char *serial,
+                                            unsigned wait_ms, const alb_tr_usb_tuning *tuning,
+                                            char *err, size_t errlen);
+
+/* What a USB link is and what it went through. */
+typedef struct {
+    const char *speed;        /* "low", "full", "high", "super", "super+", "unknown" */
+    unsigned speed_mbps;      /* 1 (1.5), 12, 480, 5000, 10000; 0 unknown */
+    unsigned out_packet, in_packet;   /* the bulk endpoints' wMaxPacketSize */
+    unsigned out_transfers, in_transfers;
+    size_t out_bytes, in_bytes;
+    bool hid_by_libusb;       /* HID reports as class requests (no hidraw node) */
+    uint64_t zero_length_packets;   /* OUT transfers of whole packets, ended by a ZLP */
+    uint64_t out_timeouts;    /* the board took nothing for io_timeout_ms: cancelled, resent */
+    uint64_t halts_cleared;   /* stalls recovered, either endpoint */
+    uint64_t resent_bytes;    /* sent again after a stall or a timeout, from where each
+                                 transfer had stopped */
+    uint64_t in_partial;      /* IN transfers ended by their timeout with data in them
+                                 (a board that does not end a reply with a short packet) */
+} alb_tr_usb_link;
+/* 0 and *out filled for a transport alb_transport_usb_open made; -1 for
+ * any other (the simulated board, a fault wrapper). */
+int alb_transport_usb_link(const alb_transport *t, alb_tr_usb_link *out);
 /* A flag a signal handler sets (Ctrl-C): once it is nonzero, a USB call
  * that would block (bulk OUT while every transfer is in flight and the board
  * NAKs, a read's wait) returns at once with ALB_TR_ERROR.  No effect on other

@@ -29,6 +29,12 @@ typedef struct {
     uint64_t samples_written;        /* samples that won the depth test */
     uint64_t depth_saturated;        /* covered samples nearer than `near` (store at max) */
     uint64_t depth_underflow;        /* covered samples too far for the store (d = 0) */
+    uint64_t depth_ties;             /* covered samples whose d (0 < d < max) equalled the
+                                        stored d of an earlier face, which kept them
+                                        (docs/vp.md §4) */
+    /* The tie at the lowest sample index (raster order), if depth_ties:
+     * the sample, the face that kept it, the face that lost, the depth. */
+    uint64_t tie_sample, tie_kept, tie_lost, tie_depth;
     uint64_t faces;                  /* FACE packets drawn */
     uint64_t edges;                  /* edges of those faces */
     uint64_t faces_shaded;           /* ... using the intensity unit (eq. 7) */
