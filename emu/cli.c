@@ -605,6 +605,8 @@ int cli_check_format(const char *cmd, const char *what, const char *path, const 
 
 /* ---- frame outputs ---- */
 
+#ifndef ALB_NO_EXTERNAL   /* the musl build writes no frames (Makefile: crosscheck) */
+
 int cli_frames_option(cli_frames *o, const char *cmd, const char *name, const char *value)
 {
     if (!strcmp(name, "output")) {
@@ -717,7 +719,6 @@ int cli_frames_claim(const cli_frames *o, const char *cmd, const uint32_t *numbe
     return rc;
 }
 
-#ifndef ALB_NO_EXTERNAL   /* the musl build writes no frames (Makefile: crosscheck) */
 enum { WRITE_EXR = -1, WRITE_DUMP = -2 };
 
 /* One output of a frame: the EXR, the dump or a PNG view (view >= 0). */

@@ -219,8 +219,8 @@ TEST(input_regular_only_and_text_stops_at_nul)
     /* /dev/zero as text: one block, not the device's endless bytes */
     f = alb_file_open_input("/dev/zero", false, &why);
     CHECK(f != NULL);
-    char *buf;
-    size_t len;
+    char *buf = NULL;
+    size_t len = 0;
     CHECK(f && alb_file_read_text(f, &buf, &len) == 0);
     CHECK(len > 0 && len <= 65535 && buf[0] == 0);
     free(buf);

@@ -275,6 +275,7 @@ TEST(obj_camera_check_takes_extreme_values)
     c.fov_y = 1e-300;
     CHECK(alb_scene_camera_check(&c, &d) == ALB_ERR_CONFIG);
     CHECK_STR_CONTAINS(d.msg, "[1e-06, 180)");
+}
 
 /* face.id is the OBJ's face order (docs/vp.md §7): a skipped degenerate face
  * keeps its number (no later id shifts) and the triangles a polygon is split
