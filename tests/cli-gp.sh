@@ -90,4 +90,12 @@ expect 2 "--set near=0.5: near is the scene's depth scale, not a profile field: 
 "$bin" gp "$tmp/tie.scene" --near 0.25 -o "$tmp/n25.stream" >/dev/null 2>&1
 expect 0 "near=0\.25" "$bin" dump "$tmp/n25.stream"
 
+# extreme cameras are cameras (issue 16, item 10): a denormal --up is the
+# direction it points, an eye at 1e308 is no "coincident" eye and at
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$tmp/cam.obj"
+"$bin" gp "$tmp/cam.obj" --up 1e-320,0,0 -q -o "$tmp/tiny.stream" && "$bin" gp "$tmp/cam.obj" --up 1,0,0 -q -o "$tmp/one.stream" &&
+    cmp -s "$tmp/tiny.stream" "$tmp/one.stream" && ok || bad "a denormal --up is not its direction"
+expect 0 '"faces_in": 1' "$bin" gp "$tmp/cam.obj" --eye 1e308,0,0 --json
+expect 2 "--eye and --at are too far apart" "$bin" gp "$tmp/cam.obj" --eye 1e308,0,0 --at -1e308,0,0 --json
+
 finish
