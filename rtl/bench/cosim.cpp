@@ -1,0 +1,492 @@
+// cosim.cpp — the Verilator bench of the VP RTL (rtl/README.md): drives the
+// RTL's FIFO write port at the cycles of the model's `push` events, emulates
+// the external frame-store memory (rtl/bench/alb_frame_mem.sv), and compares
+// the RTL's events with the model's event log (albatros vp STREAM --fidelity
+// cycle --events FILE) cycle by cycle through the scoreboard.  At the first
+// divergence it prints the cycle, unit, event, expected and actual, and runs
+// again with a waveform of the cycles before it.
+//
+//   cosim --events MODEL.log [--stream S.stream] [--log RTL.log] [--vcd F.vcd]
+//         [--window N] [--trace-all F.vcd] [--json]
+//
+// Exit status: 0 every event and CRC matched, 1 a divergence (or an RTL
+// error), 2 bad usage or input.
+#include "Valb_bench_top.h"
+#include "events.h"
+#include "scoreboard.h"
+#include "verilated.h"
+#include "verilated_vcd_c.h"
+
+#include <cerrno>
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace {
+
+// Bits [lo, lo + w) of a port, whatever width Verilator gave it.
+template <typename T> uint64_t bits(const T &v, unsigned lo, unsigned w)
+{
+    uint64_t r = 0;
+    if constexpr (std::is_integral_v<T>) {
+        r = (uint64_t)v >> lo;
+    } else {
+        for (unsigned i = 0; i < w && i < 64; i++) {
+            unsigned b = lo + i;
+            r |= (uint64_t)(v[b / 32] >> (b % 32) & 1) << i;
+        }
+    }
+    return w >= 64 ? r : r & ((1ull << w) - 1);
+}
+
+// The model's event log, read a cycle at a time.
+class LogReader {
+public:
+    bool open(const char *path)
+    {
+        path_ = path;
+        in_.open(path);
+        if (!in_)
+            return false;
+        advance();
+        return true;
+    }
+    bool failed() const { return !error_.empty(); }
+    const std::string &error() const { return error_; }
+    bool done() const { return eof_; }
+    uint64_t next_cycle() const { return next_.cycle; }
+    uint64_t last_cycle() const { return last_; }
+    // The events of cycle t (those before it must have been taken).
+    void take(uint64_t t, std::vector<Event> &out)
+    {
+        out.clear();
+        while (!eof_ && !failed() && next_.cycle == t) {
+            out.push_back(next_);
+            advance();
+        }
+    }
+
+private:
+    void advance()
+    {
+        std::string line;
+        while (std::getline(in_, line)) {
+            lineno_++;
+            if (line.empty() || line[0] == '#')
+                continue;
+            std::string why;
+            Event e;
+            if (!event_parse(line, e, why)) {
+                error_ = path_ + ":" + std::to_string(lineno_) + ": " + why;
+                eof_ = true;
+                return;
+            }
+            if (have_ && e.cycle < next_.cycle) {
+                error_ = path_ + ":" + std::to_string(lineno_) + ": cycle " +
+                         std::to_string(e.cycle) + " after cycle " + std::to_string(next_.cycle);
+                eof_ = true;
+                return;
+            }
+            next_ = e;
+            last_ = e.cycle;
+            have_ = true;
+            return;
+        }
+        eof_ = true;
+    }
+    std::string path_, error_;
+    std::ifstream in_;
+    Event next_;
+    uint64_t last_ = 0, lineno_ = 0;
+    bool eof_ = false, have_ = false;
+};
+
+// The RTL's log in the model's format: lines held back from a frame event
+// until its CRC is known (the output stage reports it later).
+class LogWriter {
+public:
+    bool open(const char *path)
+    {
+        if (!path)
+            return true;
+        f_ = std::fopen(path, "w");
+        return f_ != nullptr;
+    }
+    ~LogWriter() { close(); }
+    void add(const Event &e)
+    {
+        if (!f_)
+            return;
+        if (e.kind == EV_FRAME)
+            frames_.push_back(lines_.size() + flushed_);
+        held_.push_back(e);
+        lines_.push_back(event_format(e));
+        flush();
+    }
+    void crc(uint32_t value)
+    {
+        if (!f_ || next_crc_ >= frames_.size())
+            return;
+        size_t at = frames_[next_crc_++] - flushed_;
+        held_[at].f[2] = value;
+        lines_[at] = event_format(held_[at]);
+        flush();
+    }
+    bool close()
+    {
+        if (!f_)
+            return true;
+        next_crc_ = frames_.size();    // what never got a CRC goes out as it is
+        flush();
+        bool ok = !std::ferror(f_);
+        ok = std::fclose(f_) == 0 && ok;
+        f_ = nullptr;
+        return ok;
+    }
+
+private:
+    void flush()
+    {
+        size_t upto = next_crc_ < frames_.size() ? frames_[next_crc_] - flushed_ : lines_.size();
+        for (size_t i = 0; i < upto; i++)
+            std::fprintf(f_, "%s\n", lines_[i].c_str());
+        lines_.erase(lines_.begin(), lines_.begin() + (long)upto);
+        held_.erase(held_.begin(), held_.begin() + (long)upto);
+        flushed_ += upto;
+    }
+    std::FILE *f_ = nullptr;
+    std::vector<std::string> lines_;
+    std::vector<Event> held_;
+    std::vector<size_t> frames_;   // absolute line numbers of frame events
+    size_t next_crc_ = 0, flushed_ = 0;
+};
+
+struct Options {
+    const char *events = nullptr, *stream = nullptr, *log = nullptr, *vcd = nullptr;
+    const char *trace_all = nullptr;
+    uint64_t window = 200;
+    bool json = false;
+};
+
+struct Result {
+    enum { OK, DIVERGED, RTL_ERROR, INPUT } status = OK;
+    Mismatch m;
+    std::string message;
+    uint64_t cycles = 0, frames = 0, events = 0, crcs = 0, lost = 0;
+    double seconds = 0;
+};
+
+std::vector<uint32_t> read_stream(const char *path, std::string &err)
+{
+    std::vector<uint32_t> w;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        err = std::string(path) + ": cannot open: " + std::strerror(errno);
+        return w;
+    }
+    std::vector<unsigned char> b((std::istreambuf_iterator<char>(in)), {});
+    if (b.size() % 4) {
+        err = std::string(path) + ": offset " + std::to_string(b.size() - b.size() % 4) +
+              ": file length is not a whole number of 32-bit words";
+        return w;
+    }
+    for (size_t i = 0; i + 3 < b.size(); i += 4)
+        w.push_back((uint32_t)b[i] | (uint32_t)b[i + 1] << 8 | (uint32_t)b[i + 2] << 16 |
+                    (uint32_t)b[i + 3] << 24);
+    return w;
+}
+
+// The RTL's events of this cycle (outputs after the clock-low evaluation).
+void rtl_events(const Valb_bench_top &v, uint64_t t, std::vector<Event> &out)
+{
+    out.clear();
+    auto add = [&](int kind, std::initializer_list<uint64_t> f) {
+        Event e;
+        e.cycle = t;
+        e.kind = kind;
+        int i = 0;
+        for (uint64_t x : f)
+            e.f[i++] = x;
+        out.push_back(e);
+    };
+    auto cell = [](uint64_t c, int field) {   // rtl/alb_defs.svh, CELL_*
+        static const unsigned lo[5] = {0, 16, 32, 37, 42}, w[5] = {16, 16, 5, 5, 5};
+        return c >> lo[field] & ((1ull << w[field]) - 1);
+    };
+    if (v.ev_pop)
+        add(EV_POP, {v.ev_pop_index, v.ev_pop_word});
+    if (v.ev_load)
+        add(EV_LOAD, {v.ev_load_face, v.ev_load_slot, v.ev_load_edges});
+    if (v.ev_start)
+        add(EV_START, {v.ev_engine_face, v.ev_engine_slot});
+    if (v.ev_cell) {
+        uint64_t c = v.ev_cell_cell;
+        add(EV_CELL, {v.ev_engine_face, cell(c, 0), cell(c, 1), cell(c, 2), cell(c, 3), cell(c, 4),
+                      v.ev_cell_result, v.ev_cell_edges});
+    }
+    if (v.ev_end)
+        add(EV_END, {v.ev_engine_face, v.ev_engine_slot});
+    if (v.ev_fill) {
+        uint64_t c = v.ev_fill_cell;
+        add(EV_FILL, {v.ev_fill_face, cell(c, 0), cell(c, 1), cell(c, 2), cell(c, 3), cell(c, 4)});
+    }
+    const unsigned rate = v.p_fill_rate, db = v.p_depth_bits, cb = v.p_colour_bits;
+    for (unsigned j = 0; j < rate; j++) {
+        if (!bits(v.ev_write, j, 1))
+            continue;
+        unsigned base = 3 * cb * j;
+        add(EV_WRITE, {bits(v.ev_write_x, 16 * j, 16), bits(v.ev_write_y, 16 * j, 16),
+                       bits(v.ev_write_depth, db * j, db), bits(v.ev_write_rgb, base + 2 * cb, cb),
+                       bits(v.ev_write_rgb, base + cb, cb), bits(v.ev_write_rgb, base, cb),
+                       v.ev_write_face, v.ev_write_level});
+    }
+    if (v.ev_frame)
+        add(EV_FRAME, {v.ev_frame_number, v.ev_frame_cycles, 0});
+}
+
+const char *error_name(unsigned code)
+{
+    static const char *const names[] = {
+        "none", "not a packet opcode", "packet out of place", "bad CONFIG",
+        "CONFIG formats differ from the profile", "reserved bits set", "too many edges",
+        "form exponent or mantissa out of range", "edge intercept beyond 3.F",
+        "face count", "texture size, or a texture never loaded", "fog far not beyond fog near",
+        "texture memory full (TEX_WORDS)", "a word after END", "word pushed into a full FIFO",
+        "more FRAMEs ahead than FRAME_QUEUE",
+        "frame tags could alias: 2^(TAG_BITS-1) - 1 scan-outs of one store cut off in a row"};
+    return code < sizeof names / sizeof names[0] ? names[code] : "?";
+}
+
+// One run of the RTL against the log; a trace of cycles [from, to] if vcd.
+Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vcd, uint64_t from,
+           uint64_t to, bool write_log)
+{
+    Result r;
+    LogReader model;
+    if (!model.open(o.events)) {
+        r.status = Result::INPUT;
+        r.message = std::string(o.events) + ": cannot open: " + std::strerror(errno);
+        return r;
+    }
+    LogWriter log;
+    if (write_log && !log.open(o.log)) {
+        r.status = Result::INPUT;
+        r.message = std::string(o.log) + ": cannot create: " + std::strerror(errno);
+        return r;
+    }
+    auto ctx = std::make_unique<VerilatedContext>();
+    auto top = std::make_unique<Valb_bench_top>(ctx.get());
+    std::unique_ptr<VerilatedVcdC> tfp;
+    if (vcd) {
+        ctx->traceEverOn(true);
+        tfp = std::make_unique<VerilatedVcdC>();
+        top->trace(tfp.get(), 99);
+        tfp->open(vcd);
+    }
+    Scoreboard sb;
+    top->clk = 0;
+    top->rst = 1;
+    top->in_valid = 0;
+    top->in_data = 0;
+    top->eval();
+    for (int i = 0; i < 2; i++) {
+        top->clk = 1;
+        top->eval();
+        top->clk = 0;
+        top->eval();
+    }
+    top->rst = 0;
+    const uint64_t pixels = (uint64_t)top->p_width * top->p_height;
+    const uint64_t scan = pixels / top->p_scan_pixels + 16;   // the last CRC after the last frame
+    std::vector<Event> expected, actual, mine;
+    size_t next_word = 0;
+    auto t0 = std::chrono::steady_clock::now();
+    uint64_t t = 0;
+    for (;; t++) {
+        model.take(t, mine);
+        if (model.failed()) {
+            r.status = Result::INPUT;
+            r.message = model.error();
+            break;
+        }
+        // the producer: the model's pushes of this cycle
+        top->in_valid = 0;
+        expected.clear();
+        for (const Event &e : mine) {
+            if (e.kind != EV_PUSH) {
+                expected.push_back(e);
+                continue;
+            }
+            if (top->in_valid || e.f[0] != next_word ||
+                (stream && (e.f[0] >= stream->size() || (*stream)[e.f[0]] != e.f[1]))) {
+                r.status = Result::INPUT;
+                r.message = "the log's push at cycle " + std::to_string(t) + " (word " +
+                            std::to_string(e.f[0]) + ") does not follow the stream";
+                break;
+            }
+            top->in_valid = 1;
+            top->in_data = (uint32_t)e.f[1];
+            next_word++;
+        }
+        if (r.status != Result::OK)
+            break;
+        top->clk = 0;
+        top->eval();
+        if (tfp && t >= from && t <= to)
+            tfp->dump(2 * t);
+        if (top->cycle != t) {
+            r.status = Result::INPUT;
+            r.message = "the RTL's cycle counter reads " + std::to_string(top->cycle) +
+                        " in bench cycle " + std::to_string(t);
+            break;
+        }
+        if (top->in_valid && top->in_full) {
+            r.status = Result::DIVERGED;
+            r.m = {t, "fifo", "push", "room for word " + std::to_string(next_word - 1),
+                   "the RTL's FIFO is full"};
+            break;
+        }
+        rtl_events(*top, t, actual);
+        for (const Event &e : actual)
+            log.add(e);
+        if (!sb.cycle(t, expected, actual, r.m)) {
+            r.status = Result::DIVERGED;
+            break;
+        }
+        if (top->ev_crc) {
+            log.crc(top->ev_crc_value);
+            if (!sb.crc(t, top->ev_crc_number, top->ev_crc_value, r.m)) {
+                r.status = Result::DIVERGED;
+                break;
+            }
+        }
+        if (top->ev_scan_overrun)
+            sb.crc_lost();
+        if (top->error) {
+            r.status = Result::RTL_ERROR;
+            r.message = "cycle " + std::to_string(t) + ": the RTL reports error " +
+                        std::to_string(top->error_code) + " (" + error_name(top->error_code) +
+                        ") at word " + std::to_string(top->error_word);
+            break;
+        }
+        top->clk = 1;
+        top->eval();
+        if (tfp && t >= from && t <= to)
+            tfp->dump(2 * t + 1);
+        if (model.done() && t >= model.last_cycle()) {
+            if (!sb.crcs_pending())
+                break;
+            if (t > model.last_cycle() + scan) {
+                r.status = Result::DIVERGED;
+                r.m = {t, "frame_crc", "crc", "the CRC of the last frames",
+                       std::to_string(sb.crcs_pending()) + " never reported"};
+                break;
+            }
+        }
+    }
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.cycles = t + 1;
+    r.events = sb.matched();
+    r.frames = sb.matched(EV_FRAME);
+    r.crcs = sb.crcs_matched();
+    r.lost = sb.crcs_lost();
+    top->final();
+    if (tfp)
+        tfp->close();
+    if (write_log && !log.close() && r.status == Result::OK) {
+        r.status = Result::INPUT;
+        r.message = std::string(o.log) + ": write error";
+    }
+    return r;
+}
+
+int usage()
+{
+    std::fprintf(stderr,
+                 "usage: cosim --events MODEL.log [--stream S.stream] [--log RTL.log]\n"
+                 "             [--vcd FAIL.vcd] [--window N] [--trace-all T.vcd] [--json]\n");
+    return 2;
+}
+
+}  // namespace
+
+int main(int argc, char **argv)
+{
+    Options o;
+    for (int i = 1; i < argc; i++) {
+        std::string a = argv[i];
+        auto value = [&]() -> const char * { return i + 1 < argc ? argv[++i] : nullptr; };
+        const char *v = nullptr;
+        if (a == "--events" && (v = value()))
+            o.events = v;
+        else if (a == "--stream" && (v = value()))
+            o.stream = v;
+        else if (a == "--log" && (v = value()))
+            o.log = v;
+        else if (a == "--vcd" && (v = value()))
+            o.vcd = v;
+        else if (a == "--trace-all" && (v = value()))
+            o.trace_all = v;
+        else if (a == "--window" && (v = value()))
+            o.window = std::strtoull(v, nullptr, 10);
+        else if (a == "--json")
+            o.json = true;
+        else {
+            std::fprintf(stderr, "cosim: unknown or incomplete option '%s'\n", a.c_str());
+            return usage();
+        }
+    }
+    if (!o.events)
+        return usage();
+    std::vector<uint32_t> words;
+    if (o.stream) {
+        std::string err;
+        words = read_stream(o.stream, err);
+        if (!err.empty()) {
+            std::fprintf(stderr, "cosim: %s\n", err.c_str());
+            return 2;
+        }
+    }
+    const std::vector<uint32_t> *stream = o.stream ? &words : nullptr;
+    Result r = run(o, stream, o.trace_all, 0, UINT64_MAX, true);
+    if (r.status == Result::INPUT) {
+        std::fprintf(stderr, "cosim: %s\n", r.message.c_str());
+        return 2;
+    }
+    if (r.status == Result::OK) {
+        if (o.json)
+            std::printf("{\"status\": \"ok\", \"cycles\": %" PRIu64 ", \"events\": %" PRIu64
+                        ", \"frames\": %" PRIu64 ", \"crcs\": %" PRIu64 ", \"crcs_unchecked\": %"
+                        PRIu64 ", \"seconds\": %.3f, \"cycles_per_second\": %.0f}\n",
+                        r.cycles, r.events, r.frames, r.crcs, r.lost, r.seconds,
+                        r.cycles / r.seconds);
+        else
+            std::printf("cosim: %" PRIu64 " cycles, %" PRIu64 " events and %" PRIu64
+                        " frame CRCs match%s (%.2f s, %.0f cycles/s)\n",
+                        r.cycles, r.events, r.crcs,
+                        r.lost ? (", " + std::to_string(r.lost) + " CRCs unchecked: the scan-out "
+                                  "overran (rtl/README.md)").c_str() : "",
+                        r.seconds, r.cycles / r.seconds);
+        return 0;
+    }
+    uint64_t at = r.status == Result::DIVERGED ? r.m.cycle : r.cycles - 1;
+    if (r.status == Result::DIVERGED)
+        std::fprintf(stderr, "cosim: divergence at %s\n", r.m.describe().c_str());
+    else
+        std::fprintf(stderr, "cosim: %s\n", r.message.c_str());
+    std::fprintf(stderr, "cosim: %" PRIu64 " events matched before it\n", r.events);
+    if (o.vcd) {
+        uint64_t from = at > o.window ? at - o.window : 0;
+        Result again = run(o, stream, o.vcd, from, at + 4, false);
+        (void)again;
+        std::fprintf(stderr, "cosim: waveform of cycles %" PRIu64 "..%" PRIu64 " in %s\n", from,
+                     at + 4, o.vcd);
+    }
+    return 1;
+}

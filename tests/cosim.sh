@@ -1,0 +1,245 @@
+#!/usr/bin/env bash
+# cosim.sh [BUILD] [--all] — the reference RTL (rtl/) held against the cycle
+# model: lint and synthesis checks, then streams through both, every event of
+# docs/cosim.md compared cycle by cycle (rtl/bench/cosim.cpp), and the Icarus
+# bench.  Without --all a fast subset (make test); --all is make cosim: every
+# golden vector, 200+ random scenes over the odd parameter sets, the stress
+# families, three profiles, and the planted mutations.  Ends with
+# "N passed, N failed".  A divergence leaves its waveform in BUILD/cosim/.
+set -u
+build=build all=0
+for a in "$@"; do
+    case $a in
+        --all) all=1 ;;
+        -*) echo "usage: cosim.sh [BUILD] [--all]" >&2; exit 2 ;;
+        *) build=$a ;;
+    esac
+done
+bin=$build/albatros
+out=$build/cosim
+mkdir -p "$out"
+pass=0 fail=0
+ok() { pass=$((pass + 1)); echo "ok   $1"; }
+bad() { fail=$((fail + 1)); echo "FAIL $1"; [[ -n ${2:-} ]] && sed 's/^/     /' "$2" | tail -n 12; }
+
+for tool in verilator iverilog yosys; do
+    if ! command -v $tool >/dev/null; then
+        bad "$tool is not installed (make setup installs it; rtl/README.md)"
+    fi
+done
+[[ -x $bin ]] || bad "$bin is missing: build it with make"
+if ((fail)); then echo "$pass passed, $fail failed"; exit 1; fi
+
+rtl_files=(rtl/alb_fifo.sv rtl/alb_parser.sv rtl/alb_edge_store.sv rtl/alb_engine.sv
+           rtl/alb_fill_queue.sv rtl/alb_fill.sv rtl/alb_pipe.sv rtl/alb_frame_store.sv
+           rtl/alb_frame_crc.sv rtl/alb_vp.sv)
+
+# ---- lint and synthesis ----
+
+lint() {   # NAME PROFILE-ARGS...
+    local name=$1; shift
+    local log=$out/lint-$name.log params
+    params=$(rtl/profile-params.sh --albatros "$bin" "$@") || { bad "lint $name: profile" ; return; }
+    # shellcheck disable=SC2086
+    if verilator --lint-only -Wall -Irtl --top-module alb_vp $params "${rtl_files[@]}" \
+        > "$log" 2>&1 && [[ ! -s $log ]]; then
+        ok "lint $name (verilator -Wall)"
+    else
+        bad "lint $name (verilator -Wall)" "$log"
+    fi
+}
+
+synth_check() {   # yosys: no latches anywhere, no multiplier in the classifier
+    local log=$out/yosys.log
+    # a small member: the checks are about structure, not size
+    local chp="-chparam RECIP_BITS 8 -chparam TEX_WORDS 64 -chparam FIFO_DEPTH 4 -chparam FILL_RATE 2"
+    if yosys -q -l "$log" -p "read_verilog -sv -Irtl ${rtl_files[*]};
+            hierarchy -top alb_vp $chp; synth -top alb_vp;
+            select -assert-none t:\$dlatch t:\$adlatch t:\$dlatchsr t:\$_DLATCH_* t:\$_DLATCHSR_*" \
+        > /dev/null 2>&1; then
+        ok "yosys synth: no latches"
+    else
+        bad "yosys synth: no latches" "$log"
+    fi
+    log=$out/yosys-engine.log
+    if yosys -q -l "$log" -p "read_verilog -sv -Irtl rtl/alb_engine.sv;
+            hierarchy -top alb_engine; proc; opt; wreduce; alumacc;
+            select -assert-none t:\$mul t:\$macc t:\$div t:\$mod t:\$pow" > /dev/null 2>&1; then
+        ok "yosys: the classifier (alb_engine) has no multiplier"
+    else
+        bad "yosys: the classifier (alb_engine) has no multiplier" "$log"
+    fi
+}
+
+# ---- co-simulation ----
+
+# model NAME PROFILE [--set k=v ...]: the Verilator bench for that parameter
+# set, in BUILD/rtl/NAME (built once, reused while the RTL is unchanged).  The
+# output stage scans a quarter of a row a cycle, so frames of a few thousand
+# cycles are scanned out before the next retires (rtl/README.md).
+declare -A model_ok
+model() {
+    local name=$1; shift
+    [[ -n ${model_ok[$name]:-} ]] && return "${model_ok[$name]}"
+    local width params
+    width=$(rtl/profile-params.sh --albatros "$bin" --format shell "$@" | sed -n 's/^WIDTH=//p')
+    params=$(rtl/profile-params.sh --albatros "$bin" "$@" --rtl SCAN_PIXELS=$(( width >= 4 ? width / 4 : 1 ))) ||
+        { model_ok[$name]=1; return 1; }
+    # shellcheck disable=SC2086
+    if rtl/bench/verilate.sh "$build/rtl/$name" $params > "$out/build-$name.log" 2>&1; then
+        model_ok[$name]=0
+    else
+        bad "build $name" "$out/build-$name.log"
+        model_ok[$name]=1
+    fi
+    return "${model_ok[$name]}"
+}
+
+# cosim_stream CASE MODEL STREAM PROFILE-ARGS...: the stream through the cycle
+# model (its event log) and the RTL
+cosim_stream() {
+    local case=$1 name=$2 stream=$3; shift 3
+    local dir=$out/$case
+    mkdir -p "$dir"
+    if ! "$bin" vp "$stream" "$@" --fidelity cycle --events "$dir/model.log" -q \
+        > "$dir/model.out" 2>&1; then
+        bad "$case: the model refused the stream" "$dir/model.out"
+        return
+    fi
+    if "$build/rtl/$name/cosim" --events "$dir/model.log" --stream "$stream" \
+        --log "$dir/rtl.log" --vcd "$dir/divergence.vcd" > "$dir/cosim.out" 2>&1; then
+        ok "$case: $(tail -n 1 "$dir/cosim.out" | sed 's/^cosim: //')"
+        rm -f "$dir/model.log" "$dir/rtl.log"     # large; kept only when they differ
+    else
+        bad "$case" "$dir/cosim.out"
+    fi
+}
+
+# cosim_scene CASE MODEL SCENE PROFILE-ARGS...: through the GP first
+cosim_scene() {
+    local case=$1 name=$2 scene=$3; shift 3
+    mkdir -p "$out/$case"
+    if ! "$bin" gp "$scene" "$@" -o "$out/$case/s.stream" > "$out/$case/gp.out" 2>&1; then
+        bad "$case: gp" "$out/$case/gp.out"
+        return
+    fi
+    cosim_stream "$case" "$name" "$out/$case/s.stream" "$@"
+}
+
+# cosim_random CASE MODEL SEED FACES [--flat] -- PROFILE-ARGS...
+cosim_random() {
+    local case=$1 name=$2 seed=$3 faces=$4; shift 4
+    local flat=()
+    if [[ ${1:-} == --flat ]]; then flat=(--flat); shift; fi
+    [[ ${1:-} == -- ]] && shift
+    mkdir -p "$out/$case"
+    "$bin" scene random --faces "$faces" --seed "$seed" "${flat[@]}" -o "$out/$case/s.scene" \
+        > /dev/null 2>&1 || { bad "$case: scene random"; return; }
+    cosim_scene "$case" "$name" "$out/$case/s.scene" "$@"
+}
+
+# the profile options of a golden vector (the GP's own options are not the VP's)
+vector_profile() {
+    grep -v '^#' "test-vectors/$1/options" | tr ' ' '\n' |
+        awk '/^--profile$|^--set$/ { k = $0; next } k { print k; print; k = "" }'
+}
+
+cosim_vector() {   # CASE-PREFIX VECTOR
+    local v=$2 prof name
+    mapfile -t prof < <(vector_profile "$v")
+    name=$(printf '%s' "${prof[*]}" | tr -c 'A-Za-z0-9=_' '-' | sed 's/^--profile-//')
+    model "$name" "${prof[@]}" || return
+    cosim_stream "$1$v" "$name" "test-vectors/$v/expected.stream" "${prof[@]}"
+}
+
+# ---- Icarus ----
+
+icarus() {   # CASE SCENE PROFILE-ARGS...: the plain SystemVerilog bench
+    local case=$1 scene=$2; shift 2
+    if bash rtl/bench/icarus.sh --albatros "$bin" --dir "$out/$case" "$scene" "$@" \
+        > "$out/$case.out" 2>&1; then
+        ok "$case: $(tail -n 1 "$out/$case.out")"
+    else
+        bad "$case" "$out/$case.out"
+    fi
+}
+
+lint t32 t32
+lint a512 a512
+lint odd t32 --set aa=2 --set fill_rate=1 --set edge_units=1 --set face_slots=1 \
+    --set fifo_depth=2 --set divider_latency=0 --set shade_latency=0 --set fill_queue=1
+lint wide a256 --set width=512 --set height=128 --set fill_rate=8 --set edge_units=3
+synth_check
+
+if model t32 t32; then
+    cosim_scene ties t32 rtl/bench/scenes/ties.scene --profile t32
+    cosim_random t32-random-1 t32 1 30 -- --profile t32
+    cosim_random t32-random-2-flat t32 2 30 --flat -- --profile t32
+    mkdir -p "$out/t32-builtin"
+    "$bin" gp --profile t32 -o "$out/t32-builtin/s.stream" > /dev/null 2>&1 &&
+        cosim_stream t32-builtin t32 "$out/t32-builtin/s.stream" --profile t32
+fi
+for v in shared-edges textured-far-plane moving-lit; do
+    cosim_vector vector- "$v"
+done
+icarus icarus-ties rtl/bench/scenes/ties.scene --profile t32
+
+if ((all)); then
+    # every golden vector (three profiles: a256, a512, a1024x512)
+    for d in test-vectors/*/; do
+        v=$(basename "$d")
+        [[ -f $d/README && $v != shared-edges && $v != textured-far-plane && $v != moving-lit ]] &&
+            cosim_vector vector- "$v"
+    done
+    # random scenes under the parameter sets that force stalls and corners:
+    # 8 sets x 13 seeds x 2 (shaded, flat) = 208 scenes
+    sets=("t32" "t32 --set edge_units=1" "t32 --set edge_units=3" "t32 --set fill_rate=1"
+          "t32 --set fill_rate=8" "t32 --set fifo_depth=2" "t32 --set face_slots=1"
+          "t32 --set aa=1")
+    for s in "${sets[@]}"; do
+        read -ra args <<< "$s"
+        name=$(printf '%s' "$s" | tr -c 'A-Za-z0-9=_' '-')
+        model "$name" "${args[@]}" || continue
+        for seed in $(seq 101 113); do
+            cosim_random "random-$name-$seed" "$name" "$seed" 40 -- --profile "${args[@]}"
+            cosim_random "random-$name-$seed-flat" "$name" "$seed" 40 --flat -- --profile "${args[@]}"
+        done
+    done
+    # more corners: no pipeline latency, one-cell queue and one of everything
+    for s in "t32 --set divider_latency=0 --set shade_latency=0" \
+             "t32 --set fill_queue=1 --set edge_units=1 --set fill_rate=1 --set face_slots=1" \
+             "t32 --set aa=3 --set fill_rate=8"; do
+        read -ra args <<< "$s"
+        name=$(printf '%s' "$s" | tr -c 'A-Za-z0-9=_' '-')
+        model "$name" "${args[@]}" || continue
+        for seed in 201 202 203; do
+            cosim_random "random-$name-$seed" "$name" "$seed" 40 -- --profile "${args[@]}"
+        done
+        cosim_scene "ties-$name" "$name" rtl/bench/scenes/ties.scene --profile "${args[@]}"
+    done
+    # the stress families of albatros stability (docs/stability.md), at a256
+    if model a256 a256; then
+        for fam in sliver crossing-z0 far texture-far interpenetrating cyclic degenerate \
+                   tjunction deep coords; do
+            for sev in 0.3 0.9; do
+                c=stress-$fam-$sev
+                mkdir -p "$out/$c"
+                if "$bin" scene "$fam" --severity "$sev" -o "$out/$c/s.scene" > /dev/null 2>&1; then
+                    cosim_scene "$c" a256 "$out/$c/s.scene" --profile a256
+                else
+                    bad "$c: scene"
+                fi
+            done
+        done
+    fi
+    icarus icarus-random "$out/t32-random-1/s.scene" --profile t32
+    # the planted bugs: each must make the bench fail at its event
+    if bash rtl/bench/mutations.sh --albatros "$bin" --dir "$out/mutations" > "$out/mutations.out" 2>&1; then
+        ok "mutations: $(tail -n 1 "$out/mutations.out")"
+    else
+        bad "mutations" "$out/mutations.out"
+    fi
+fi
+
+echo "$pass passed, $fail failed"
+[[ $fail -eq 0 ]]
