@@ -26,7 +26,7 @@ ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -pthread -Iinclude $(WARN) $(FPF
              $(shell pkg-config --cflags $(PKGS)) $(EXR_CFLAGS)
 LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm -pthread $(EXTRA_LDLIBS)
 
-COMMON_SRC := common/diag.c common/file.c common/memh.c common/profile.c common/words.c \
+COMMON_SRC := common/diag.c common/file.c common/json.c common/memh.c common/profile.c common/words.c \
               common/crmath.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/polygon.c gp/gp.c gp/builtin.c
 VP_SRC     := vp/vp.c vp/fill.c vp/store.c vp/parallel.c vp/shade.c vp/frame.c
@@ -121,7 +121,7 @@ help:
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev zlib1g-dev libopenexr-dev openexr libusb-1.0-0-dev \
             libhidapi-dev gnuplot-nox sdcc sdcc-ucsim umockdev libumockdev-dev verilator iverilog python3 man-db \
-            musl-tools libosmesa6-dev
+            musl-tools valgrind openimageio-tools libosmesa6-dev
 setup: deps
 	$(MAKE) all
 deps:

@@ -3,6 +3,7 @@
  * severity) for experiments and measurements. */
 #include "cli.h"
 #include "commands.h"
+#include "albatros/file.h"
 #include "../tools/scenegen.h"
 #include "../tools/stress.h"
 
@@ -76,6 +77,13 @@ static int scene_opt(void *ctx, const char *name, const char *value)
         fprintf(stderr, "albatros scene: --%s %s: expected a number up to 10000000\n", name, value);
         return -1;
     }
+    /* a scene needs an object: 0 faces or 0 slivers would make one that
+     * every reader refuses ("scene has no objects") */
+    if (v == 0 && strcmp(name, "seed")) {
+        fprintf(stderr, "albatros scene: --%s 0: expected 1 to 10000000 (a scene needs a "
+                        "face)\n", name);
+        return -1;
+    }
     if (strcmp(name, "seed") == 0) {
         a->seed = v;
     } else if (strcmp(name, "faces") == 0) {
@@ -137,8 +145,9 @@ int cmd_scene(int argc, char **argv)
     scene_args a = {.seed = 1, .faces = 12, .per_angle = 6, .behind = -1, .backfacing = -1};
     const char *pos[1];
     int npos;
-    if (cli_parse("scene", argc, argv, spec, scene_opt, &a, NULL, pos, 1, &npos))
-        return 2;
+    int parsed = cli_parse("scene", argc, argv, spec, scene_opt, &a, NULL, pos, 1, &npos);
+    if (parsed)
+        return CLI_PARSE_EXIT(parsed);
     bool stress = npos == 1 && is_stress_family(pos[0]);
     if (a.help || npos != 1 || (strcmp(pos[0], "random") && strcmp(pos[0], "slivers") && !stress)) {
         if (!a.help && npos == 1)
@@ -175,12 +184,23 @@ int cmd_scene(int argc, char **argv)
         fprintf(stderr, "albatros scene: out of memory\n");
         return 1;
     }
-    FILE *f = a.output ? fopen(a.output, "w") : stdout;
+    /* a file only once complete (file.h); stdout is checked at exit */
     int rc = 0;
-    if (!f || fputs(text, f) < 0 || (a.output && fclose(f))) {
-        fprintf(stderr, "albatros scene: cannot write %s\n", a.output ? a.output : "stdout");
+    alb_out out;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    const char *path = a.output ? a.output : "-";
+    FILE *f = NULL;
+    if ((rc = cli_output("scene", "-o", path))) {
+        /* said why */
+    } else if (alb_out_open(&out, path, ALB_OUT_DASH, &d) || !(f = alb_out_stdio(&out, &d))) {
         rc = 1;
+    } else {
+        fputs(text, f);
+        rc = alb_out_commit(&out, &d) ? 1 : 0;
     }
+    if (rc && d.msg[0])
+        alb_diag_print(&d, stderr);
     free(text);
     return rc;
 }

@@ -279,15 +279,16 @@ static double fps(const alb_sim_counters *c, const alb_profile *p)
     return c->cycles ? 1000.0 * p->clock_khz / (double)c->cycles : 0;
 }
 
-void alb_sim_counters_json(FILE *f, const alb_sim_counters *c, const alb_profile *p)
+void alb_sim_counters_json(alb_json *j, const alb_sim_counters *c, const alb_profile *p)
 {
-    fputc('{', f);
-#define J(field) fprintf(f, "\"" #field "\": %llu, ", (unsigned long long)c->field);
+    alb_json_begin_object(j);
+#define J(field) alb_json_kv_uint(j, #field, c->field);
     ALB_SIM_COUNTER_FIELDS(J)
 #undef J
-    fprintf(f, "\"fifo_mean\": %.3f, \"fps\": %.3f, \"realtime_50hz\": %s}",
-            c->cycles ? (double)c->fifo_sum / (double)c->cycles : 0.0, fps(c, p),
-            c->cycles * 50 <= (uint64_t)p->clock_khz * 1000 ? "true" : "false");
+    alb_json_kv_fixed(j, "fifo_mean", c->cycles ? (double)c->fifo_sum / (double)c->cycles : 0.0, 3);
+    alb_json_kv_fixed(j, "fps", fps(c, p), 3);
+    alb_json_kv_bool(j, "realtime_50hz", c->cycles * 50 <= (uint64_t)p->clock_khz * 1000);
+    alb_json_end_object(j);
 }
 
 void alb_sim_counters_text(FILE *f, const alb_sim_counters *c, const alb_profile *p)

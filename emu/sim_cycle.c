@@ -883,6 +883,7 @@ alb_err sim_cycle_open(sim_cycle **out, const alb_profile *p, const sim_cycle_co
         m->vcd_from = cfg->vcd_from;
         m->vcd_to = cfg->vcd_to;
         m->units = trace_declare(m->vcd);
+        alb_vcd_window(m->vcd, m->vcd_from, m->vcd_to);
         alb_vcd_begin(m->vcd, 1000000000ull / p->clock_khz);
     }
     /* the pipeline's record (which samples win) only for the pipe's signals */
@@ -978,7 +979,9 @@ static void trace_one(sim_cycle *m, int64_t t)
 {
     if (m->pipe_traced)
         pipe_record(m, t);
-    if ((uint64_t)t >= m->vcd_from && (uint64_t)t <= m->vcd_to)
+    /* from the first cycle: the writer keeps the values before the window
+     * (it dumps them all at its start) and writes nothing after it */
+    if ((uint64_t)t <= m->vcd_to)
         trace_cycle(m, m->vcd, t, m->units);
 }
 

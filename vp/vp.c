@@ -675,30 +675,25 @@ void alb_vp_frame_end(alb_vp *vp, alb_frame *out)
     vp_store_resolve(vp, out);
 }
 
-alb_err alb_vp_run_stream(alb_vp *vp, const uint32_t *w, size_t n, const char *name,
-                      alb_vp_frame_sink sink, void *ctx, alb_diag *d)
+/* The packets of r's words into the VP, each finished frame to sink, until
+ * the words or the stream end. */
+static alb_err run_packets(alb_vp *vp, alb_ws_reader *r, alb_ws_event *ev, alb_frame *frame,
+                           alb_vp_frame_sink sink, void *ctx, alb_diag *d)
 {
-    alb_ws_reader r;
-    alb_ws_event *ev = malloc(sizeof *ev);
-    alb_frame frame;
-    memset(&frame, 0, sizeof frame);
-    if (!ev)
-        return alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
-    alb_ws_reader_init(&r, w, n, name);
-    r.max_faces = vp->prof.frame_faces;
     alb_err e = ALB_OK;
     bool refused = false;     /* by the VP, not by the decoder: ev is that packet */
-    while (!e && !r.ended) {
+    while (!e && !r->ended && r->pos < r->n) {
         refused = false;
-        if ((e = alb_ws_next(&r, ev, d)))
+        if ((e = alb_ws_next(r, ev, d)))
             break;
         refused = true;
         switch (ev->kind) {
         case ALB_WS_EV_CONFIG:
             if ((e = alb_vp_config(vp, &ev->u.config, d)))
                 break;
-            if (alb_vp_frame_alloc(vp, &frame, false))
-                e = alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory for a frame");
+            alb_frame_free(frame);
+            if (alb_vp_frame_alloc(vp, frame, false))
+                e = alb_diag_at(d, ALB_ERR_NOMEM, r->name, 0, 0, "out of memory for a frame");
             break;
         case ALB_WS_EV_TEXTURE:
             e = alb_vp_texture(vp, &ev->u.texture, d);
@@ -710,8 +705,8 @@ alb_err alb_vp_run_stream(alb_vp *vp, const uint32_t *w, size_t n, const char *n
             e = alb_vp_face(vp, &ev->u.face, d);
             break;
         case ALB_WS_EV_FRAME_END:
-            alb_vp_frame_end(vp, &frame);
-            if (sink && sink(ctx, &frame, &vp->st))
+            alb_vp_frame_end(vp, frame);
+            if (sink && sink(ctx, frame, &vp->st))
                 e = ALB_ERR_IO;
             break;
         case ALB_WS_EV_END:
@@ -723,9 +718,82 @@ alb_err alb_vp_run_stream(alb_vp *vp, const uint32_t *w, size_t n, const char *n
         /* a packet the decoder accepted but this VP cannot take: say where */
         char msg[sizeof d->msg];
         memcpy(msg, d->msg, sizeof msg);
-        alb_diag_off(d, e, name, (long long)ev->first * 4, "word %zu: %s", ev->first, msg);
+        alb_diag_off(d, e, r->name, (long long)ev->first * 4, "word %zu: %s", ev->first, msg);
     }
+    return e;
+}
+
+alb_err alb_vp_run_stream(alb_vp *vp, const uint32_t *w, size_t n, const char *name,
+                      alb_vp_frame_sink sink, void *ctx, alb_diag *d)
+{
+    alb_ws_reader r;
+    alb_ws_event *ev = malloc(sizeof *ev);
+    alb_frame frame;
+    memset(&frame, 0, sizeof frame);
+    if (!ev)
+        return alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
+    alb_ws_reader_init(&r, w, n, name);
+    r.max_faces = vp->prof.frame_faces;
+    alb_err e = run_packets(vp, &r, ev, &frame, sink, ctx, d);
+    /* the words ran out before END: the decoder says so */
+    if (!e && !r.ended)
+        e = alb_ws_next(&r, ev, d);
     alb_frame_free(&frame);
     free(ev);
     return e;
+}
+
+struct alb_vp_feed {
+    alb_vp *vp;
+    alb_ws_reader r;
+    alb_ws_event *ev;
+    alb_frame frame;
+    alb_vp_frame_sink sink;
+    void *ctx;
+    unsigned long long fed;   /* words before the current piece */
+};
+
+alb_err alb_vp_feed_open(alb_vp_feed **out, alb_vp *vp, const char *name, alb_vp_frame_sink sink,
+                         void *ctx, alb_diag *d)
+{
+    alb_vp_feed *f = calloc(1, sizeof *f);
+    if (f && !(f->ev = malloc(sizeof *f->ev))) {
+        free(f);
+        f = NULL;
+    }
+    *out = f;
+    if (!f)
+        return alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
+    f->vp = vp;
+    f->sink = sink;
+    f->ctx = ctx;
+    alb_ws_reader_init(&f->r, NULL, 0, name);
+    f->r.max_faces = vp->prof.frame_faces;
+    return ALB_OK;
+}
+
+alb_err alb_vp_feed_words(alb_vp_feed *f, const uint32_t *w, size_t n, alb_diag *d)
+{
+    /* the reader keeps its state (CONFIG seen, inside a frame) from piece
+     * to piece; only its words change */
+    f->r.w = w;
+    f->r.n = n;
+    f->r.pos = 0;
+    alb_err e = run_packets(f->vp, &f->r, f->ev, &f->frame, f->sink, f->ctx, d);
+    if (!e && f->r.pos < n)
+        e = alb_diag_off(d, ALB_ERR_STREAM, f->r.name, (long long)(f->fed + f->r.pos) * 4,
+                         "words after END");
+    if (e && d->offset >= 0)   /* located in the whole stream, not the piece */
+        d->offset += (long long)f->fed * 4;
+    f->fed += n;
+    return e;
+}
+
+void alb_vp_feed_close(alb_vp_feed *f)
+{
+    if (!f)
+        return;
+    alb_frame_free(&f->frame);
+    free(f->ev);
+    free(f);
 }

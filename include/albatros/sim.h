@@ -5,6 +5,7 @@
 #define ALBATROS_SIM_H
 
 #include "diag.h"
+#include "json.h"
 #include "profile.h"
 #include "vp.h"
 
@@ -140,7 +141,7 @@ typedef enum {
 
 /* The counters as a JSON object / a readable summary (with fps against
  * the profile's clock and the 50 Hz budget). */
-void alb_sim_counters_json(FILE *f, const alb_sim_counters *c, const alb_profile *p);
+void alb_sim_counters_json(alb_json *j, const alb_sim_counters *c, const alb_profile *p);
 void alb_sim_counters_text(FILE *f, const alb_sim_counters *c, const alb_profile *p);
 
 #pragma GCC visibility pop
