@@ -416,7 +416,7 @@ static int run_vp(render_args *a, const alb_profile *prof, const uint32_t *w, si
                        .threads = a->threads ? a->threads : alb_vp_cores(),
                        /* nothing to draw: the clocked models time without
                         * pixels (the statistics and counters are the same) */
-                       .counters_only = !a->output && !a->png && !a->nviews && !a->dump};
+                       .counters_only = !cli_frames_any(&a->out)};
     a->prof = *prof;
     unsigned nnum;
     uint32_t *numbers = frame_numbers(w, n, &nnum);
