@@ -14,6 +14,8 @@ if [[ ${2:-} == --memcheck ]]; then
     printf '#!/bin/sh\nexec %s "%s" "$@"\n' "${vg[*]}" "$(realpath "$build/albatros")" > "$bin"
     chmod +x "$bin"
     unit=("${vg[@]}")
+    # for runners that need the program itself (cachegrind counts, short runs)
+    export ALBATROS_UNWRAPPED=$(realpath "$build/albatros")
 fi
 total_pass=0 total_fail=0 status=0
 log=$(mktemp)

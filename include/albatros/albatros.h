@@ -11,6 +11,7 @@
 #include "dump.h"
 #include "exr.h"
 #include "file.h"
+#include "json.h"
 #include "frame.h"
 #include "gp.h"
 #include "link.h"

@@ -31,6 +31,10 @@ typedef struct {
                                    table generates for, left out (docs/gp.md) */
     unsigned coef_saturated;    /* forms whose exponent had to be clamped */
     unsigned long long words;   /* words emitted */
+    /* the first face with a clamped form (0: none): its scene line, which
+     * form ("depth", "intensity", "texture") and the frame */
+    unsigned saturated_line, saturated_frame;
+    const char *saturated_form;
 } alb_gp_stats;
 
 /* Offline database preparation (eqs. 9-11, interpolation matrices, texture
