@@ -280,7 +280,7 @@ struct Result {
     Mismatch m;
     std::string message;
     uint64_t cycles = 0, frames = 0, events = 0, crcs = 0, lost = 0;
-    double seconds = 0;
+    double seconds = 0, rtl_seconds = 0;     // the whole run; the RTL's evaluations alone
 };
 
 std::vector<uint32_t> read_stream(const char *path, std::string &err)
@@ -420,6 +420,12 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
     const uint64_t scan = pixels / top->p_scan_pixels + 16;   // the last CRC after the last frame
     std::vector<Event> expected, actual, mine;
     size_t next_word = 0;
+    std::chrono::steady_clock::duration in_rtl{};
+    auto eval = [&]() {
+        auto e0 = std::chrono::steady_clock::now();
+        top->eval();
+        in_rtl += std::chrono::steady_clock::now() - e0;
+    };
     auto t0 = std::chrono::steady_clock::now();
     uint64_t t = 0;
     for (;; t++) {
@@ -451,7 +457,7 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
         if (r.status != Result::OK)
             break;
         top->clk = 0;
-        top->eval();
+        eval();
         if (tfp && t >= from && t <= to)
             tfp->dump(2 * t);
         if (top->cycle != t) {
@@ -490,7 +496,7 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
             break;
         }
         top->clk = 1;
-        top->eval();
+        eval();
         if (tfp && t >= from && t <= to)
             tfp->dump(2 * t + 1);
         if (model.done() && t >= model.last_cycle()) {
@@ -505,6 +511,7 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
         }
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.rtl_seconds = std::chrono::duration<double>(in_rtl).count();
     r.cycles = t + 1;
     r.events = sb.matched();
     r.frames = sb.matched(EV_FRAME);
@@ -643,16 +650,17 @@ int main(int argc, char **argv)
         if (o.json)
             std::printf("{\"status\": \"ok\", \"cycles\": %" PRIu64 ", \"events\": %" PRIu64
                         ", \"frames\": %" PRIu64 ", \"crcs\": %" PRIu64 ", \"crcs_unchecked\": %"
-                        PRIu64 ", \"seconds\": %.3f, \"cycles_per_second\": %.0f}\n",
+                        PRIu64 ", \"seconds\": %.3f, \"cycles_per_second\": %.0f, "
+                        "\"rtl_seconds\": %.3f, \"rtl_cycles_per_second\": %.0f}\n",
                         r.cycles, r.events, r.frames, r.crcs, r.lost, r.seconds,
-                        r.cycles / r.seconds);
+                        r.cycles / r.seconds, r.rtl_seconds, r.cycles / r.rtl_seconds);
         else
             std::printf("cosim: %" PRIu64 " cycles, %" PRIu64 " events and %" PRIu64
-                        " frame CRCs match%s (%.2f s, %.0f cycles/s)\n",
+                        " frame CRCs match%s (%.2f s, %.0f cycles/s; the RTL alone %.0f cycles/s)\n",
                         r.cycles, r.events, r.crcs,
                         r.lost ? (", " + std::to_string(r.lost) + " CRCs unchecked: the scan-out "
                                   "overran (rtl/README.md)").c_str() : "",
-                        r.seconds, r.cycles / r.seconds);
+                        r.seconds, r.cycles / r.seconds, r.cycles / r.rtl_seconds);
         return 0;
     }
     uint64_t at = r.status == Result::DIVERGED ? r.m.cycle : r.cycles - 1;
