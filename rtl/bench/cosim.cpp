@@ -11,11 +11,13 @@
 //   cosim --events MODEL.log [--stream S.stream] [options]
 //   cosim --model PROFILE [--set KEY=VALUE ...] --stream S.stream [options]
 //   cosim --stream S.stream --expect-error CODE@WORD      (a malformed stream)
-//   options: [--log RTL.log] [--vcd F.vcd] [--window N] [--trace-all F.vcd] [--json]
+//   options: [--log RTL.log] [--dump PREFIX] [--vcd F.vcd] [--window N]
+//            [--trace-all F.vcd] [--json]
 //
 // Exit status: 0 every event and CRC matched, 1 a divergence (or an RTL
 // error), 2 bad usage or input.
 #include "Valb_bench_top.h"
+#include "Valb_bench_top__Syms.h"   // the memory model's arrays, for --dump
 #include "events.h"
 #include "scoreboard.h"
 #include "verilated.h"
@@ -267,9 +269,56 @@ private:
     size_t next_crc_ = 0, flushed_ = 0;
 };
 
+// The RTL's frame k as docs/cosim.md's frame-store dump (`$writememh` text,
+// one 128-bit record a pixel, row 0 first): the display store resolved as the
+// output stage does (docs/vp.md §6) — colour the mean of the pixel's samples,
+// a sample of another frame's tag or of depth 0 having the background; depth,
+// face and level those of the nearest sample, ties the first in raster order.
+// Read from the memory model right after the frame's retirement, before the
+// scan-out clears it.
+bool dump_frame(const Valb_bench_top &v, uint64_t k, uint64_t bg, const std::string &path)
+{
+    const unsigned w = v.p_width, h = v.p_height, aa = v.p_aa, cb = v.p_colour_bits;
+    const unsigned db = v.p_depth_bits, tb = v.p_tag_bits;
+    const unsigned lw = (unsigned)__builtin_ctz(w) + aa, lh = (unsigned)__builtin_ctz(h) + aa;
+    const uint64_t ns = 1ull << (2 * aa), store = (k & 1) << (lw + lh);
+    const uint64_t tag = k & ((1ull << tb) - 1), dmask = (1ull << db) - 1;
+    const auto *mem = v.alb_bench_top->u_mem;
+    std::FILE *f = std::fopen(path.c_str(), "w");
+    if (!f)
+        return false;
+    std::fprintf(f, "// RTL frame %" PRIu64 ", %ux%u: face depth R G B level coverage (docs/cosim.md)\n",
+                 k, w, h);
+    for (uint64_t p = 0; p < (uint64_t)w * h; p++) {
+        uint64_t sum[3] = {0, 0, 0}, best = 0, face = 0xFFFFFFFF, level = 255, covered = 0;
+        for (uint64_t s = 0; s < ns; s++) {
+            uint64_t a = store | p << (2 * aa) | s;
+            uint64_t z = bits(mem->depth[a], 0, db + tb), d = z & dmask;
+            bool in = d != 0 && z >> db == tag;
+            const auto &c = mem->colour[a];
+            for (unsigned ch = 0; ch < 3; ch++)
+                sum[ch] += in ? bits(c, 40 + (2 - ch) * cb, cb) : bg >> (2 - ch) * cb & ((1u << cb) - 1);
+            covered += in;
+            if (in && d > best) {
+                best = d;
+                face = bits(c, 8, 32);
+                level = bits(c, 0, 8);
+            }
+        }
+        uint64_t rgb[3];
+        for (unsigned ch = 0; ch < 3; ch++)
+            rgb[ch] = (sum[ch] + ns / 2) >> (2 * aa);
+        std::fprintf(f, "%08" PRIx64 "%08" PRIx64 "%04" PRIx64 "%04" PRIx64 "%04" PRIx64 "%02" PRIx64
+                     "%02" PRIx64 "\n", face, best, rgb[0], rgb[1], rgb[2], level, covered);
+    }
+    bool ok = !std::ferror(f);
+    return std::fclose(f) == 0 && ok;
+}
+
 struct Options {
     const char *events = nullptr, *stream = nullptr, *log = nullptr, *vcd = nullptr;
     const char *trace_all = nullptr, *profile = nullptr, *expect_error = nullptr;
+    const char *dump = nullptr;         // PREFIX: PREFIX.NNNN.memh a frame
     std::vector<const char *> sets;
     uint64_t window = 200;
     bool json = false;
@@ -420,6 +469,7 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
     const uint64_t scan = pixels / top->p_scan_pixels + 16;   // the last CRC after the last frame
     std::vector<Event> expected, actual, mine;
     size_t next_word = 0;
+    uint64_t frames_retired = 0;
     std::chrono::steady_clock::duration in_rtl{};
     auto eval = [&]() {
         auto e0 = std::chrono::steady_clock::now();
@@ -495,10 +545,22 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
                         ") at word " + std::to_string(top->error_word);
             break;
         }
+        const bool retired = top->ev_frame;
+        const uint64_t bg = top->dbg_retire_bg;
         top->clk = 1;
         eval();
         if (tfp && t >= from && t <= to)
             tfp->dump(2 * t + 1);
+        if (retired && write_log && o.dump) {
+            char name[32];
+            std::snprintf(name, sizeof name, ".%04" PRIu64 ".memh", frames_retired);
+            if (!dump_frame(*top, frames_retired, bg, o.dump + std::string(name))) {
+                r.status = Result::INPUT;
+                r.message = std::string(o.dump) + name + ": cannot write: " + std::strerror(errno);
+                break;
+            }
+        }
+        frames_retired += retired;
         if (model.done() && t >= model.last_cycle()) {
             if (!sb.crcs_pending())
                 break;
@@ -579,7 +641,8 @@ int usage()
                  "usage: cosim --events MODEL.log [--stream S.stream] [options]\n"
                  "       cosim --model PROFILE [--set KEY=VALUE ...] --stream S.stream [options]\n"
                  "       cosim --stream S.stream --expect-error CODE@WORD\n"
-                 "options: [--log RTL.log] [--vcd FAIL.vcd] [--window N] [--trace-all T.vcd] [--json]\n");
+                 "options: [--log RTL.log] [--dump PREFIX] [--vcd FAIL.vcd] [--window N]\n"
+                 "         [--trace-all T.vcd] [--json]\n");
     return 2;
 }
 
@@ -608,6 +671,8 @@ int main(int argc, char **argv)
             o.profile = v;
         else if (a == "--set" && (v = value()))
             o.sets.push_back(v);
+        else if (a == "--dump" && (v = value()))
+            o.dump = v;
         else if (a == "--expect-error" && (v = value()))
             o.expect_error = v;
         else if (a == "--json")
