@@ -35,7 +35,7 @@ module alb_vp #(
     // sizes the profile does not bound (rtl/README.md)
     parameter int MAX_EDGES = 64,       // edges a face may have (the word format's limit)
     parameter int TEX_WORDS = 65536,    // texture memory, texels
-    parameter int FRAME_QUEUE = 4,      // FRAME packets taken ahead of a draining frame
+    parameter int FRAME_QUEUE = 16,     // FRAME packets taken ahead of a draining frame
     parameter int SCAN_PIXELS = 1,      // pixels the output stage resolves a cycle
     parameter int TAG_BITS = 8,         // frame tag of a stored depth (alb_frame_store)
     // derived

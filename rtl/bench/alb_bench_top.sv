@@ -24,7 +24,7 @@ module alb_bench_top #(
     parameter int FRAME_FACES = 16777215,
     parameter int MAX_EDGES = 64,
     parameter int TEX_WORDS = 65536,
-    parameter int FRAME_QUEUE = 4,
+    parameter int FRAME_QUEUE = 16,
     parameter int SCAN_PIXELS = 1,
     parameter int TAG_BITS = 8
 ) (
