@@ -192,6 +192,7 @@ synth_check 0
 
 if model t32 t32; then
     cosim_scene ties t32 rtl/bench/scenes/ties.scene --profile t32
+    cosim_scene empty-frames t32 rtl/bench/scenes/empty-frames.scene --profile t32
     cosim_random t32-random-1 t32 1 30 -- --profile t32
     cosim_random t32-random-2-flat t32 2 30 --flat -- --profile t32
     mkdir -p "$out/t32-builtin"
@@ -287,6 +288,18 @@ if ((all)); then
                 fi
             done
         done
+    fi
+    # the frame registers' queue full: with 4, frames 0 to 3 fill it and the
+    # fifth FRAME (frame 4, its header at word 48 of this stream) is refused
+    # at its last word
+    if model t32-fq4 t32 --rtl FRAME_QUEUE=4; then
+        s=$out/empty-frames/s.stream
+        if "$build/rtl/t32-fq4/cosim" --stream "$s" --expect-error 15@52 > "$out/fq4.out" 2>&1 &&
+            "$bin" dump "$s" | grep -q '^000000c0  f0000004  FRAME number=4'; then
+            ok "frame queue of 4: $(sed 's/^cosim: //' "$out/fq4.out")"
+        else
+            bad "frame queue of 4" "$out/fq4.out"
+        fi
     fi
     icarus icarus-random "$out/t32-random-1/s.scene" --profile t32
     # the second simulator on the small golden vectors (a256, one frame each
