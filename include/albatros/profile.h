@@ -11,6 +11,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef enum {
     ALB_BOUND_NONE = 0,   /* no bounding edges */
@@ -76,6 +79,9 @@ int alb_bound_method_parse(const char *s, alb_bound_method *m);
 unsigned alb_profile_levels(const alb_profile *p);        /* log2(max(w,h)) + aa */
 unsigned alb_profile_sample_shift(const alb_profile *p);  /* == alb_profile_levels */
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif
