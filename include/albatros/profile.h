@@ -46,6 +46,8 @@ typedef struct {
     unsigned edge_units;      /* edges the engine evaluates per clock */
     unsigned fill_rate;       /* samples the fill unit issues per clock */
     unsigned fill_queue;      /* cells between engine and fill unit */
+    unsigned frame_queue;     /* FRAME registers held: the open frame's and those
+                                 taken while it drains */
     unsigned divider_latency; /* reciprocal unit pipeline stages */
     unsigned shade_latency;   /* shading, texture, fog, write stages */
     unsigned gp_face_cycles;  /* GP time per face packet, before its words */
