@@ -26,10 +26,10 @@ ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -pthread -Iinclude $(WARN) $(FPF
              $(shell pkg-config --cflags $(PKGS)) $(EXR_CFLAGS)
 LDLIBS  = $(shell pkg-config --libs $(PKGS)) $(EXR_LIBS) -lm -pthread $(EXTRA_LDLIBS)
 
-COMMON_SRC := common/diag.c common/file.c common/memh.c common/profile.c common/words.c \
+COMMON_SRC := common/diag.c common/file.c common/json.c common/memh.c common/profile.c common/words.c \
               common/crmath.c
 GP_SRC     := gp/scene.c gp/texture.c gp/obj.c gp/quant.c gp/bound.c gp/polygon.c gp/gp.c gp/builtin.c
-VP_SRC     := vp/vp.c vp/fill.c vp/parallel.c vp/shade.c vp/frame.c
+VP_SRC     := vp/vp.c vp/fill.c vp/store.c vp/parallel.c vp/shade.c vp/frame.c
 SINK_SRC   := emu/exr.c emu/preview.c emu/sim.c emu/sim_timed.c emu/sim_cycle.c emu/vcd.c \
               emu/model.c emu/dpi.c emu/dump.c emu/frame_out.c
 BRIDGE_SRC := emu/bridge/link.c emu/bridge/stream.c emu/bridge/transport_fault.c \
@@ -39,7 +39,7 @@ TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools
 FW_SRC     := firmware/core.c firmware/crc32.c firmware/sim/board.c firmware/sim/transport.c
 EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cmd_render.c emu/cmd_compare.c emu/cmd_scene.c emu/cmd_stream.c emu/cmd_stability.c \
               emu/cli.c
-TEST_SRC   := $(wildcard tests/test_*.c) tests/t.c tests/gp_helpers.c
+TEST_SRC   := $(wildcard tests/test_*.c) tests/t.c tests/gp_helpers.c tests/refpacket.c
 
 # ---- libalbatros (docs/architecture.md): common, GP, VP, the timed and
 # cycle models, the sinks and the bridge host.  Its objects are position
@@ -93,6 +93,8 @@ BENCH_MODEL := $(BUILD)/tools/bench-model
         usb-bench
 # libFuzzer harnesses and their replay over the seeds and regressions
 include fuzz/fuzz.mk
+# the reference RTL and its co-simulation against the model: make cosim
+include rtl/rtl.mk
 
 # the replay harnesses too, so a warning in them fails CI's -Werror build
 all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(USB_BOARD) $(USB_SHIM) $(USB_ROGUE) $(USB_BENCH) $(REPLAYS) $(DPI_TB)
@@ -116,12 +118,13 @@ help:
 	@echo "make firmware   the FX2LP board firmware (sdcc); make firmware-size checks it fits"
 	@echo "make firmware-check  that image on the s51 simulator against the host core (in make test)"
 	@echo "make firmware-speed  its parsing speed on the bridge's stream, from s51's cycle counts"
+	@echo "make cosim      the reference RTL (rtl/) against the cycle model, everything (rtl/README.md)"
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev zlib1g-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev gnuplot-nox sdcc sdcc-ucsim umockdev libumockdev-dev verilator iverilog python3 man-db \
-            musl-tools
+            libhidapi-dev gnuplot-nox sdcc sdcc-ucsim umockdev libumockdev-dev verilator iverilog yosys python3 man-db \
+            musl-tools valgrind openimageio-tools libosmesa6-dev
 setup: deps
 	$(MAKE) all
 deps:
@@ -179,8 +182,10 @@ $(ALBATROS): $(EMU_OBJ) $(CLIENT_OBJ) $(LIBALB_A)
 $(COST): $(BUILD)/tools/cost.o $(LIB_OBJ)
 	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
 
-$(BENCH): $(BUILD)/tools/bench.o $(LIB_OBJ)
-	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) -o $@
+# the bench's peer, Mesa's llvmpipe through OSMesa (tools/peer.c), links
+# into the bench alone
+$(BENCH): $(BUILD)/tools/bench.o $(BUILD)/tools/peer.o $(LIB_OBJ)
+	$(CC) $(ALL_CFLAGS) $^ $(LDLIBS) $(shell pkg-config --libs osmesa) -o $@
 
 # a client of the public API alone: the static library
 $(BENCH_MODEL): $(BUILD)/tools/bench_model.o $(LIBALB_A)
@@ -243,9 +248,10 @@ asan:
 # bit-exact across compilers, optimisation and C libraries: every golden
 # vector (streams, frames, counters) from gcc -O0 and clang -O3 builds, and
 # from a musl-gcc build (a second C library: its libm must change nothing,
-# docs/number-formats.md §0)
+# docs/number-formats.md §0); the gcc one takes the VP's plain C paths where
+# the others have SIMD (vp/simd.h)
 crosscheck: $(ALBATROS)
-	$(MAKE) BUILD=build-gcc-O0 OPT=-O0 build-gcc-O0/albatros
+	$(MAKE) BUILD=build-gcc-O0 OPT=-O0 EXTRA_CFLAGS=-DALB_NO_SIMD build-gcc-O0/albatros
 	$(MAKE) BUILD=build-clang-O3 CC=clang OPT=-O3 build-clang-O3/albatros
 	build-gcc-O0/albatros vectors check test-vectors
 	build-clang-O3/albatros vectors check test-vectors

@@ -32,6 +32,19 @@ alb_err memh_scan(const char *text, size_t len, const char *path, unsigned bits,
 {
     unsigned line = 1;
     size_t line_start = 0, count = 0;
+    /* memh is text: a NUL is refused wherever it stands, comments included
+     * (and the readers stop reading at the first: alb_file_read_text) */
+    const char *nul = memchr(text, 0, len);
+    if (nul) {
+        size_t at = (size_t)(nul - text), ls = 0;
+        for (size_t i = 0; i < at; i++)
+            if (text[i] == '\n') {
+                line++;
+                ls = i + 1;
+            }
+        return fail(d, path, line, (unsigned)(at - ls + 1), "byte 0x00: a $readmemh file is text",
+                    "", 0);
+    }
     for (size_t i = 0; i < len;) {
         char c = text[i];
         unsigned col = (unsigned)(i - line_start + 1);

@@ -99,12 +99,26 @@ static inline mat3 m3_orientation(double yaw_deg, double pitch_deg, double roll_
  * view direction, x = up x z normalised (right, in this left-handed frame),
  * y = z x x.  Square roots only: no angle, no C library function but the
  * correctly rounded sqrt. */
+/* v / |v|; where |v| over- or underflows (a component near 1e308, a
+ * denormal) v is first divided by its largest component, so a direction
+ * the command line accepts (alb_scene_camera_check) has a unit vector.
+ * Every other v gets v * (1 / |v|), bit for bit as before. */
+static inline vec3 v3_unit_robust(vec3 v)
+{
+    double l = v3_len(v);
+    if (l > 0 && isfinite(l) && isfinite(1 / l))
+        return v3_scale(v, 1 / l);
+    double m = fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z)));
+    if (!(m > 0) || !isfinite(m))
+        return v3_scale(v, 1 / l);
+    vec3 s = {v.x / m, v.y / m, v.z / m};
+    return v3_scale(s, 1 / v3_len(s));
+}
+
 static inline mat3 m3_look_at(vec3 eye, vec3 at, vec3 up)
 {
-    vec3 z = v3_sub(at, eye);
-    z = v3_scale(z, 1 / v3_len(z));
-    vec3 x = v3_cross(up, z);
-    x = v3_scale(x, 1 / v3_len(x));
+    vec3 z = v3_unit_robust(v3_sub(at, eye));
+    vec3 x = v3_unit_robust(v3_cross(up, z));
     vec3 y = v3_cross(z, x);
     mat3 m = {{{x.x, y.x, z.x}, {x.y, y.y, z.y}, {x.z, y.z, z.z}}};
     return m;

@@ -487,25 +487,42 @@ void alb_ws_describe_at(const uint32_t *w, size_t n, size_t idx, char *buf, size
     free(ev);
 }
 
-alb_err alb_ws_dump(FILE *out, const uint32_t *w, size_t n, const char *name, alb_diag *d)
+alb_err alb_ws_dump_piece(FILE *out, alb_ws_reader *r, const uint32_t *w, size_t n, size_t base,
+                          alb_diag *d)
 {
-    alb_ws_reader r;
     alb_ws_event *ev = malloc(sizeof *ev);
     char desc[160];
     if (!ev)
         return ALB_ERR_NOMEM;
-    alb_ws_reader_init(&r, w, n, name);
+    r->w = w;
+    r->n = n;
+    r->pos = 0;
     alb_err e = ALB_OK;
-    while (!r.ended) {
-        if ((e = alb_ws_next(&r, ev, d)))
+    while (!r->ended && r->pos < n) {
+        if ((e = alb_ws_next(r, ev, d)))
             break;
         for (size_t k = 0; k < ev->count; k++) {
             size_t at = ev->first + k;
-            alb_ws_describe_word(ev, &r.config, k, desc, sizeof desc);
-            fprintf(out, "%08zx  %08x  %s\n", at * 4, w[at], desc);
+            alb_ws_describe_word(ev, &r->config, k, desc, sizeof desc);
+            fprintf(out, "%08zx  %08x  %s\n", (base + at) * 4, w[at], desc);
         }
     }
+    if (e && d->offset >= 0)   /* located in the whole stream */
+        d->offset += (long long)base * 4;
     free(ev);
+    return e;
+}
+
+alb_err alb_ws_dump(FILE *out, const uint32_t *w, size_t n, const char *name, alb_diag *d)
+{
+    alb_ws_reader r;
+    alb_ws_reader_init(&r, w, n, name);
+    alb_err e = alb_ws_dump_piece(out, &r, w, n, 0, d);
+    if (!e && !r.ended) {   /* the words ran out: the decoder says how */
+        alb_ws_event *ev = malloc(sizeof *ev);
+        e = ev ? alb_ws_next(&r, ev, d) : ALB_ERR_NOMEM;
+        free(ev);
+    }
     return e;
 }
 
@@ -533,14 +550,77 @@ static int memh_word(void *ctx, const uint32_t *value, unsigned line, unsigned c
     return 0;
 }
 
+/* The first packet of a binary stream, CONFIG, from its first 12 bytes:
+ * a file that does not start with one is refused before the rest is read
+ * (/dev/zero or a text file given by mistake would otherwise be read to
+ * its end, or to the end of memory). */
+static alb_err check_first_packet(const unsigned char *b, const char *path, alb_diag *d)
+{
+    uint32_t w[3];
+    for (int i = 0; i < 3; i++)
+        w[i] = (uint32_t)b[4 * i] | (uint32_t)b[4 * i + 1] << 8 | (uint32_t)b[4 * i + 2] << 16 |
+               (uint32_t)b[4 * i + 3] << 24;
+    alb_ws_reader r;
+    alb_ws_event *ev = malloc(sizeof *ev);
+    if (!ev)
+        return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory");
+    alb_ws_reader_init(&r, w, 3, path);
+    alb_err e = alb_ws_next(&r, ev, d);
+    free(ev);
+    return e;
+}
+
+/* The file's bytes: its first 12 tell memh text from a binary stream, and
+ * a binary one whose first packet is wrong is not read further; memh is
+ * text, whose reading a NUL ends (memh_scan refuses it). */
+static alb_err read_stream_bytes(const char *path, char **text, size_t *len, bool *memh,
+                                 alb_diag *d)
+{
+    const char *why;
+    *text = NULL;
+    FILE *f = alb_file_open_input(path, false, &why);
+    if (!f)
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", why);
+    unsigned char head[12];
+    size_t got = fread(head, 1, sizeof head, f);
+    *memh = memh_looks_like((const char *)head, got);
+    alb_err e = ALB_OK;
+    if (ferror(f))
+        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(errno));
+    else if (!*memh && got == sizeof head)
+        e = check_first_packet(head, path, d);
+    char *rest = NULL;
+    size_t nrest = 0;
+    int rc = e ? 0 : *memh ? alb_file_read_text(f, &rest, &nrest) : alb_file_read_all(f, &rest, &nrest);
+    int err = errno;
+    fclose(f);
+    if (e)
+        return e;
+    if (rc == 0 && !(*text = malloc(got + nrest + 1)))
+        rc = -2;
+    if (rc == -2) {
+        free(rest);
+        return alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "too large for memory");
+    }
+    if (rc)
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "read error: %s", strerror(err));
+    memcpy(*text, head, got);
+    memcpy(*text + got, rest, nrest);
+    *len = got + nrest;
+    (*text)[*len] = 0;
+    free(rest);
+    return ALB_OK;
+}
+
 alb_err alb_ws_read_file(const char *path, uint32_t **w, size_t *n, alb_diag *d)
 {
     char *text;
-    size_t len;
-    alb_err le = alb_file_load(path, &text, &len, d);
+    size_t len = 0;
+    bool memh = false;
+    alb_err le = read_stream_bytes(path, &text, &len, &memh, d);
     if (le)
         return le;
-    if (memh_looks_like(text, len)) {
+    if (memh) {
         memh_words m = {NULL, 0, 0};
         alb_err e = memh_scan(text, len, path, 32, memh_word, &m, d);
         free(text);
@@ -572,36 +652,63 @@ alb_err alb_ws_read_file(const char *path, uint32_t **w, size_t *n, alb_diag *d)
     return ALB_OK;
 }
 
+/* Every stream file goes through alb_out (file.h): the old file stays until
+ * the new stream is complete, a device or FIFO is written straight through. */
+alb_err alb_ws_writer_open(alb_ws_writer *wr, const char *path, bool memh, alb_diag *d)
+{
+    memset(wr, 0, sizeof *wr);
+    wr->memh = memh;
+    alb_err e = alb_out_open(&wr->out, path, memh ? ALB_OUT_DASH : 0, d);
+    if (e)
+        return e;
+    if (!(wr->f = alb_out_stdio(&wr->out, d)))
+        return ALB_ERR_IO;
+    if (memh)
+        fprintf(wr->f, "// albatros GP -> VP word stream for $readmemh (docs/word-format.md)\n");
+    return ALB_OK;
+}
+
+void alb_ws_writer_put(alb_ws_writer *wr, const uint32_t *w, size_t n)
+{
+    for (size_t i = 0; i < n && !ferror(wr->f); i++) {
+        if (wr->memh) {
+            fprintf(wr->f, "%08x\n", w[i]);
+        } else {
+            uint8_t b[4] = {(uint8_t)w[i], (uint8_t)(w[i] >> 8), (uint8_t)(w[i] >> 16),
+                            (uint8_t)(w[i] >> 24)};
+            fwrite(b, 1, 4, wr->f);
+        }
+    }
+    wr->words += n;
+}
+
+alb_err alb_ws_writer_close(alb_ws_writer *wr, alb_diag *d)
+{
+    if (wr->memh)
+        fprintf(wr->f, "// %zu words\n", wr->words);
+    return alb_out_commit(&wr->out, d);
+}
+
+void alb_ws_writer_abort(alb_ws_writer *wr) { alb_out_abort(&wr->out); }
+
+static alb_err write_words(const char *path, bool memh, const uint32_t *w, size_t n, alb_diag *d)
+{
+    alb_ws_writer wr;
+    alb_err e = alb_ws_writer_open(&wr, path, memh, d);
+    if (e)
+        return e;
+    alb_ws_writer_put(&wr, w, n);
+    return alb_ws_writer_close(&wr, d);
+}
+
 alb_err alb_ws_write_file(const char *path, const uint32_t *w, size_t n, alb_diag *d)
 {
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
-    for (size_t i = 0; i < n; i++) {
-        uint8_t b[4] = {(uint8_t)w[i], (uint8_t)(w[i] >> 8), (uint8_t)(w[i] >> 16),
-                        (uint8_t)(w[i] >> 24)};
-        if (fwrite(b, 1, 4, f) != 4)
-            break;
-    }
-    int failed = ferror(f);
-    if (fclose(f) != 0 || failed)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "write error: %s", strerror(errno));
-    return ALB_OK;
+    return write_words(path, false, w, n, d);
 }
 
 alb_err alb_ws_write_memh(const char *path, const uint32_t *w, size_t n, alb_diag *d)
 {
-    FILE *f = strcmp(path, "-") == 0 ? stdout : fopen(path, "w");
-    if (!f)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
-    fprintf(f, "// albatros GP -> VP word stream, %zu words, for $readmemh "
-               "(docs/word-format.md)\n", n);
-    for (size_t i = 0; i < n; i++)
-        fprintf(f, "%08x\n", w[i]);
-    int failed = ferror(f);
-    if ((f == stdout ? fflush(f) : fclose(f)) != 0 || failed)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "write error: %s", strerror(errno));
-    return ALB_OK;
+    return write_words(path, true, w, n, d);
 }
 
 double alb_ws_form_eval(const alb_ws_form *f, double x, double y)

@@ -6,6 +6,8 @@
 
 #include "albatros/profile.h"
 #include "albatros/gp.h"
+#include "albatros/exr.h"
+#include "albatros/preview.h"
 
 #include <stdbool.h>
 #include <stdio.h>
@@ -44,7 +46,10 @@ extern const char run_opts_help[];
 /* Parse a command line.  spec lists the subcommand's own options as
  * "name" (flag) or "name=" (takes a value); on each, cb is called.  Common
  * options go to o.  Positional arguments are collected in pos[].  Returns 0,
- * or -1 after printing an error (the caller exits with status 2). */
+ * -1 after printing an error (the caller exits with status 2), or 1 after
+ * printing the version for --version, which every subcommand takes (the
+ * caller exits with status 0): CLI_PARSE_EXIT turns that into the status. */
+#define CLI_PARSE_EXIT(rc) ((rc) < 0 ? 2 : 0)
 typedef int (*opt_cb)(void *ctx, const char *name, const char *value);
 int cli_parse(const char *cmd, int argc, char **argv, const char *const *spec, opt_cb cb,
               void *ctx, run_opts *o, const char **pos, int maxpos, int *npos);
@@ -72,7 +77,51 @@ extern const char *cli_argv0;
 void cli_print_self(FILE *f);
 
 /* An output path for one frame of nframes: "dir/f.exr" itself for a single
- * frame, "dir/f.0003.exr" (the number before the extension) for more. */
-void cli_frame_path(char *out, size_t len, const char *path, unsigned number, unsigned nframes);
+ * frame, "dir/f.0003.exr" (the number before the extension) for more.
+ * malloc'd, any length; NULL if out of memory. */
+char *cli_frame_path(const char *path, unsigned number, unsigned nframes);
+
+/* The files of a run (docs/files.md): cli_input notes a file read (its
+ * absence is the reader's to report); cli_output claims an output path,
+ * refusing one that names an input or another output of the run, compared
+ * by device and inode (or, for a file not written yet, by directory and
+ * name), however spelled.  "-" and devices are never refused.  `what`
+ * names the option ("-o", "--png", ...).  Returns the exit status after a
+ * message: 0, 2 refused, 1 the path cannot be created. */
+void cli_input(const char *path);
+int cli_output(const char *cmd, const char *what, const char *path);
+void cli_forget_files(void);
+/* The frame outputs render, vp, reference and method share: -o (EXR),
+ * --png, --view NAME:FILE, numbered per frame when there are several. */
+#define CLI_MAX_VIEWS 8
+typedef struct {
+    const char *exr, *png, *dump;   /* -o, --png, --dump */
+    struct {
+        alb_preview_view view;
+        const char *path;
+        char what[48];           /* "--view level", for messages */
+    } views[CLI_MAX_VIEWS];
+    unsigned nviews;
+    alb_exr_options exr_opt;     /* threads and provenance of the EXR */
+} cli_frames;
+/* -o, --png, --view: 1 if name is one of them (value taken), 0 if not, -1
+ * after a message (a bad view, a PNG name for -o, ...). */
+int cli_frames_option(cli_frames *o, const char *cmd, const char *name, const char *value);
+bool cli_frames_any(const cli_frames *o);
+/* Before any work: claim (cli_output) every file that frames numbered
+ * numbers[0..n) will be written to; frame numbers that repeat with
+ * numbered outputs are refused (each would overwrite the other's).  An
+ * exit status as cli_output's. */
+int cli_frames_claim(const cli_frames *o, const char *cmd, const uint32_t *numbers, unsigned n);
+/* Write frame f's outputs (of a run of nframes); -1 after a message. */
+int cli_frames_write(const cli_frames *o, const alb_frame *f, unsigned nframes);
+
+/* The GP clamped some linear forms: name the first face (scene:line), the
+ * form and its likely cause. */
+void cli_warn_saturated(const char *scene, const alb_gp_stats *st);
+
+/* An output of one format whose name ends in another's extension ("-o
+ * x.png" writes OpenEXR): -1 with a message.  format: "exr" or "png". */
+int cli_check_format(const char *cmd, const char *what, const char *path, const char *format);
 
 #endif

@@ -6,12 +6,14 @@
 #include "albatros/dump.h"
 #include "albatros/exr.h"
 #include "albatros/preview.h"
+#include "albatros/json.h"
 #include "../tools/accuracy.h"
 #include "../tools/scenegen.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 typedef struct {
     const char *diff;
@@ -69,7 +71,7 @@ fail:
 /* Compare the frames in files a and b (diff: the diff image, or NULL);
  * prints one line (or JSON object) prefixed with `label`, naming the first
  * pixel and channel that differ.  0 identical, 1 different, 2 trouble. */
-static int compare_files(const char *pa, const char *pb, const char *diff, bool json,
+static int compare_files(const char *pa, const char *pb, const char *diff, alb_json *json,
                          const char *label, const alb_profile *p, bool exact)
 {
     alb_frame f[2];
@@ -110,14 +112,27 @@ static int compare_files(const char *pa, const char *pb, const char *diff, bool 
         goto done;
     }
     if (json) {
-        printf("%s{\"pixels\": %zu, \"face_diff\": %zu, \"colour_diff\": %zu, \"coverage_diff\": "
-               "%zu, \"max_error\": %u, \"mean_error\": %.6f, \"psnr\": %.3f, \"pixels_diff\": %zu",
-               label, r.pixels, r.face_diff, r.colour_diff, r.coverage_diff, r.max_error,
-               r.mean_error, isinf(r.psnr) ? 999.0 : r.psnr, ndiff);
-        if (differ)
-            printf(", \"first_diff\": {\"x\": %u, \"y\": %u, \"channel\": \"%s\", \"a\": %llu, "
-                   "\"b\": %llu}", x, y, ch, (unsigned long long)va, (unsigned long long)vb);
-        putchar('}');
+        alb_json_begin_object(json);
+        alb_json_kv_uint(json, "pixels", r.pixels);
+        alb_json_kv_uint(json, "face_diff", r.face_diff);
+        alb_json_kv_uint(json, "colour_diff", r.colour_diff);
+        alb_json_kv_uint(json, "coverage_diff", r.coverage_diff);
+        alb_json_kv_uint(json, "max_error", r.max_error);
+        alb_json_kv_fixed(json, "mean_error", r.mean_error, 6);
+        /* identical frames: infinite, written as 999 dB */
+        alb_json_kv_fixed(json, "psnr", isinf(r.psnr) ? 999.0 : r.psnr, 3);
+        alb_json_kv_uint(json, "pixels_diff", ndiff);
+        if (differ) {
+            alb_json_key(json, "first_diff");
+            alb_json_begin_object(json);
+            alb_json_kv_uint(json, "x", x);
+            alb_json_kv_uint(json, "y", y);
+            alb_json_kv_string(json, "channel", ch);
+            alb_json_kv_uint(json, "a", va);
+            alb_json_kv_uint(json, "b", vb);
+            alb_json_end_object(json);
+        }
+        alb_json_end_object(json);
     } else {
         printf("%s%zu pixels: %zu with a different face (%.4f%%), %zu with a different colour; "
                "colour error max %u, mean %.4f, PSNR %.2f dB\n",
@@ -136,21 +151,19 @@ done:
 
 static bool exists(const char *path)
 {
-    FILE *f = fopen(path, "rb");
-    if (f)
-        fclose(f);
-    return f != NULL;
+    struct stat st;
+    return stat(path, &st) == 0;
 }
 
 /* How many numbered frames "f.0000.exr", "f.0001.exr", ... stand for the
  * name f.exr, which render gives a run of several frames; 0 if none. */
 static unsigned numbered_frames(const char *path)
 {
-    char p[1024];
-    unsigned n = 0;
-    for (;; n++) {
-        cli_frame_path(p, sizeof p, path, n, 2);
-        if (!exists(p))
+    for (unsigned n = 0;; n++) {
+        char *p = cli_frame_path(path, n, 2);
+        bool there = p && exists(p);
+        free(p);
+        if (!there)
             return n;
     }
 }
@@ -163,8 +176,9 @@ int cmd_compare(int argc, char **argv)
     run_opts_init(&o);
     const char *pos[2];
     int npos;
-    if (cli_parse("compare", argc, argv, spec, compare_opt, &a, &o, pos, 2, &npos))
-        return 2;
+    int parsed = cli_parse("compare", argc, argv, spec, compare_opt, &a, &o, pos, 2, &npos);
+    if (parsed)
+        return CLI_PARSE_EXIT(parsed);
     if (a.help || npos != 2) {
         printf("usage: albatros compare A B [--diff DIFF.png] [--json] [--exact]\n"
                "                        [--profile P --set K=V --size WxH]\n\n"
@@ -182,20 +196,28 @@ int cmd_compare(int argc, char **argv)
                "every frame of the two runs, one line each (diff images numbered alike).\n");
         return a.help ? 0 : 2;
     }
+    cli_input(pos[0]);
+    cli_input(pos[1]);
+    if (a.diff && cli_check_format("compare", "--diff", a.diff, "png"))
+        return 2;
+    alb_json j;
+    alb_json_init(&j, stdout);
     /* two files, or two runs of numbered frames */
     if (exists(pos[0]) || exists(pos[1])) {
-        int rc = compare_files(pos[0], pos[1], a.diff, a.json, "", &o.prof, a.exact);
+        if (a.diff && cli_output("compare", "--diff", a.diff))
+            return 2;   /* compare's "trouble" */
+        int rc = compare_files(pos[0], pos[1], a.diff, a.json ? &j : NULL, "", &o.prof, a.exact);
         if (a.json && rc != 2)
-            putchar('\n');
+            alb_json_end_line(&j);
         return rc;
     }
     unsigned n[2] = {numbered_frames(pos[0]), numbered_frames(pos[1])};
     if (!n[0] || !n[1]) {
         const char *missing = n[0] ? pos[1] : pos[0];
-        char first[1024];
-        cli_frame_path(first, sizeof first, missing, 0, 2);
+        char *first = cli_frame_path(missing, 0, 2);
         fprintf(stderr, "albatros compare: cannot open %s (nor %s, the first of a numbered run)\n",
-                missing, first);
+                missing, first ? first : "");
+        free(first);
         return 2;
     }
     if (n[0] != n[1]) {
@@ -204,28 +226,40 @@ int cmd_compare(int argc, char **argv)
         return 2;
     }
     int rc = 0;
-    if (a.json)
-        printf("{\"frames\": [");
-    for (unsigned k = 0; k < n[0]; k++) {
-        char pa[1024], pb[1024], pd[1024], label[32];
-        cli_frame_path(pa, sizeof pa, pos[0], k, n[0]);
-        cli_frame_path(pb, sizeof pb, pos[1], k, n[0]);
-        if (a.diff)
-            cli_frame_path(pd, sizeof pd, a.diff, k, n[0]);
-        if (a.json)
-            snprintf(label, sizeof label, "%s", k ? ", " : "");
-        else
-            snprintf(label, sizeof label, "frame %u: ", k);
-        int one = compare_files(pa, pb, a.diff ? pd : NULL, a.json, label, &o.prof, a.exact);
-        if (one == 2) {
-            if (a.json)
-                printf("]}\n");
-            return 2;
+    for (unsigned k = 0; k < n[0]; k++)
+        for (int i = 0; i < 2; i++) {
+            char *p = cli_frame_path(pos[i], k, n[0]);
+            cli_input(p);
+            free(p);
         }
-        rc |= one;
+    for (unsigned k = 0; k < n[0] && a.diff; k++) {
+        char *pd = cli_frame_path(a.diff, k, n[0]);
+        int bad = !pd || cli_output("compare", "--diff", pd);
+        free(pd);
+        if (bad)
+            return 2;
     }
-    if (a.json)
-        printf("]}\n");
+    if (a.json) {
+        alb_json_begin_object(&j);
+        alb_json_key(&j, "frames");
+        alb_json_begin_array(&j);
+    }
+    for (unsigned k = 0; k < n[0] && rc != 2; k++) {
+        char *pa = cli_frame_path(pos[0], k, n[0]), *pb = cli_frame_path(pos[1], k, n[0]);
+        char *pd = a.diff ? cli_frame_path(a.diff, k, n[0]) : NULL, label[32];
+        snprintf(label, sizeof label, "frame %u: ", k);
+        int one = !pa || !pb || (a.diff && !pd)
+                      ? 2 : compare_files(pa, pb, pd, a.json ? &j : NULL, label, &o.prof, a.exact);
+        free(pa);
+        free(pb);
+        free(pd);
+        rc = one == 2 ? 2 : rc | one;
+    }
+    if (a.json) {
+        alb_json_end_array(&j);
+        alb_json_end_object(&j);
+        alb_json_end_line(&j);
+    }
     return rc;
 }
 
@@ -337,14 +371,27 @@ static void accuracy_report(const accuracy *acc, const accuracy_args *a, const a
 {
     size_t judged = accuracy_judged(acc, a->judged), errors = accuracy_errors(acc, a->judged);
     if (a->json) {
-        printf("{\"pixels\": %zu, \"covered\": %zu, \"face_diff\": %zu, \"judged\": %zu, "
-               "\"errors\": %zu, \"classes\": {", acc->pixels, acc->covered, acc->face_diff,
-               judged, errors);
-        for (unsigned c = 0; c < ACC_NCLASSES; c++)
-            printf("%s\"%s\": {\"pixels\": %zu, \"differ\": %zu, \"judged\": %s}", c ? ", " : "",
-                   accuracy_class_name(c), acc->in_class[c], acc->diff_in_class[c],
-                   a->judged >> c & 1 ? "true" : "false");
-        printf("}}\n");
+        alb_json j;
+        alb_json_init(&j, stdout);
+        alb_json_begin_object(&j);
+        alb_json_kv_uint(&j, "pixels", acc->pixels);
+        alb_json_kv_uint(&j, "covered", acc->covered);
+        alb_json_kv_uint(&j, "face_diff", acc->face_diff);
+        alb_json_kv_uint(&j, "judged", judged);
+        alb_json_kv_uint(&j, "errors", errors);
+        alb_json_key(&j, "classes");
+        alb_json_begin_object(&j);
+        for (unsigned c = 0; c < ACC_NCLASSES; c++) {
+            alb_json_key(&j, accuracy_class_name(c));
+            alb_json_begin_object(&j);
+            alb_json_kv_uint(&j, "pixels", acc->in_class[c]);
+            alb_json_kv_uint(&j, "differ", acc->diff_in_class[c]);
+            alb_json_kv_bool(&j, "judged", a->judged >> c & 1);
+            alb_json_end_object(&j);
+        }
+        alb_json_end_object(&j);
+        alb_json_end_object(&j);
+        alb_json_end_line(&j);
         return;
     }
     printf("%zu pixels, %zu with a face: %zu with a different face (%.4f%%)\n", acc->pixels,
@@ -375,8 +422,9 @@ int cmd_accuracy(int argc, char **argv)
     run_opts_init(&o);
     const char *pos[64];
     int npos;
-    if (cli_parse("accuracy", argc, argv, spec, accuracy_opt, &a, &o, pos, 64, &npos))
-        return 2;
+    int parsed = cli_parse("accuracy", argc, argv, spec, accuracy_opt, &a, &o, pos, 64, &npos);
+    if (parsed)
+        return CLI_PARSE_EXIT(parsed);
     if (a.help || (npos == 0 && a.random == 0)) {
         printf("usage: albatros accuracy [SCENE...] [--random N [--faces F] [--seed S]]\n"
                "                         [--exclude near-clamp,underflow] [--min-judged PCT]\n"

@@ -5,6 +5,7 @@
  * `albatros method`: one classic method on one scene, to frames that
  * `albatros compare` reads (docs/methods.md). */
 #include "cli.h"
+#include "albatros/file.h"
 #include "commands.h"
 #include "albatros/exr.h"
 #include "albatros/preview.h"
@@ -155,29 +156,49 @@ static void print_jobs(const stab_args *a)
     fputs(" --speed\n", stdout);
 }
 
-static FILE *open_csv(const char *dir, const char *name, char *path, size_t len)
+/* A CSV of the sweep, DIR/NAME.csv: under its name only once complete
+ * (file.h), so a failed or interrupted job leaves the last good one. */
+static FILE *open_csv(const char *dir, const char *name, alb_out *out, char **path)
 {
-    snprintf(path, len, "%s/%s.csv", dir, name);
-    FILE *f = fopen(path, "w");
-    if (!f)
-        fprintf(stderr, "albatros stability: cannot write %s: %s\n", path, strerror(errno));
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    FILE *f = NULL;
+    if (!(*path = alb_strprintf("%s/%s.csv", dir, name)))
+        fprintf(stderr, "albatros stability: out of memory\n");
+    else if (alb_out_open(out, *path, 0, &d) || !(f = alb_out_stdio(out, &d)))
+        alb_diag_print(&d, stderr);
     return f;
+}
+
+static int close_csv(alb_out *out, char *path, int rc)
+{
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    if (rc) {
+        alb_out_abort(out);
+        fprintf(stderr, "albatros stability: %s failed\n", path);
+    } else if (alb_out_commit(out, &d)) {
+        alb_diag_print(&d, stderr);
+        rc = 1;
+    }
+    free(path);
+    return rc ? 1 : 0;
 }
 
 static int run_families(stab_args *a, const sweep_progress *progress)
 {
-    char path[600];
     for (unsigned i = 0; i < a->nfam; i++) {
-        char name[64];
+        char name[64], *path;
+        alb_out out;
         snprintf(name, sizeof name, "stability-%s", a->families[i]);
-        FILE *f = open_csv(a->out, name, path, sizeof path);
-        if (!f)
-            return 1;
-        int rc = sweep_family_run(a->families[i], &a->o->prof, a->seeds, f, progress);
-        if (fclose(f) || rc) {
-            fprintf(stderr, "albatros stability: %s failed\n", path);
+        FILE *f = open_csv(a->out, name, &out, &path);
+        if (!f) {
+            free(path);
             return 1;
         }
+        int rc = sweep_family_run(a->families[i], &a->o->prof, a->seeds, f, progress);
+        if (close_csv(&out, path, rc))
+            return 1;
     }
     return 0;
 }
@@ -193,8 +214,9 @@ int cmd_stability(int argc, char **argv)
     stab_args a = {.out = "stability-out", .seeds = 2, .o = &o};
     const char *pos[1];
     int npos;
-    if (cli_parse("stability", argc, argv, spec, stab_opt, &a, &o, pos, 0, &npos))
-        return 2;
+    int parsed = cli_parse("stability", argc, argv, spec, stab_opt, &a, &o, pos, 0, &npos);
+    if (parsed)
+        return CLI_PARSE_EXIT(parsed);
     if (a.help) {
         printf("usage: albatros stability [--family F]... [--speed] [--report] [--out DIR]\n"
                "                          [--seeds N] [--jobs] [-q] [--profile P]\n"
@@ -229,12 +251,14 @@ int cmd_stability(int argc, char **argv)
     if (run_families(&a, &progress))
         return 1;
     if (a.speed || everything) {
-        char path[600];
-        FILE *f = open_csv(a.out, "speed", path, sizeof path);
-        if (!f)
+        char *path;
+        alb_out out;
+        FILE *f = open_csv(a.out, "speed", &out, &path);
+        if (!f) {
+            free(path);
             return 1;
-        int rc = sweep_speed_run(&o.prof, f, &progress);
-        if (fclose(f) || rc)
+        }
+        if (close_csv(&out, path, sweep_speed_run(&o.prof, f, &progress)))
             return 1;
     }
     if (a.report || everything) {
@@ -254,39 +278,18 @@ int cmd_stability(int argc, char **argv)
 
 /* ---- albatros method ---- */
 
-#define METHOD_MAX_VIEWS 8
-
 typedef struct {
-    const char *output, *png;
-    struct {
-        alb_preview_view view;
-        const char *path;
-    } views[METHOD_MAX_VIEWS];
-    unsigned nviews;
+    cli_frames out;
     bool help, list, quiet;
 } method_args;
 
 static int method_opt(void *ctx, const char *name, const char *value)
 {
     method_args *a = ctx;
-    if (!strcmp(name, "output")) {
-        a->output = value;
-    } else if (!strcmp(name, "png")) {
-        a->png = value;
-    } else if (!strcmp(name, "view")) {
-        const char *colon = strchr(value, ':');
-        char vname[32];
-        if (colon && (size_t)(colon - value) < sizeof vname)
-            snprintf(vname, sizeof vname, "%.*s", (int)(colon - value), value);
-        if (!colon || (size_t)(colon - value) >= sizeof vname || a->nviews == METHOD_MAX_VIEWS ||
-            alb_preview_view_parse(vname, &a->views[a->nviews].view)) {
-            fprintf(stderr, "albatros method: --view %s: expected NAME:FILE.png, NAME one of "
-                            "colour, depth, face, level, coverage (at most %d)\n", value,
-                    METHOD_MAX_VIEWS);
-            return -1;
-        }
-        a->views[a->nviews++].path = colon + 1;
-    } else if (!strcmp(name, "list")) {
+    int took = cli_frames_option(&a->out, "method", name, value);
+    if (took)
+        return took < 0 ? -1 : 0;
+    if (!strcmp(name, "list")) {
         a->list = true;
     } else if (!strcmp(name, "quiet") || !strcmp(name, "q")) {
         a->quiet = true;
@@ -314,32 +317,6 @@ static void method_usage(FILE *f)
     fputc('\n', f);
 }
 
-static int method_write(const method_args *a, const alb_frame *f, unsigned nframes)
-{
-    char path[1024];
-    alb_diag d;
-    alb_diag_init(&d, NULL);
-    if (a->output) {
-        cli_frame_path(path, sizeof path, a->output, f->number, nframes);
-        if (alb_exr_write_frame(path, f, &d))
-            goto fail;
-    }
-    if (a->png) {
-        cli_frame_path(path, sizeof path, a->png, f->number, nframes);
-        if (alb_preview_write(path, f, ALB_PREVIEW_COLOUR, &d))
-            goto fail;
-    }
-    for (unsigned i = 0; i < a->nviews; i++) {
-        cli_frame_path(path, sizeof path, a->views[i].path, f->number, nframes);
-        if (alb_preview_write(path, f, a->views[i].view, &d))
-            goto fail;
-    }
-    return 0;
-fail:
-    alb_diag_print(&d, stderr);
-    return -1;
-}
-
 int cmd_method(int argc, char **argv)
 {
     static const char *const spec[] = {"output=", "png=", "view=", "list", "quiet", "q", "help",
@@ -349,8 +326,9 @@ int cmd_method(int argc, char **argv)
     run_opts_init(&o);
     const char *pos[2];
     int npos;
-    if (cli_parse("method", argc, argv, spec, method_opt, &a, &o, pos, 2, &npos))
-        return 2;
+    int parsed = cli_parse("method", argc, argv, spec, method_opt, &a, &o, pos, 2, &npos);
+    if (parsed)
+        return CLI_PARSE_EXIT(parsed);
     if (a.help || a.list) {
         method_usage(stdout);
         if (a.help)
@@ -364,7 +342,7 @@ int cmd_method(int argc, char **argv)
         method_usage(stderr);
         return 2;
     }
-    if (!a.output && !a.png && !a.nviews) {
+    if (!cli_frames_any(&a.out)) {
         fprintf(stderr, "albatros method: nothing to write: give -o FRAME.exr, --png FILE or "
                         "--view NAME:FILE\n");
         return 2;
@@ -379,7 +357,17 @@ int cmd_method(int argc, char **argv)
     alb_scene scene;
     if (cli_load_scene(npos == 2 ? pos[1] : NULL, &o, &scene))
         return 1;
-    int rc = 0;
+    char software[32];
+    snprintf(software, sizeof software, "albatros %s", ALBATROS_VERSION);
+    const char *src = npos == 2 ? pos[1] : "builtin", *slash = strrchr(src, '/');
+    a.out.exr_opt = (alb_exr_options){1, software, o.prof.name, m->name, slash ? slash + 1 : src};
+    uint32_t *numbers = malloc((scene.nframes ? scene.nframes : 1) * sizeof *numbers);
+    int rc = numbers ? 0 : 1;
+    for (unsigned f = 0; numbers && f < scene.nframes; f++)
+        numbers[f] = f;
+    if (numbers)
+        rc = cli_frames_claim(&a.out, "method", numbers, scene.nframes);
+    free(numbers);
     for (unsigned f = 0; f < scene.nframes && !rc; f++) {
         alb_frame fr;
         if (m->render(&scene, &o.prof, f, &fr)) {
@@ -387,7 +375,7 @@ int cmd_method(int argc, char **argv)
             rc = 1;
             break;
         }
-        rc = method_write(&a, &fr, scene.nframes) ? 1 : 0;
+        rc = cli_frames_write(&a.out, &fr, scene.nframes) ? 1 : 0;
         if (!rc && !a.quiet)
             fprintf(stderr, "%s frame %u\n", m->name, f);
         alb_frame_free(&fr);

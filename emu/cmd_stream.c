@@ -4,6 +4,7 @@
  * over HID (docs/usb-protocol.md).  Ctrl-C during a stream stops it with the
  * frames confirmed so far reported (exit 130). */
 #include "cli.h"
+#include "albatros/json.h"
 #include "../firmware/proto.h"
 #include "commands.h"
 #include "albatros/sim.h"
@@ -278,18 +279,6 @@ static void release_stop(const stop_handlers *h)
 
 /* ---- reports ---- */
 
-static void json_string(const char *key, const char *v)
-{
-    printf("\"%s\": \"", key);
-    for (const char *p = v; *p; p++)
-        if (*p == '"' || *p == '\\')
-            printf("\\%c", *p);
-        else if ((unsigned char)*p < 0x20)
-            printf("\\u%04x", (unsigned)(unsigned char)*p);
-        else
-            putchar(*p);
-    putchar('"');
-}
 
 /* The link's losses as both sides counted them, every ERROR code; the same
  * numbers as link_json. */
@@ -316,22 +305,32 @@ static void link_text(const alb_stream_report *r)
         fprintf(stderr, "  first link error: %s\n", r->first_link_error);
 }
 
-static void link_json(const alb_stream_report *r)
+/* The link's half of a JSON report: keys of the object j is writing. */
+static void link_json(alb_json *j, const alb_stream_report *r)
 {
-    printf("\"max_payload\": %zu, \"board_errors\": %llu, \"board_error_codes\": {", r->max_payload,
-           (unsigned long long)alb_stream_board_errors(r));
+    alb_json_kv_uint(j, "max_payload", r->max_payload);
+    alb_json_kv_uint(j, "board_errors", alb_stream_board_errors(r));
+    alb_json_key(j, "board_error_codes");
+    alb_json_begin_object(j);
     for (unsigned k = 1; k <= ALB_STREAM_ERROR_CODES; k++) {
         unsigned c = k % ALB_STREAM_ERROR_CODES;
-        printf("%s\"%s\": %llu", k > 1 ? ", " : "", alb_link_error_key(c),
-               (unsigned long long)r->board_errors[c]);
+        alb_json_kv_uint(j, alb_link_error_key(c), r->board_errors[c]);
     }
-    printf("}, \"host_crc_errors\": %llu, \"host_garbage_bytes\": %llu, \"host_gaps\": %llu, "
-           "\"host_duplicates\": %llu, \"interrupted\": %s, ", (unsigned long long)r->rx_crc_errors,
-           (unsigned long long)r->rx_garbage, (unsigned long long)r->rx_gaps,
-           (unsigned long long)r->rx_duplicates, r->interrupted ? "true" : "false");
-    json_string("first_link_error", r->first_link_error);
-    printf(", ");
-    json_string("first_problem", r->first_problem);
+    alb_json_end_object(j);
+    alb_json_kv_uint(j, "host_crc_errors", r->rx_crc_errors);
+    alb_json_kv_uint(j, "host_garbage_bytes", r->rx_garbage);
+    alb_json_kv_uint(j, "host_gaps", r->rx_gaps);
+    alb_json_kv_uint(j, "host_duplicates", r->rx_duplicates);
+    alb_json_kv_bool(j, "interrupted", r->interrupted);
+    alb_json_kv_string(j, "first_link_error", r->first_link_error);
+    alb_json_kv_string(j, "first_problem", r->first_problem);
+}
+
+static void hex32(alb_json *j, const char *key, uint32_t v)
+{
+    char h[9];
+    snprintf(h, sizeof h, "%08x", v);
+    alb_json_kv_string(j, key, h);
 }
 
 /* The USB link's line of the report: speed, packets, transfers, and what
@@ -358,16 +357,23 @@ static void usb_text(const alb_tr_usb_link *l)
     fputc('\n', stderr);
 }
 
-static void usb_json(const alb_tr_usb_link *l)
+static void usb_json(alb_json *j, const alb_tr_usb_link *l)
 {
-    printf("\"usb\": {\"speed\": \"%s\", \"speed_mbps\": %u, \"out_packet\": %u, \"in_packet\": %u, "
-           "\"out_transfers\": %u, \"out_bytes\": %zu, \"zero_length_packets\": %llu, "
-           "\"halts_cleared\": %llu, \"out_timeouts\": %llu, \"resent_bytes\": %llu, "
-           "\"in_partial\": %llu, \"hid_by_libusb\": %s}, ", l->speed, l->speed_mbps,
-           l->out_packet, l->in_packet, l->out_transfers, l->out_bytes,
-           (unsigned long long)l->zero_length_packets, (unsigned long long)l->halts_cleared,
-           (unsigned long long)l->out_timeouts, (unsigned long long)l->resent_bytes,
-           (unsigned long long)l->in_partial, l->hid_by_libusb ? "true" : "false");
+    alb_json_key(j, "usb");
+    alb_json_begin_object(j);
+    alb_json_kv_string(j, "speed", l->speed);
+    alb_json_kv_uint(j, "speed_mbps", l->speed_mbps);
+    alb_json_kv_uint(j, "out_packet", l->out_packet);
+    alb_json_kv_uint(j, "in_packet", l->in_packet);
+    alb_json_kv_uint(j, "out_transfers", l->out_transfers);
+    alb_json_kv_uint(j, "out_bytes", l->out_bytes);
+    alb_json_kv_uint(j, "zero_length_packets", l->zero_length_packets);
+    alb_json_kv_uint(j, "halts_cleared", l->halts_cleared);
+    alb_json_kv_uint(j, "out_timeouts", l->out_timeouts);
+    alb_json_kv_uint(j, "resent_bytes", l->resent_bytes);
+    alb_json_kv_uint(j, "in_partial", l->in_partial);
+    alb_json_kv_bool(j, "hid_by_libusb", l->hid_by_libusb);
+    alb_json_end_object(j);
 }
 
 /* A slow link is worth a word before the stream starts. */
@@ -422,21 +428,36 @@ static void report_text(const alb_stream_report *r, const alb_stream_frame *f, u
 static void report_json(const alb_stream_report *r, const alb_stream_frame *f, unsigned nf, int rc,
                         const alb_tr_usb_link *usb)
 {
-    printf("{\"result\": \"%s\", \"frames\": [", result_name(rc, "match"));
-    for (unsigned i = 0; i < nf; i++)
-        printf("%s{\"frame\": %u, \"have\": %s, \"crc\": \"%08x\", \"board_crc\": \"%08x\", "
-               "\"cycles\": %llu, \"board_cycles\": %llu}", i ? ", " : "", f[i].number,
-               f[i].have ? "true" : "false", f[i].crc, f[i].board_crc,
-               (unsigned long long)f[i].cycles, (unsigned long long)f[i].board_cycles);
-    printf("], \"matched\": %u, \"confirmed\": %u, \"packets\": %llu, \"bytes\": %llu, "
-           "\"seconds\": %.3f, \"resumes\": %llu, \"queries\": %llu, \"reattaches\": %u, ",
-           r->matched, r->frames, (unsigned long long)r->packets, (unsigned long long)r->bytes,
-           r->seconds, (unsigned long long)r->resumes, (unsigned long long)r->queries,
-           r->reattaches);
+    alb_json j;
+    alb_json_init(&j, stdout);
+    alb_json_begin_object(&j);
+    alb_json_kv_string(&j, "result", result_name(rc, "match"));
+    alb_json_key(&j, "frames");
+    alb_json_begin_array(&j);
+    for (unsigned i = 0; i < nf; i++) {
+        alb_json_begin_object(&j);
+        alb_json_kv_uint(&j, "frame", f[i].number);
+        alb_json_kv_bool(&j, "have", f[i].have);
+        hex32(&j, "crc", f[i].crc);
+        hex32(&j, "board_crc", f[i].board_crc);
+        alb_json_kv_uint(&j, "cycles", f[i].cycles);
+        alb_json_kv_uint(&j, "board_cycles", f[i].board_cycles);
+        alb_json_end_object(&j);
+    }
+    alb_json_end_array(&j);
+    alb_json_kv_uint(&j, "matched", r->matched);
+    alb_json_kv_uint(&j, "confirmed", r->frames);
+    alb_json_kv_uint(&j, "packets", r->packets);
+    alb_json_kv_uint(&j, "bytes", r->bytes);
+    alb_json_kv_fixed(&j, "seconds", r->seconds, 3);
+    alb_json_kv_uint(&j, "resumes", r->resumes);
+    alb_json_kv_uint(&j, "queries", r->queries);
+    alb_json_kv_uint(&j, "reattaches", r->reattaches);
     if (usb)
-        usb_json(usb);
-    link_json(r);
-    printf("}\n");
+        usb_json(&j, usb);
+    link_json(&j, r);
+    alb_json_end_object(&j);
+    alb_json_end_line(&j);
 }
 
 /* The exit status of a alb_stream_run / alb_stream_tiles result. */
@@ -499,14 +520,22 @@ static int stream_frames_mode(const link_args *a, const alb_profile *p, const al
     double secs = r.seconds > 0 ? r.seconds : 1e-9;
     t->ops->close(t);   /* cancels what is in flight, before a long report */
     if (a->json) {
-        printf("{\"result\": \"%s\", \"frames\": %u, \"shown\": %u, \"packets\": %llu, "
-               "\"bytes\": %llu, \"seconds\": %.3f, \"resends\": %llu, \"display\": \"%s\", ",
-               result_name(rc, "shown"), nf, r.frames, (unsigned long long)r.packets,
-               (unsigned long long)r.bytes, r.seconds, (unsigned long long)r.resumes, display);
+        alb_json j;
+        alb_json_init(&j, stdout);
+        alb_json_begin_object(&j);
+        alb_json_kv_string(&j, "result", result_name(rc, "shown"));
+        alb_json_kv_uint(&j, "frames", nf);
+        alb_json_kv_uint(&j, "shown", r.frames);
+        alb_json_kv_uint(&j, "packets", r.packets);
+        alb_json_kv_uint(&j, "bytes", r.bytes);
+        alb_json_kv_fixed(&j, "seconds", r.seconds, 3);
+        alb_json_kv_uint(&j, "resends", r.resumes);
+        alb_json_kv_string(&j, "display", display);
         if (have_usb)
-            usb_json(&usb);
-        link_json(&r);
-        printf("}\n");
+            usb_json(&j, &usb);
+        link_json(&j, &r);
+        alb_json_end_object(&j);
+        alb_json_end_line(&j);
     } else if (!a->quiet || rc) {
         if (r.interrupted)
             fprintf(stderr, "frames: interrupted: %u of %u frames confirmed by the board\n",
@@ -589,8 +618,9 @@ int cmd_stream(int argc, char **argv)
     run_opts_init(&o);
     const char *pos[1];
     int npos;
-    if (cli_parse("stream", argc, argv, spec, link_opt, &a, &o, pos, 1, &npos))
-        return EXIT_INPUT;
+    int parsed = cli_parse("stream", argc, argv, spec, link_opt, &a, &o, pos, 1, &npos);
+    if (parsed)
+        return parsed < 0 ? EXIT_INPUT : 0;
     if (a.help) {
         printf("%s%s", stream_help, run_opts_help);
         return 0;
@@ -707,12 +737,20 @@ static int board_info(alb_transport *t, bool json)
         return 1;
     }
     if (json) {
-        printf("{");
-        json_string("name", in.name);
-        printf(", \"protocol\": %u, \"firmware\": %u, \"width\": %u, \"height\": %u, "
-               "\"colour_bits\": %u, \"mode\": %u, \"serial\": %u, \"max_payload\": %u}\n",
-               in.protocol, in.firmware, in.width, in.height, in.colour_bits, in.mode, in.serial,
-               in.max_payload);
+        alb_json j;
+        alb_json_init(&j, stdout);
+        alb_json_begin_object(&j);
+        alb_json_kv_string(&j, "name", in.name);
+        alb_json_kv_uint(&j, "protocol", in.protocol);
+        alb_json_kv_uint(&j, "firmware", in.firmware);
+        alb_json_kv_uint(&j, "width", in.width);
+        alb_json_kv_uint(&j, "height", in.height);
+        alb_json_kv_uint(&j, "colour_bits", in.colour_bits);
+        alb_json_kv_uint(&j, "mode", in.mode);
+        alb_json_kv_uint(&j, "serial", in.serial);
+        alb_json_kv_uint(&j, "max_payload", in.max_payload);
+        alb_json_end_object(&j);
+        alb_json_end_line(&j);
     } else {
         printf("%s: protocol %u, firmware %u, VP %ux%u %u-bit colour, mode %u, serial %u, "
                "payloads up to %u bytes\n", in.name, in.protocol, in.firmware, in.width,
@@ -745,11 +783,22 @@ static int list_waiting(const link_args *a, alb_tr_usb_device *d, char *err, siz
 
 static int board_list(const link_args *a, const alb_profile *p)
 {
+    alb_json j;
+    alb_json_init(&j, stdout);
     if (a->sim) {
-        if (a->json)
-            printf("{\"boards\": [{\"id\": \"sim:0\", \"kind\": \"sim\", \"profile\": \"%s\"}]}\n",
-                   p->name);
-        else
+        if (a->json) {
+            alb_json_begin_object(&j);
+            alb_json_key(&j, "boards");
+            alb_json_begin_array(&j);
+            alb_json_begin_object(&j);
+            alb_json_kv_string(&j, "id", "sim:0");
+            alb_json_kv_string(&j, "kind", "sim");
+            alb_json_kv_string(&j, "profile", p->name);
+            alb_json_end_object(&j);
+            alb_json_end_array(&j);
+            alb_json_end_object(&j);
+            alb_json_end_line(&j);
+        } else
             printf("sim:0  simulated board (profile %s)\n", p->name);
         return 0;
     }
@@ -760,24 +809,35 @@ static int board_list(const link_args *a, const alb_profile *p)
         fprintf(stderr, "albatros board list: %s\n", err);
         return 1;
     }
-    if (a->json)
-        printf("{\"boards\": [");
+    if (a->json) {
+        alb_json_begin_object(&j);
+        alb_json_key(&j, "boards");
+        alb_json_begin_array(&j);
+    }
     for (int i = 0; i < n && i < LIST_MAX; i++) {
-        char id[32];
+        char id[32], vid[8], pid[8];
         snprintf(id, sizeof id, "usb:%03u:%03u", d[i].bus, d[i].address);
         if (a->json) {
-            printf("%s{\"id\": \"%s\", \"kind\": \"usb\", \"vid\": \"%04x\", \"pid\": \"%04x\", ",
-                   i ? ", " : "", id, d[i].vid, d[i].pid);
-            json_string("serial", d[i].serial);
-            printf(", \"access\": %s}", d[i].no_access ? "false" : "true");
+            snprintf(vid, sizeof vid, "%04x", d[i].vid);
+            snprintf(pid, sizeof pid, "%04x", d[i].pid);
+            alb_json_begin_object(&j);
+            alb_json_kv_string(&j, "id", id);
+            alb_json_kv_string(&j, "kind", "usb");
+            alb_json_kv_string(&j, "vid", vid);
+            alb_json_kv_string(&j, "pid", pid);
+            alb_json_kv_string(&j, "serial", d[i].serial);
+            alb_json_kv_bool(&j, "access", !d[i].no_access);
+            alb_json_end_object(&j);
         } else {
             printf("%s  %04x:%04x  serial %s%s\n", id, d[i].vid, d[i].pid, d[i].serial,
                    d[i].no_access ? "  (no permission: see firmware/udev/)" : "");
         }
     }
-    if (a->json)
-        printf("]}\n");
-    else if (n == 0)
+    if (a->json) {
+        alb_json_end_array(&j);
+        alb_json_end_object(&j);
+        alb_json_end_line(&j);
+    } else if (n == 0)
         fprintf(stderr, "no board %04x:%04x on the USB bus\n", a->vid, a->pid);
     if (n > LIST_MAX)
         fprintf(stderr, "albatros board list: %d more not shown\n", n - LIST_MAX);
@@ -794,8 +854,9 @@ int cmd_board(int argc, char **argv)
     run_opts_init(&o);
     const char *pos[1];
     int npos;
-    if (cli_parse("board", argc, argv, spec, link_opt, &a, &o, pos, 1, &npos))
-        return 2;
+    int parsed = cli_parse("board", argc, argv, spec, link_opt, &a, &o, pos, 1, &npos);
+    if (parsed)
+        return CLI_PARSE_EXIT(parsed);
     if (a.help || npos != 1 ||
         (strcmp(pos[0], "list") && strcmp(pos[0], "info") && strcmp(pos[0], "reset"))) {
         printf("usage: albatros board list|info|reset [--sim] [--vid V --pid P --serial S] "
@@ -825,8 +886,14 @@ int cmd_board(int argc, char **argv)
         rc = t->ops->hid_set(t, rep, PROTO_HID_REPORT) ? 1 : 0;
         if (rc)
             fprintf(stderr, "albatros board reset: %s\n", t->error);
-        else if (a.json)
-            printf("{\"reset\": \"link, VP and counters\"}\n");
+        else if (a.json) {
+            alb_json j;
+            alb_json_init(&j, stdout);
+            alb_json_begin_object(&j);
+            alb_json_kv_string(&j, "reset", "link, VP and counters");
+            alb_json_end_object(&j);
+            alb_json_end_line(&j);
+        }
         else
             printf("board reset\n");
     }

@@ -7,6 +7,7 @@
  * OpenEXR (ALB_NO_EXTERNAL, make crosscheck's musl build) checks every
  * vector so (docs/golden-vectors.md, "Another C library"). */
 #include "cli.h"
+#include "albatros/file.h"
 #include "commands.h"
 #include "albatros/file.h"
 #include "albatros/link.h"
@@ -44,14 +45,40 @@ typedef struct {
  * --junit a buffer that is copied to stderr and into the report. */
 static FILE *vlog;
 
+/* A small text file (options, KNOWN-FAILURE) into buf; -1 if it cannot be
+ * read or does not fit (never silently cut short). */
 static int read_text(const char *path, char *buf, size_t len)
 {
-    FILE *f = fopen(path, "r");
+    const char *why;
+    FILE *f = alb_file_open_input(path, true, &why);
     if (!f)
         return -1;
     size_t n = fread(buf, 1, len - 1, f);
+    bool more = n == len - 1 && fgetc(f) != EOF;
     buf[n] = 0;
+    int bad = ferror(f) || more || memchr(buf, 0, n);
     fclose(f);
+    if (more)
+        fprintf(stderr, "%s: longer than %zu bytes\n", path, len - 1);
+    return bad ? -1 : 0;
+}
+
+/* A text into path through alb_out: under its name only once complete. */
+static int write_text(const char *path, const char *text)
+{
+    alb_out out;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    FILE *f = NULL;
+    if (alb_out_open(&out, path, 0, &d) || !(f = alb_out_stdio(&out, &d))) {
+        alb_diag_print(&d, vlog);
+        return -1;
+    }
+    fputs(text, f);
+    if (alb_out_commit(&out, &d)) {
+        alb_diag_print(&d, vlog);
+        return -1;
+    }
     return 0;
 }
 
@@ -159,6 +186,8 @@ static int compare_streams(const char *name, const uint32_t *want, size_t nw, co
 typedef struct {
     const digest_table *digests;   /* check: compare frames by these, not EXR */
     const vector *v;
+    const alb_profile *prof;
+    const char *scene;       /* the vector's scene file (EXR provenance) */
     bool bless;
     const char *diff_dir;
     unsigned frames;
@@ -330,7 +359,13 @@ static int frame_sink(void *ctx, const alb_frame *f, const alb_vp_stats *st, con
 #else
         alb_diag d;
         alb_diag_init(&d, NULL);
-        if (alb_exr_write_frame(path, f, &d)) {
+        /* provenance without the folder: a vector blessed anywhere gives the
+         * same bytes (docs/golden-vectors.md) */
+        char software[32];
+        snprintf(software, sizeof software, "albatros %s", ALBATROS_VERSION);
+        alb_exr_options eo = {1, software, c->prof->name, "timed",
+                              strrchr(c->scene, '/') ? strrchr(c->scene, '/') + 1 : c->scene};
+        if (alb_exr_write(path, f, &eo, &d)) {
             alb_diag_print(&d, vlog);
             c->failed = 1;
         }
@@ -380,7 +415,11 @@ static char **read_lines(const char *path, char **text, unsigned *n)
 static int vector_frames(const vector *v, const alb_profile *prof, const alb_ws_buf *stream, bool bless,
                          const char *diff_dir, const digest_table *digests)
 {
-    frames_ctx c = {.digests = digests, .v = v, .bless = bless, .diff_dir = diff_dir};
+    char scene[600];
+    if (scene_path(v, scene, sizeof scene))
+        snprintf(scene, sizeof scene, "scene");
+    frames_ctx c = {.digests = digests, .v = v, .prof = prof, .scene = scene, .bless = bless,
+                    .diff_dir = diff_dir};
     char cpath[600], spath[600], *ctext = NULL, *stext = NULL;
     snprintf(cpath, sizeof cpath, "%s/expected.cycles", v->dir);
     snprintf(spath, sizeof spath, "%s/expected.frames", v->dir);
@@ -419,13 +458,9 @@ static int vector_frames(const vector *v, const alb_profile *prof, const alb_ws_
     }
     if (bless) {
         const char *paths[2] = {cpath, spath}, *texts[2] = {c.counters, c.summary};
-        for (int i = 0; i < 2; i++) {
-            FILE *f = fopen(paths[i], "w");
-            if (!f || fputs(texts[i] ? texts[i] : "", f) < 0 || fclose(f)) {
-                fprintf(vlog, "%s: cannot write\n", paths[i]);
+        for (int i = 0; i < 2; i++)
+            if (write_text(paths[i], texts[i] ? texts[i] : ""))
                 c.failed = 1;
-            }
-        }
         free(c.counters);
         free(c.summary);
     }
@@ -517,10 +552,17 @@ static int bless_vector(const vector *v)
     }
     /* the readable twin, so reviews of a re-bless show field-level diffs */
     snprintf(path, sizeof path, "%s/expected.hex", v->dir);
-    FILE *hex = fopen(path, "w");
-    alb_err he = hex ? alb_ws_dump(hex, got.w, got.n, "expected.stream", &d) : ALB_ERR_IO;
-    if ((hex && fclose(hex)) || he) {
-        fprintf(vlog, "%s: cannot write\n", path);
+    alb_out hex;
+    FILE *hf = NULL;
+    alb_err he = alb_out_open(&hex, path, 0, &d);
+    if (!he && !(hf = alb_out_stdio(&hex, &d)))
+        he = ALB_ERR_IO;
+    if (!he && (he = alb_ws_dump(hf, got.w, got.n, "expected.stream", &d)))
+        alb_out_abort(&hex);
+    else if (!he)
+        he = alb_out_commit(&hex, &d);
+    if (he) {
+        alb_diag_print(&d, vlog);
         rc = 1;
     }
     printf("%s %s (%zu words)\n", same ? "unchanged" : had ? "REBLESSED" : "created", v->name, got.n);
@@ -549,8 +591,14 @@ static vector *list_vectors(const char *dir, size_t *count)
         if (de->d_name[0] == '.')
             continue;
         vector one;
-        snprintf(one.dir, sizeof one.dir, "%s/%s", dir, de->d_name);
-        snprintf(one.name, sizeof one.name, "%s", de->d_name);
+        /* every path below is the folder's and a short file name: a folder
+         * name too long for them is refused, never cut short */
+        if (snprintf(one.dir, sizeof one.dir, "%s/%s", dir, de->d_name) >= (int)sizeof one.dir ||
+            snprintf(one.name, sizeof one.name, "%s", de->d_name) >= (int)sizeof one.name) {
+            fprintf(stderr, "albatros vectors: %s/%s: path longer than %zu characters\n", dir,
+                    de->d_name, sizeof one.dir - 1);
+            continue;
+        }
         char readme[600];
         snprintf(readme, sizeof readme, "%s/README", one.dir);
         if (!exists(readme))
@@ -660,9 +708,13 @@ static void first_failure(const vector_result *r, const char **s, size_t *n)
  * (they would make two runs' reports differ). */
 static int write_junit(const char *path, const vector_result *r, size_t n)
 {
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        fprintf(stderr, "albatros vectors: --junit %s: %s\n", path, strerror(errno));
+    alb_out out;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    FILE *f = NULL;
+    if (alb_out_open(&out, path, 0, &d) || !(f = alb_out_stdio(&out, &d))) {
+        fprintf(stderr, "albatros vectors: --junit ");
+        alb_diag_print(&d, stderr);
         return -1;
     }
     unsigned failures = 0, skipped = 0;
@@ -695,9 +747,9 @@ static int write_junit(const char *path, const vector_result *r, size_t n)
         fputs("    </testcase>\n", f);
     }
     fputs("  </testsuite>\n</testsuites>\n", f);
-    int bad = ferror(f);
-    if (fclose(f) || bad) {
-        fprintf(stderr, "albatros vectors: --junit %s: write error\n", path);
+    if (alb_out_commit(&out, &d)) {
+        fprintf(stderr, "albatros vectors: --junit ");
+        alb_diag_print(&d, stderr);
         return -1;
     }
     return 0;
@@ -875,8 +927,11 @@ int cmd_vectors(int argc, char **argv)
         fprintf(stderr, "albatros vectors: out of memory\n");
         return 1;
     }
-    if (cli_parse("vectors", argc, argv, spec, vectors_opt, &a, NULL, pos, argc, &npos))
+    int parsed = cli_parse("vectors", argc, argv, spec, vectors_opt, &a, NULL, pos, argc, &npos);
+    if (parsed) {
+        rc = parsed > 0 ? 0 : rc;
         goto done;
+    }
     if (a.help) {
         vectors_usage(stdout);
         rc = 0;

@@ -4,6 +4,7 @@
 
 #include "albatros/gp.h"
 #include "albatros/vp.h"
+#include "albatros/json.h"
 
 #include <stdio.h>
 
@@ -24,8 +25,8 @@ int cmd_method(int argc, char **argv);
 
 
 
-/* GP statistics as a JSON object (no trailing newline) / a readable block. */
-void gp_stats_json(FILE *f, const alb_gp_stats *s);
+/* GP statistics as a JSON object / a readable block. */
+void gp_stats_json(alb_json *j, const alb_gp_stats *s);
 void gp_stats_text(FILE *f, const alb_gp_stats *s);
 
 #endif

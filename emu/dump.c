@@ -20,10 +20,14 @@ static void record(const alb_frame *f, size_t i, uint32_t r[4])
 
 alb_err alb_dump_write(const char *path, const alb_frame *f, alb_dump_format fmt, alb_diag *d)
 {
-    bool out = fmt == ALB_DUMP_MEMH && strcmp(path, "-") == 0;
-    FILE *fp = out ? stdout : fopen(path, fmt == ALB_DUMP_RAW ? "wb" : "w");
+    /* the old file stays until the new one is complete (file.h) */
+    alb_out o;
+    alb_err e = alb_out_open(&o, path, fmt == ALB_DUMP_MEMH ? ALB_OUT_DASH : 0, d);
+    if (e)
+        return e;
+    FILE *fp = alb_out_stdio(&o, d);
     if (!fp)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
+        return ALB_ERR_IO;
     size_t n = (size_t)f->width * f->height;
     if (fmt == ALB_DUMP_MEMH)
         fprintf(fp, "// albatros frame %u, %ux%u: face depth R G B level coverage, "
@@ -40,10 +44,7 @@ alb_err alb_dump_write(const char *path, const alb_frame *f, alb_dump_format fmt
             fwrite(b, 1, sizeof b, fp);
         }
     }
-    int bad = ferror(fp);
-    if ((out ? fflush(fp) : fclose(fp)) || bad)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "write error: %s", strerror(errno));
-    return ALB_OK;
+    return alb_out_commit(&o, d);
 }
 
 bool alb_dump_is_exr(const char *path)

@@ -2,6 +2,7 @@
  * channels and attributes are listed in exr.h).  We own the file descriptor
  * and do the I/O ourselves so that errors carry errno and nothing is printed. */
 #include "albatros/exr.h"
+#include "albatros/file.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -26,6 +27,17 @@
 #define ATTR_AA     "albatros.aa_levels"
 #define ATTR_FRAME  "albatros.frame"
 #define ATTR_NEAR   "albatros.near"
+#define ATTR_COLOUR_NOTE "albatros.colour"
+#define ATTR_SOFTWARE "albatros.software"
+#define ATTR_PROFILE  "albatros.profile"
+#define ATTR_FIDELITY "albatros.fidelity"
+#define ATTR_SOURCE   "albatros.source"
+
+/* What R, G, B hold, in the file for whoever opens it (docs/vp.md, "Frames"). */
+static const char colour_note[] =
+    "R G B: linear light with sRGB (Rec. 709) primaries and D65 white, the frame store value "
+    "v / (2^colour_bits - 1) decoded by the sRGB transfer function (IEC 61966-2-1), as a "
+    "viewer shows the PNG preview; the exact store values are vp.R vp.G vp.B";
 
 enum {
     CH_R, CH_G, CH_B, CH_A, CH_Z, CH_FACE, CH_LEVEL, CH_DEPTH,
@@ -71,6 +83,11 @@ static size_t chan_bytes(int k)
 typedef struct {
     int fd;
     int err;    /* errno of the first failed read or write; 0 if none */
+    /* a target that takes no pwrite (a FIFO): the file is built here and
+     * written in one go (OpenEXR writes its offset table last, at the start) */
+    bool in_memory;
+    unsigned char *mem;
+    size_t mem_len, mem_cap;
 } exr_io;
 
 static int64_t io_read(exr_const_context_t c, void *user, void *buf, uint64_t size,
@@ -109,6 +126,33 @@ static int64_t io_size(exr_const_context_t c, void *user)
     return fstat(io->fd, &st) == 0 ? (int64_t)st.st_size : -1;
 }
 
+static int64_t mem_write(exr_io *io, const void *buf, uint64_t size, uint64_t offset)
+{
+    if (offset > SIZE_MAX - size) {
+        io->err = io->err ? io->err : EFBIG;
+        return -1;
+    }
+    size_t end = (size_t)(offset + size);
+    if (end > io->mem_cap) {
+        size_t cap = io->mem_cap ? io->mem_cap : 65536;
+        while (cap < end)
+            cap = cap <= SIZE_MAX / 2 ? cap * 2 : end;
+        unsigned char *m = realloc(io->mem, cap);
+        if (!m) {
+            io->err = io->err ? io->err : ENOMEM;
+            return -1;
+        }
+        if (cap > io->mem_len)
+            memset(m + io->mem_len, 0, cap - io->mem_len);
+        io->mem = m;
+        io->mem_cap = cap;
+    }
+    memcpy(io->mem + offset, buf, size);
+    if (end > io->mem_len)
+        io->mem_len = end;
+    return (int64_t)size;
+}
+
 static int64_t io_write(exr_const_context_t c, void *user, const void *buf, uint64_t size,
                         uint64_t offset, exr_stream_error_func_ptr_t report)
 {
@@ -117,6 +161,8 @@ static int64_t io_write(exr_const_context_t c, void *user, const void *buf, uint
     uint64_t done = 0;
     (void)c;
     (void)report;
+    if (io->in_memory)
+        return mem_write(io, buf, size, offset);
     while (done < size) {
         ssize_t n = pwrite(io->fd, p + done, (size_t)(size - done), (off_t)(offset + done));
         if (n < 0 && errno == EINTR)
@@ -190,8 +236,42 @@ static void channels_of(const alb_frame *f, bool present[CH_COUNT])
     present[CH_CYCLES] = f->cycles != NULL;
 }
 
+/* sRGB's transfer function (IEC 61966-2-1): encoded e in [0, 1] to linear
+ * light, and back. */
+static double srgb_to_linear(double e)
+{
+    return e <= 0.04045 ? e / 12.92 : pow((e + 0.055) / 1.055, 2.4);
+}
+
+static double linear_to_srgb(double l)
+{
+    return l <= 0.0031308 ? l * 12.92 : 1.055 * pow(l, 1 / 2.4) - 0.055;
+}
+
+/* A string attribute if the string is given. */
+static exr_result_t set_string(exr_context_t c, const char *name, const char *v, exr_result_t rv)
+{
+    return rv == EXR_ERR_SUCCESS && v ? exr_attr_set_string(c, PART, name, v) : rv;
+}
+
+/* Where the frame came from: fixed strings, no dates, so the same input
+ * gives the same bytes. */
+static exr_result_t define_provenance(exr_context_t c, const alb_exr_options *o)
+{
+    exr_result_t rv = EXR_ERR_SUCCESS;
+    if (!o)
+        return rv;
+    rv = set_string(c, ATTR_SOFTWARE, o->software, rv);
+    rv = set_string(c, ATTR_PROFILE, o->profile, rv);
+    rv = set_string(c, ATTR_FIDELITY, o->fidelity, rv);
+    return set_string(c, ATTR_SOURCE, o->source, rv);
+}
+
 static exr_result_t define_attrs(exr_context_t c, const alb_frame *f)
 {
+    /* Rec. 709 / sRGB primaries and D65 white: what R G B are in */
+    static const exr_attr_chromaticities_t rec709 = {0.64f, 0.33f, 0.30f, 0.60f,
+                                                     0.15f, 0.06f, 0.3127f, 0.3290f};
     int32_t number;
     /* an int attribute carries the uint32 frame number's bits unchanged */
     memcpy(&number, &f->number, sizeof number);
@@ -204,10 +284,13 @@ static exr_result_t define_attrs(exr_context_t c, const alb_frame *f)
         rv = exr_attr_set_int(c, PART, ATTR_FRAME, number);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_attr_set_float(c, PART, ATTR_NEAR, f->near);
-    return rv;
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_attr_set_chromaticities(c, PART, "chromaticities", &rec709);
+    return set_string(c, ATTR_COLOUR_NOTE, colour_note, rv);
 }
 
-static exr_result_t define_header(exr_context_t c, const alb_frame *f, const bool *present)
+static exr_result_t define_header(exr_context_t c, const alb_frame *f, const bool *present,
+                                  const alb_exr_options *opt)
 {
     int part;
     /* no part name: a single unnamed part is written as a plain
@@ -228,6 +311,8 @@ static exr_result_t define_header(exr_context_t c, const alb_frame *f, const boo
     }
     if (rv == EXR_ERR_SUCCESS)
         rv = define_attrs(c, f);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = define_provenance(c, opt);
     return rv;
 }
 
@@ -253,8 +338,8 @@ static int row_src_init(row_src *r, const alb_frame *f)
     r->coverage_half = malloc(ncov * sizeof *r->coverage_half);
     if (!r->colour_half || !r->coverage_half)
         return -1;
-    for (size_t v = 0; v < ncol; v++)
-        r->colour_half[v] = to_half((double)v / cmax);
+    for (size_t v = 0; v < ncol; v++)   /* linear light: docs/vp.md, "Frames" */
+        r->colour_half[v] = to_half(srgb_to_linear((double)v / cmax));
     for (size_t v = 0; v < ncov; v++)
         r->coverage_half[v] = to_half((double)v / samples);
     return 0;
@@ -280,7 +365,7 @@ static void fill_row(const row_src *src, int k, unsigned y, unsigned char *dst)
     case CH_R: case CH_G: case CH_B:
         for (size_t x = 0; x < w; x++) {
             uint32_t v = f->rgb[3 * (row + x) + (size_t)(k - CH_R)];
-            h[x] = v <= cmax ? src->colour_half[v] : to_half((double)v / cmax);
+            h[x] = v <= cmax ? src->colour_half[v] : to_half(srgb_to_linear((double)v / cmax));
         }
         break;
     case CH_A:
@@ -477,12 +562,13 @@ static alb_err write_chunks(exr_context_t c, const alb_frame *f, unsigned thread
     return exr_fail(d, path, io, w.rv, what);
 }
 
-static alb_err write_ctx(exr_context_t c, const alb_frame *f, unsigned threads, const char *path,
-                         const exr_io *io, alb_diag *d)
+static alb_err write_ctx(exr_context_t c, const alb_frame *f, const alb_exr_options *opt,
+                         const char *path, const exr_io *io, alb_diag *d)
 {
     bool present[CH_COUNT];
     channels_of(f, present);
-    exr_result_t rv = define_header(c, f, present);
+    unsigned threads = opt ? opt->threads : 1;
+    exr_result_t rv = define_header(c, f, present, opt);
     if (rv != EXR_ERR_SUCCESS)
         return exr_fail(d, path, io, rv, "cannot define the OpenEXR header");
     rv = exr_write_header(c);
@@ -498,27 +584,39 @@ alb_err alb_exr_write_frame(const char *path, const alb_frame *f, alb_diag *d)
 
 alb_err alb_exr_write_frame_threads(const char *path, const alb_frame *f, unsigned threads, alb_diag *d)
 {
+    alb_exr_options opt = {.threads = threads};
+    return alb_exr_write(path, f, &opt, d);
+}
+
+alb_err alb_exr_write(const char *path, const alb_frame *f, const alb_exr_options *opt, alb_diag *d)
+{
     alb_err e = check_frame(path, f, d);
     if (e != ALB_OK)
         return e;
-    exr_io io = {open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666), 0};
-    if (io.fd < 0)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
+    alb_out out;
+    if ((e = alb_out_open(&out, path, 0, d)) != ALB_OK)
+        return e;
+    exr_io io = {.fd = out.fd, .in_memory = !out.seekable};
     exr_context_initializer_t init = io_init(&io);
     exr_context_t c = NULL;
     exr_result_t rv = exr_start_write(&c, path, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rv != EXR_ERR_SUCCESS)
         e = exr_fail(d, path, &io, rv, "cannot start an OpenEXR file");
     else
-        e = write_ctx(c, f, threads, path, &io, d);
+        e = write_ctx(c, f, opt, path, &io, d);
     /* exr_finish writes the chunk offset table: its failure is ours too */
     rv = exr_finish(&c);
     if (rv != EXR_ERR_SUCCESS && e == ALB_OK)
         e = exr_fail(d, path, &io, rv, "cannot finish the OpenEXR file");
-    if (close(io.fd) != 0 && e == ALB_OK)
-        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot close: %s", strerror(errno));
-    if (e != ALB_OK)
-        unlink(path);   /* never leave a half-written frame behind */
+    if (e == ALB_OK && io.in_memory)
+        e = alb_out_write(&out, io.mem, io.mem_len, d);
+    free(io.mem);
+    /* never a half-written frame under the name: the old file stays until
+     * the new one is complete, and a device is never removed */
+    if (e == ALB_OK)
+        e = alb_out_commit(&out, d);
+    else
+        alb_out_abort(&out);
     return e;
 }
 
@@ -694,8 +792,9 @@ static int store_value(alb_frame *f, int k, size_t i, const unsigned char *src)
     memcpy(&v, src, 4);
     switch (k) {
     case CH_R: case CH_G: case CH_B: {
-        /* only when vp.R/G/B are absent: round the normalised value back */
-        double s = (double)v * cmax;
+        /* only when vp.R/G/B are absent (another tool's file): linear light,
+         * as EXR holds it, encoded by sRGB's transfer function and rounded */
+        double s = linear_to_srgb(v > 0 ? (double)v : 0) * cmax;
         s = !(s >= 0) ? 0 : s > cmax ? cmax : s;   /* NaN and negatives -> 0 */
         f->rgb[3 * i + (size_t)(k - CH_R)] = (uint16_t)floor(s + 0.5);
         return 0;
@@ -815,7 +914,7 @@ static alb_err read_ctx(exr_const_context_t c, const char *path, const exr_io *i
 alb_err alb_exr_read_frame(const char *path, alb_frame *f, alb_diag *d)
 {
     memset(f, 0, sizeof *f);
-    exr_io io = {open(path, O_RDONLY | O_CLOEXEC), 0};
+    exr_io io = {.fd = open(path, O_RDONLY | O_CLOEXEC)};
     if (io.fd < 0)
         return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
     exr_context_initializer_t init = io_init(&io);

@@ -2,6 +2,7 @@
  * Each view maps a plane to 8-bit RGB pixels; libpng's simplified writer
  * stores them (it writes no tIME chunk, so equal frames give equal files). */
 #include "albatros/preview.h"
+#include "albatros/file.h"
 
 #include <errno.h>
 #include <math.h>
@@ -188,6 +189,142 @@ static void view_pixel(const alb_frame *f, alb_preview_view view, const view_sca
     }
 }
 
+/* ---- the colour key of a false-colour view ---------------------------------
+ * Below the frame, on black: a bar of the view's colours (one swatch per
+ * level; a ramp for cycles and depth) and, under it, what they stand for
+ * in a 3x5 pixel font scaled with the image (docs/vp.md, "Previews"). */
+
+/* 3x5 glyphs, rows top first, 3 bits a row (bit 2 the left column). */
+static const struct {
+    char c;
+    uint8_t rows[5];
+} glyphs[] = {
+    {'0', {7, 5, 5, 5, 7}}, {'1', {2, 6, 2, 2, 7}}, {'2', {7, 1, 7, 4, 7}},
+    {'3', {7, 1, 7, 1, 7}}, {'4', {5, 5, 7, 1, 1}}, {'5', {7, 4, 7, 1, 7}},
+    {'6', {7, 4, 7, 5, 7}}, {'7', {7, 1, 1, 1, 1}}, {'8', {7, 5, 7, 5, 7}},
+    {'9', {7, 5, 7, 1, 7}}, {'.', {0, 0, 0, 0, 2}}, {'-', {0, 0, 7, 0, 0}},
+    {'+', {0, 2, 7, 2, 0}}, {'e', {0, 7, 7, 4, 7}}, {'z', {0, 7, 1, 4, 7}},
+    {'=', {0, 7, 0, 7, 0}}, {' ', {0, 0, 0, 0, 0}},
+};
+
+typedef struct {
+    uint8_t *px;             /* the whole image */
+    unsigned w, y0, scale;   /* width; the key's first row; glyph scale */
+} key_canvas;
+
+static unsigned key_scale(unsigned w) { return w >= 1024 ? 3 : w >= 256 ? 2 : 1; }
+
+/* Rows the key adds below a w-pixel-wide frame: bar, gap, text, margin. */
+static unsigned key_rows(unsigned w)
+{
+    unsigned s = key_scale(w);
+    return 2 * s + 6 * s + s + 5 * s + 2 * s;
+}
+
+static unsigned text_width(const char *t, unsigned s) { return (unsigned)strlen(t) * 4 * s; }
+
+/* White text with its left end at x (clipped at the image's edges). */
+static void key_text(const key_canvas *k, unsigned x, const char *t)
+{
+    unsigned s = k->scale, ty = k->y0 + 2 * s + 6 * s + s;
+    for (; *t; t++, x += 4 * s)
+        for (size_t g = 0; g < sizeof glyphs / sizeof glyphs[0]; g++) {
+            if (glyphs[g].c != *t)
+                continue;
+            for (unsigned r = 0; r < 5 * s; r++)
+                for (unsigned c = 0; c < 3 * s; c++)
+                    if (glyphs[g].rows[r / s] >> (2 - c / s) & 1 && x + c < k->w)
+                        put(k->px + 3 * ((size_t)(ty + r) * k->w + x + c), 255, 255, 255);
+            break;
+        }
+}
+
+static void key_bar(const key_canvas *k, unsigned x0, unsigned x1, const uint8_t *rgb)
+{
+    unsigned s = k->scale;
+    for (unsigned y = k->y0 + 2 * s; y < k->y0 + 8 * s; y++)
+        for (unsigned x = x0; x < x1 && x < k->w; x++)
+            put(k->px + 3 * ((size_t)y * k->w + x), rgb[0], rgb[1], rgb[2]);
+}
+
+/* The levels: a swatch each, its number centred under it when it fits
+ * (every other one, or fewer, on a narrow image). */
+static void key_levels(const key_canvas *k, const alb_frame *f, const view_scale *vs)
+{
+    static const uint8_t stops[][3] = {
+        {0, 0, 255}, {0, 255, 255}, {0, 255, 0}, {255, 255, 0}, {255, 0, 0}};
+    unsigned n = vs->levels + 1, every = 1;
+    char t[16];
+    snprintf(t, sizeof t, "%u", vs->levels);
+    while (every < n && text_width(t, k->scale) + k->scale > every * k->w / n)
+        every++;
+    (void)f;
+    for (unsigned l = 0; l < n; l++) {
+        uint8_t c[3];
+        ramp(stops, sizeof stops / sizeof stops[0], vs->levels ? (double)l / vs->levels : 1, c);
+        unsigned x0 = l * k->w / n, x1 = (l + 1) * k->w / n;
+        key_bar(k, x0, x1, c);
+        snprintf(t, sizeof t, "%u", l);
+        unsigned tw = text_width(t, k->scale) - k->scale;
+        if (l % every == 0 && x1 - x0 >= tw)
+            key_text(k, x0 + (x1 - x0 - tw) / 2, t);
+    }
+}
+
+/* A ramp from the view's value at 0 to its value at 1, with labels at both
+ * ends. */
+static void key_ramp(const key_canvas *k, const alb_frame *f, alb_preview_view view,
+                     const view_scale *vs, const char *lo, const char *hi)
+{
+    for (unsigned x = 0; x < k->w; x++) {
+        uint8_t c[3];
+        double t = k->w > 1 ? (double)x / (k->w - 1) : 0;
+        if (view == ALB_PREVIEW_CYCLES) {
+            static const uint8_t stops[][3] = {{0, 0, 0}, {255, 0, 0}, {255, 255, 0},
+                                               {255, 255, 255}};
+            ramp(stops, sizeof stops / sizeof stops[0], t, c);
+        } else {   /* depth: grey 40 (farthest) .. 255 (nearest), as view_depth */
+            unsigned g = vs->span > 0 ? 40 + round_unit(t, 215) : 255;
+            put(c, g, g, g);
+        }
+        key_bar(k, x, x + 1, c);
+    }
+    (void)f;
+    unsigned hw = text_width(hi, k->scale) - k->scale;
+    key_text(k, 0, lo);
+    if (text_width(lo, k->scale) + 2 * k->scale + hw <= k->w)
+        key_text(k, k->w - hw, hi);
+}
+
+static bool has_key(alb_preview_view v)
+{
+    return v == ALB_PREVIEW_LEVEL || v == ALB_PREVIEW_CYCLES || v == ALB_PREVIEW_DEPTH;
+}
+
+static void draw_key(uint8_t *px, const alb_frame *f, alb_preview_view view, const view_scale *vs)
+{
+    key_canvas k = {px, f->width, f->height, key_scale(f->width)};
+    memset(px + 3 * (size_t)f->width * f->height, 0, 3 * (size_t)f->width * key_rows(f->width));
+    char lo[48], hi[48];
+    switch (view) {
+    case ALB_PREVIEW_LEVEL:
+        key_levels(&k, f, vs);
+        break;
+    case ALB_PREVIEW_CYCLES:
+        snprintf(hi, sizeof hi, "%u", vs->max);
+        key_ramp(&k, f, view, vs, "0", hi);
+        break;
+    default: {
+        /* the depth store is near/Z: its ends as Z, the far end first */
+        double dmin = exp2(vs->lo), dmax = exp2(vs->lo + vs->span);
+        snprintf(lo, sizeof lo, "z=%.3g", vs->span > 0 || dmax > 0 ? alb_frame_z(f, (uint32_t)dmin) : 0.0);
+        snprintf(hi, sizeof hi, "z=%.3g", dmax > 0 ? alb_frame_z(f, (uint32_t)dmax) : 0.0);
+        key_ramp(&k, f, view, vs, lo, hi);
+        break;
+    }
+    }
+}
+
 /* ---- writing ------------------------------------------------------------- */
 
 static alb_err check_frame(const char *path, const alb_frame *f, alb_diag *d)
@@ -216,25 +353,30 @@ static uint8_t *alloc_rgb(unsigned w, unsigned h, const char *path, alb_diag *d)
 static alb_err write_rgb(const char *path, unsigned w, unsigned h, const uint8_t *px,
                          alb_diag *d)
 {
-    /* we open the file ourselves so that a failure to create it never
-     * removes someone else's file, and a failure after it does */
-    FILE *fp = fopen(path, "wb");
+    /* the old file stays until the new one is complete; a device or FIFO
+     * is written straight through and never removed (file.h) */
+    alb_out out;
+    alb_err e = alb_out_open(&out, path, 0, d);
+    if (e != ALB_OK)
+        return e;
+    FILE *fp = alb_out_stdio(&out, d);
     if (!fp)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create: %s", strerror(errno));
+        return ALB_ERR_IO;
     png_image img;
     memset(&img, 0, sizeof img);
     img.version = PNG_IMAGE_VERSION;
     img.width = w;
     img.height = h;
     img.format = PNG_FORMAT_RGB;
-    alb_err e = ALB_OK;
+    errno = 0;
     if (!png_image_write_to_stdio(&img, fp, 0, px, 0, NULL))
-        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot write PNG: %s (libpng)", img.message);
+        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot write PNG: %s (libpng)%s%s",
+                        img.message, errno ? ": " : "", errno ? strerror(errno) : "");
     png_image_free(&img);
-    if (fclose(fp) != 0 && e == ALB_OK)
-        e = alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot write: %s", strerror(errno));
-    if (e != ALB_OK)
-        remove(path);
+    if (e == ALB_OK)
+        e = alb_out_commit(&out, d);
+    else
+        alb_out_abort(&out);
     return e;
 }
 
@@ -248,13 +390,16 @@ alb_err alb_preview_write(const char *path, const alb_frame *f, alb_preview_view
     if (view == ALB_PREVIEW_CYCLES && !f->cycles)
         return alb_diag_at(d, ALB_ERR_CONFIG, path, 0, 0,
                        "this frame has no cycle counts (render with --fidelity cycle or timed)");
-    uint8_t *px = alloc_rgb(f->width, f->height, path, d);
+    unsigned rows = f->height + (has_key(view) ? key_rows(f->width) : 0);
+    uint8_t *px = alloc_rgb(f->width, rows, path, d);
     if (!px)
         return ALB_ERR_NOMEM;
     view_scale s = scale_of(f);
     for (size_t i = 0; i < (size_t)f->width * f->height; i++)
         view_pixel(f, view, &s, i, px + 3 * i);
-    e = write_rgb(path, f->width, f->height, px, d);
+    if (has_key(view))
+        draw_key(px, f, view, &s);
+    e = write_rgb(path, f->width, rows, px, d);
     free(px);
     return e;
 }

@@ -91,9 +91,14 @@ static unsigned bin_index(const sim_bins *b, int64_t t)
     return lo;
 }
 
-alb_sim_counters *bins_at(sim_bins *b, int64_t t) { return &b->bin[bin_index(b, t)]; }
+alb_sim_counters *bins_at(sim_bins *b, int64_t t)
+{
+    if (!b->nretired || t > b->retire[b->nretired - 1])
+        return &b->bin[b->nretired];   /* the open bin, the usual case */
+    return &b->bin[bin_index(b, t)];
+}
 
-void bins_add(sim_bins *b, size_t offset, int64_t a, int64_t e)
+void bins_add_split(sim_bins *b, size_t offset, int64_t a, int64_t e)
 {
     for (unsigned i = bin_index(b, a); a < e; i++) {
         int64_t end = i < b->nretired && b->retire[i] + 1 < e ? b->retire[i] + 1 : e;
@@ -131,11 +136,20 @@ int bins_retire(sim_bins *b, int64_t r)
 static unsigned lvl_wl(const alb_vp *vp, unsigned l) { return vp->lw > l ? vp->lw - l : 0; }
 static unsigned lvl_hl(const alb_vp *vp, unsigned l) { return vp->lh > l ? vp->lh - l : 0; }
 
+/* Cells of at most 2^FINE_LOG2 samples are charged to their samples. */
+#define FINE_LOG2 4
+
 int cycle_map_init(cycle_map *m, const alb_vp *vp)
 {
     memset(m, 0, sizeof *m);
     m->levels = vp->p + 1;
-    for (unsigned l = 0; l < m->levels; l++) {
+    while (m->fine_from < m->levels &&
+           lvl_wl(vp, m->fine_from) + lvl_hl(vp, m->fine_from) > FINE_LOG2)
+        m->fine_from++;
+    m->fine = calloc((size_t)vp->sw * vp->sh, sizeof *m->fine);
+    if (!m->fine)
+        return -1;
+    for (unsigned l = 0; l < m->fine_from; l++) {
         size_t n = (size_t)1 << ((vp->lw - lvl_wl(vp, l)) + (vp->lh - lvl_hl(vp, l)));
         m->lvl[l] = calloc(n, sizeof *m->lvl[l]);
         if (!m->lvl[l]) {
@@ -150,23 +164,34 @@ void cycle_map_free(cycle_map *m)
 {
     for (unsigned l = 0; l < ALB_VP_MAX_LEVELS; l++)
         free(m->lvl[l]);
+    free(m->fine);
     memset(m, 0, sizeof *m);
 }
 
 void cycle_map_charge(cycle_map *m, const alb_vp *vp, const vp_cell *k, uint64_t cycles)
 {
-    unsigned l = k->level;
-    size_t per_row = (size_t)1 << (vp->lw - k->wl);
-    m->lvl[l][(size_t)(k->r0 >> k->hl) * per_row + (k->c0 >> k->wl)] += cycles;
+    const unsigned s = k->wl + k->hl;
+    if (s > FINE_LOG2) {
+        size_t per_row = (size_t)1 << (vp->lw - k->wl);
+        m->lvl[k->level][(size_t)(k->r0 >> k->hl) * per_row + (k->c0 >> k->wl)] += cycles;
+        return;
+    }
+    /* cycles * 65536 / 2^s, exact */
+    const uint32_t share = (uint32_t)(cycles << (16 - s));
+    uint32_t *row = m->fine + (size_t)k->r0 * vp->sw + k->c0;
+    for (uint32_t r = 0; r < 1u << k->hl; r++, row += vp->sw)
+        for (uint32_t c = 0; c < 1u << k->wl; c++)
+            row[c] += share;
 }
 
 void cycle_map_resolve(cycle_map *m, const alb_vp *vp, alb_frame *out)
 {
     /* Each sample's share is the sum over the cells containing it of
-     * cycles * 65536 / (samples of the cell), truncated per cell: pushed down
-     * the levels, each cell adding its share to its parent's total. */
+     * cycles * 65536 / (samples of the cell), truncated per cell: the large
+     * cells pushed down their levels, each adding its share to its parent's
+     * total, the small ones' already in the sample plane. */
     unsigned aa = vp->prof.aa_levels;
-    for (unsigned l = 0; l < m->levels; l++) {
+    for (unsigned l = 0; l < m->fine_from; l++) {
         unsigned wl = lvl_wl(vp, l), hl = lvl_hl(vp, l);
         unsigned dx = l && lvl_wl(vp, l - 1) > wl, dy = l && lvl_hl(vp, l - 1) > hl;
         size_t per_row = (size_t)1 << (vp->lw - wl), rows = (size_t)1 << (vp->lh - hl);
@@ -178,16 +203,35 @@ void cycle_map_resolve(cycle_map *m, const alb_vp *vp, alb_frame *out)
                 *cell = inherited + ((*cell << 16) >> (wl + hl));
             }
     }
-    /* the last level holds single samples; pixels sum their samples */
-    const uint64_t *last = m->lvl[m->levels - 1];
+    /* every sample: its large cells' total and its own; pixels sum their
+     * samples (the plane is 32 bits: all mod 2^32) */
+    const uint64_t *coarse = m->fine_from ? m->lvl[m->fine_from - 1] : NULL;
+    const unsigned cwl = m->fine_from ? lvl_wl(vp, m->fine_from - 1) : 0;
+    const unsigned chl = m->fine_from ? lvl_hl(vp, m->fine_from - 1) : 0;
+    const size_t coarse_row = (size_t)1 << (vp->lw - cwl);
     memset(out->cycles, 0, (size_t)out->width * out->height * sizeof *out->cycles);
-    for (size_t r = 0; r < (size_t)1 << vp->lh; r++)
-        for (size_t c = 0; c < (size_t)1 << vp->lw; c++)
-            out->cycles[(r >> aa) * out->width + (c >> aa)] += (uint32_t)last[(r << vp->lw) + c];
-    for (unsigned l = 0; l < m->levels; l++) {
+    for (size_t r = 0; r < (size_t)1 << vp->lh; r++) {
+        uint32_t *fine = m->fine + (r << vp->lw), *px = out->cycles + (r >> aa) * out->width;
+        const uint64_t *above = coarse ? coarse + (r >> chl) * coarse_row : NULL;
+        for (size_t c = 0; c < (size_t)1 << vp->lw; c++) {
+            px[c >> aa] += fine[c] + (above ? (uint32_t)above[c >> cwl] : 0);
+            fine[c] = 0;
+        }
+    }
+    for (unsigned l = 0; l < m->fine_from; l++) {
         size_t n = (size_t)1 << ((vp->lw - lvl_wl(vp, l)) + (vp->lh - lvl_hl(vp, l)));
         memset(m->lvl[l], 0, n * sizeof *m->lvl[l]);
     }
+}
+
+void sim_frame_without_planes(const alb_profile *p, alb_frame *f)
+{
+    memset(f, 0, sizeof *f);
+    f->width = p->width;
+    f->height = p->height;
+    f->colour_bits = p->colour_bits;
+    f->depth_bits = p->depth_bits;
+    f->aa_levels = p->aa_levels;
 }
 
 uint64_t gp_header_cycles(const alb_profile *p, uint32_t header)
@@ -216,7 +260,7 @@ alb_err alb_sim_run(const alb_profile *p, const uint32_t *w, size_t n, const cha
                 const alb_sim_options *opt, alb_sim_sink sink, void *ctx, alb_diag *d)
 {
     if (opt->fid == ALB_FIDELITY_TIMED)
-        return sim_run_timed(p, w, n, name, sink, ctx, d);
+        return sim_run_timed(p, w, n, name, !opt->counters_only, sink, ctx, d);
     if (opt->fid == ALB_FIDELITY_CYCLE)
         return sim_run_cycle(p, w, n, name, opt, sink, ctx, d);
     alb_vp *vp = NULL;
@@ -235,15 +279,16 @@ static double fps(const alb_sim_counters *c, const alb_profile *p)
     return c->cycles ? 1000.0 * p->clock_khz / (double)c->cycles : 0;
 }
 
-void alb_sim_counters_json(FILE *f, const alb_sim_counters *c, const alb_profile *p)
+void alb_sim_counters_json(alb_json *j, const alb_sim_counters *c, const alb_profile *p)
 {
-    fputc('{', f);
-#define J(field) fprintf(f, "\"" #field "\": %llu, ", (unsigned long long)c->field);
+    alb_json_begin_object(j);
+#define J(field) alb_json_kv_uint(j, #field, c->field);
     ALB_SIM_COUNTER_FIELDS(J)
 #undef J
-    fprintf(f, "\"fifo_mean\": %.3f, \"fps\": %.3f, \"realtime_50hz\": %s}",
-            c->cycles ? (double)c->fifo_sum / (double)c->cycles : 0.0, fps(c, p),
-            c->cycles * 50 <= (uint64_t)p->clock_khz * 1000 ? "true" : "false");
+    alb_json_kv_fixed(j, "fifo_mean", c->cycles ? (double)c->fifo_sum / (double)c->cycles : 0.0, 3);
+    alb_json_kv_fixed(j, "fps", fps(c, p), 3);
+    alb_json_kv_bool(j, "realtime_50hz", c->cycles * 50 <= (uint64_t)p->clock_khz * 1000);
+    alb_json_end_object(j);
 }
 
 void alb_sim_counters_text(FILE *f, const alb_sim_counters *c, const alb_profile *p)

@@ -58,11 +58,13 @@ typedef struct {                 /* subdivision engine */
     vp_step did_step;
 } engine_unit;
 
-/* A queued cell carries its face's shading set-up: the face's slot is freed
- * when the engine is done with it, possibly before its cells are filled. */
+/* A queued cell names its face by its tag, the face's index in the frame's
+ * face list (vp_begin_face), which holds the face's set-up for the frame:
+ * the face's slot is freed when the engine is done with it, possibly before
+ * its cells are filled. */
 typedef struct {
     vp_cell cell;
-    vp_face_setup fs;
+    uint32_t face;               /* the face's tag */
 } queued_cell;
 
 typedef struct {                 /* fill unit (and the queue before it) */
@@ -117,6 +119,7 @@ struct sim_cycle {
     bool pipe_traced;            /* the trace has the pipe scope: keep pipe_trace */
     slot *slots;
     uint64_t faces_loaded, faces_started;   /* FIFO order of slots */
+    unsigned slot_in, slot_out;  /* their slots: faces_loaded, faces_started mod face_slots */
     /* frames: frame_open (= frames retired) is the one whose faces may run;
      * later frames' packets may be taken while it drains */
     unsigned frames_taken;       /* FRAME packets taken */
@@ -127,7 +130,10 @@ struct sim_cycle {
     int64_t prev_retire;
     bool ended;
     sim_bins bins;
+    alb_sim_counters *cnt;       /* this cycle's bin: the frame retiring next */
     cycle_map map;
+    bool pixels;                 /* frames wanted: else no output stage, no frame */
+    sim_durations dur;           /* steps' and fills' cycles */
     alb_frame frame;
     alb_vp_stats last_stats;         /* of the last frame retired */
     unsigned latency;
@@ -146,6 +152,10 @@ struct sim_cycle {
     alb_err err;
     alb_diag *d, dd;
 };
+
+/* i + 1 modulo n: the round-robin pointers of the slots and the fill queue
+ * (no division a cycle). */
+static inline unsigned ring_next(unsigned i, unsigned n) { return i + 1 == n ? 0 : i + 1; }
 
 /* ---- events ---- */
 
@@ -243,10 +253,12 @@ static bool has_room(const sim_cycle *m, alb_ws_event_kind kind, int64_t t)
 {
     switch (kind) {
     case ALB_WS_EV_FACE:
-        return m->slots[m->faces_loaded % m->p->face_slots].loaded_at < 0;
+        return m->slots[m->slot_in].loaded_at < 0;
     case ALB_WS_EV_TEXTURE:
     case ALB_WS_EV_END:
         return drained(m, t);
+    case ALB_WS_EV_FRAME:   /* a register set free: the open frame's and the waiting ones */
+        return m->frames_taken - m->frame_open < m->p->frame_queue;
     default:
         return true;
     }
@@ -301,12 +313,13 @@ static void packet_taken(sim_cycle *m, int64_t t)
             frame_wait(m, &ev->u.frame);
         break;
     case ALB_WS_EV_FACE: {
-        size_t k = m->faces_loaded % m->p->face_slots;
+        size_t k = m->slot_in;
         slot *s = &m->slots[k];
         m->err = vp_load_face(m->vp, &ev->u.face, &s->face, m->d);
         s->loaded_at = t;
         s->frame = m->frames_taken - 1;
         m->faces_loaded++;
+        m->slot_in = ring_next(m->slot_in, m->p->face_slots);
         event_face(m, ALB_EV_LOAD, t, s, k);
         break;
     }
@@ -335,7 +348,7 @@ static void parser_tick(sim_cycle *m, int64_t t, uint64_t fifo_start)
     /* the parser sees a word only once it is in the FIFO: before, it starves
      * whatever that word will need */
     if (fifo_start == 0) {
-        bins_add(&m->bins, CNT(parser_starve), t, t + 1);
+        m->cnt->parser_starve++;
         pa->state = 2;
         return;
     }
@@ -345,14 +358,14 @@ static void parser_tick(sim_cycle *m, int64_t t, uint64_t fifo_start)
         pa->kind = kind_of(m->w[pa->pos]);
     }
     if (!has_room(m, pa->kind, t)) {
-        bins_add(&m->bins, CNT(parser_blocked), t, t + 1);
+        m->cnt->parser_blocked++;
         pa->state = 3;
         return;
     }
     m->fifo.count--;
     m->fifo.pop = true;
     pa->state = 1;
-    bins_add(&m->bins, CNT(parser_busy), t, t + 1);
+    m->cnt->parser_busy++;
     event_word(m, ALB_EV_POP, t, pa->pos);
     if (++pa->pos == pa->pkt_end)
         packet_taken(m, t);
@@ -364,7 +377,7 @@ static void push_word(sim_cycle *m, int64_t t)
 {
     m->fifo.count++;
     m->fifo.push = true;
-    bins_add(&m->bins, CNT(gp_busy), t, t + 1);
+    m->cnt->gp_busy++;
     event_word(m, ALB_EV_PUSH, t, m->fifo.pushed++);
 }
 
@@ -390,7 +403,7 @@ static void gp_tick(sim_cycle *m, int64_t t, uint64_t fifo_start)
     if (g->compute_left) {
         g->compute_left--;
         g->state = 1;
-        bins_add(&m->bins, CNT(gp_busy), t, t + 1);
+        m->cnt->gp_busy++;
         return;
     }
     if (m->fifo.pushed >= m->n) {       /* the packet's next word not given yet */
@@ -399,7 +412,7 @@ static void gp_tick(sim_cycle *m, int64_t t, uint64_t fifo_start)
     }
     if (fifo_start >= m->p->fifo_depth) {
         g->state = 3;
-        bins_add(&m->bins, CNT(gp_stall), t, t + 1);
+        m->cnt->gp_stall++;
         return;
     }
     g->state = 2;
@@ -423,14 +436,16 @@ static void engine_next(sim_cycle *m, int64_t t)
     slot *s = &m->slots[e->slot];
     e->stalled = false;
     if (vp_walk_next(m->vp, &e->walk, &e->step)) {
-        e->left = step_cycles(e->step.edges, m->p->edge_units);
-        cycle_map_charge(&m->map, m->vp, &e->step.cell, e->left);
+        e->left = m->dur.step[e->step.edges];
+        if (m->pixels)
+            cycle_map_charge(&m->map, m->vp, &e->step.cell, e->left);
         return;
     }
     e->busy = false;
     event_face(m, ALB_EV_END, t, s, e->slot);
     s->loaded_at = -1;          /* the slot is free from the next cycle */
     m->faces_started++;
+    m->slot_out = ring_next(m->slot_out, m->p->face_slots);
 }
 
 static bool enqueue(sim_cycle *m, uint64_t queue_start)
@@ -438,9 +453,10 @@ static bool enqueue(sim_cycle *m, uint64_t queue_start)
     fill_unit *f = &m->fill;
     if (queue_start >= m->p->fill_queue)
         return false;
-    queued_cell *qc = &f->q[(f->head + f->count) % m->p->fill_queue];
+    unsigned tail = f->head + f->count;
+    queued_cell *qc = &f->q[tail >= m->p->fill_queue ? tail - m->p->fill_queue : tail];
     qc->cell = m->engine.step.cell;
-    qc->fs = m->slots[m->engine.slot].face.fs;
+    qc->face = m->slots[m->engine.slot].face.fs.tag;
     f->count++;
     return true;
 }
@@ -450,30 +466,33 @@ static void engine_tick(sim_cycle *m, int64_t t, uint64_t queue_start)
     engine_unit *e = &m->engine;
     e->did = 0;
     if (!e->busy) {
-        slot *s = &m->slots[m->faces_started % m->p->face_slots];
+        slot *s = &m->slots[m->slot_out];
         if (m->faces_started == m->faces_loaded || s->loaded_at < 0 || s->loaded_at >= t ||
             s->frame != m->frame_open || t <= m->prev_retire)
             return;
         e->busy = true;
-        e->slot = m->faces_started % m->p->face_slots;
-        vp_count_face(m->vp, &s->face);
+        e->slot = m->slot_out;
+        if ((m->err = vp_begin_face(m->vp, &s->face, m->d)))
+            return;
         vp_walk_begin(&e->walk, m->vp, &s->face);
         event_face(m, ALB_EV_START, t, s, e->slot);
         engine_next(m, t);   /* the first step starts this cycle */
     }
     e->did = e->stalled ? 2 : 1;
-    e->did_step = e->step;
-    e->did_face = m->slots[e->slot].face.fs.id;
+    if (m->vcd) {   /* the trace's engine.*: the step as it stands in this cycle */
+        e->did_step = e->step;
+        e->did_face = m->slots[e->slot].face.fs.id;
+    }
     if (e->stalled) {
-        bins_add(&m->bins, CNT(engine_stall), t, t + 1);
+        m->cnt->engine_stall++;
         if (enqueue(m, queue_start))
             engine_next(m, t);
         return;
     }
-    bins_add(&m->bins, CNT(engine_busy), t, t + 1);
+    m->cnt->engine_busy++;
     if (--e->left)
         return;
-    event_cell(m, ALB_EV_CELL, t, e->did_face, &e->step.cell, &e->step);
+    event_cell(m, ALB_EV_CELL, t, m->slots[e->slot].face.fs.id, &e->step.cell, &e->step);
     if (step_fills(&e->step) && !enqueue(m, queue_start)) {
         e->stalled = true;
         return;
@@ -498,6 +517,7 @@ static pending_write *write_new(sim_cycle *m)
  * i is issued in t + i / fill_rate and written L - 1 cycles later. */
 static void fill_noted(sim_cycle *m, const queued_cell *qc, int64_t t)
 {
+    const vp_face_setup *fs = vp_frame_face(m->vp, qc->face);
     pipe_trace *pt = &m->pipe;
     const vp_cell *k = &qc->cell;
     const uint32_t cw = 1u << k->wl, n = vp_cell_samples(k);
@@ -513,9 +533,10 @@ static void fill_noted(sim_cycle *m, const queued_cell *qc, int64_t t)
     const alb_vp *vp = m->vp;
     const uint32_t *depth = vp->s_depth;
     const size_t sw = vp->sw;
+    vp_touch_tiles(m->vp, k);   /* the depths before: the store's, not a stale frame's */
     for (uint32_t i = 0; i < n; i++)
         pt->won[i] = depth[(size_t)(k->r0 + i / cw) * sw + k->c0 + i % cw];
-    vp_fill(m->vp, &qc->fs, k);
+    vp_fill(m->vp, fs, k);
     const bool writes = m->record & ALB_EV_WRITE;
     for (uint32_t i = 0; i < n; i++) {
         size_t idx = (size_t)(k->r0 + i / cw) * sw + k->c0 + i % cw;
@@ -528,10 +549,12 @@ static void fill_noted(sim_cycle *m, const queued_cell *qc, int64_t t)
         pw->at = t + (int64_t)(i / m->p->fill_rate) + (int64_t)m->latency - 1;
         pw->x = k->c0 + i % cw;
         pw->y = k->r0 + i / cw;
+        /* what the last stage writes: the face's depth, id, level and the
+         * colour the output stage gives the sample */
         pw->depth = depth[idx];
-        pw->face = vp->s_face[idx];
-        pw->level = vp->s_level[idx];
-        memcpy(pw->rgb, vp->s_rgb + 3 * idx, sizeof pw->rgb);
+        pw->face = fs->id;
+        pw->level = k->level;
+        vp_sample_colour(vp, fs, pw->x, pw->y, pw->rgb);
     }
 }
 
@@ -542,19 +565,21 @@ static void fill_tick(sim_cycle *m, int64_t t, uint64_t queue_start)
         if (!queue_start)
             return;
         queued_cell *qc = &f->q[f->head];
-        f->head = (f->head + 1) % m->p->fill_queue;
+        f->head = ring_next(f->head, m->p->fill_queue);
         f->count--;
-        f->left = fill_cycles(vp_cell_samples(&qc->cell), m->p->fill_rate);
+        f->left = m->dur.fill[qc->cell.wl + qc->cell.hl];
         f->samples = vp_cell_samples(&qc->cell);
         f->next = 0;
-        cycle_map_charge(&m->map, m->vp, &qc->cell, f->left);
-        event_cell(m, ALB_EV_FILL, t, qc->fs.id, &qc->cell, NULL);
+        if (m->pixels)
+            cycle_map_charge(&m->map, m->vp, &qc->cell, f->left);
+        const vp_face_setup *fs = vp_frame_face(m->vp, qc->face);
+        event_cell(m, ALB_EV_FILL, t, fs->id, &qc->cell, NULL);
         if (m->pipe_traced || (m->record & ALB_EV_WRITE))
             fill_noted(m, qc, t);
         else
-            vp_fill(m->vp, &qc->fs, &qc->cell);
+            vp_fill(m->vp, fs, &qc->cell);
     }
-    bins_add(&m->bins, CNT(fill_busy), t, t + 1);
+    m->cnt->fill_busy++;
     f->left--;
     /* fill_rate samples a cycle; the cell's last cycle issues the rest */
     f->issue_at = f->next;
@@ -590,14 +615,20 @@ static void retire_check(sim_cycle *m, int64_t t)
         return;
     /* faces of the open frame still waiting in slots? */
     if (m->faces_started != m->faces_loaded &&
-        m->slots[m->faces_started % m->p->face_slots].frame == m->frame_open)
+        m->slots[m->slot_out].frame == m->frame_open)
         return;
     if (bins_retire(&m->bins, t)) {
         m->err = alb_diag_at(m->d, ALB_ERR_NOMEM, m->name, 0, 0, "out of memory");
         return;
     }
-    alb_vp_frame_end(m->vp, &m->frame);
-    cycle_map_resolve(&m->map, m->vp, &m->frame);
+    if (m->pixels) {
+        alb_vp_frame_end(m->vp, &m->frame);
+        cycle_map_resolve(&m->map, m->vp, &m->frame);
+    } else {
+        vp_store_finish(m->vp);
+        m->frame.number = m->vp->frame.number;
+        m->frame.near = m->vp->cfg.near;
+    }
     m->last_stats = *alb_vp_stats_get(m->vp);
     const alb_sim_counters *c = &m->bins.bin[m->bins.nretired - 1];
     alb_event *e = event(m, ALB_EV_FRAME, t);
@@ -802,7 +833,9 @@ static void tick(sim_cycle *m, int64_t t)
     uint64_t fifo_start = m->fifo.count, queue_start = m->fill.count;
     m->fifo.push = m->fifo.pop = false;
     m->fill.issued = 0;
-    bins_at(&m->bins, t)->fifo_sum += fifo_start;
+    /* the counters of the frame this cycle belongs to (the open one) */
+    m->cnt = bins_at(&m->bins, t);
+    m->cnt->fifo_sum += fifo_start;
     gp_tick(m, t, fifo_start);
     parser_tick(m, t, fifo_start);
     engine_tick(m, t, queue_start);
@@ -810,7 +843,7 @@ static void tick(sim_cycle *m, int64_t t)
     if (m->wq.n)
         writes_due(m, t);
     if (m->fifo.push) {
-        alb_sim_counters *c = bins_at(&m->bins, t);
+        alb_sim_counters *c = m->cnt;
         if (m->fifo.count > c->fifo_peak)
             c->fifo_peak = m->fifo.count;
     }
@@ -837,6 +870,7 @@ alb_err sim_cycle_open(sim_cycle **out, const alb_profile *p, const sim_cycle_co
     m->prev_retire = -1;
     m->fill.last_write = -1;
     m->latency = 1 + p->divider_latency + p->shade_latency;
+    sim_durations_init(&m->dur, p);
     m->evq = ITEM_QUEUE(alb_event);
     m->wq = ITEM_QUEUE(pending_write);
     alb_ws_reader_init(&m->rd, NULL, 0, m->name);
@@ -851,18 +885,22 @@ alb_err sim_cycle_open(sim_cycle **out, const alb_profile *p, const sim_cycle_co
         m->vcd_from = cfg->vcd_from;
         m->vcd_to = cfg->vcd_to;
         m->units = trace_declare(m->vcd);
+        alb_vcd_window(m->vcd, m->vcd_from, m->vcd_to);
         alb_vcd_begin(m->vcd, 1000000000ull / p->clock_khz);
     }
     /* the pipeline's record (which samples win) only for the pipe's signals */
     m->pipe_traced = m->units >> UNIT_PIPE & 1;
+    /* a FRAME event carries the resolved frame's CRC */
+    m->pixels = !(cfg && cfg->counters_only) || (m->record & ALB_EV_FRAME);
+    sim_frame_without_planes(p, &m->frame);
     m->slots = calloc(p->face_slots, sizeof *m->slots);
     m->fill.q = calloc(p->fill_queue, sizeof *m->fill.q);
     m->ev = malloc(sizeof *m->ev);
     if (m->pipe_traced)
         m->pipe.stage = calloc(m->latency, sizeof *m->pipe.stage);
     if (!m->slots || !m->fill.q || !m->ev || (m->pipe_traced && !m->pipe.stage) ||
-        bins_init(&m->bins) || cycle_map_init(&m->map, m->vp) ||
-        alb_vp_frame_alloc(m->vp, &m->frame, true)) {
+        bins_init(&m->bins) ||
+        (m->pixels && (cycle_map_init(&m->map, m->vp) || alb_vp_frame_alloc(m->vp, &m->frame, true)))) {
         sim_cycle_close(m);
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the cycle model");
     }
@@ -943,7 +981,9 @@ static void trace_one(sim_cycle *m, int64_t t)
 {
     if (m->pipe_traced)
         pipe_record(m, t);
-    if ((uint64_t)t >= m->vcd_from && (uint64_t)t <= m->vcd_to)
+    /* from the first cycle: the writer keeps the values before the window
+     * (it dumps them all at its start) and writes nothing after it */
+    if ((uint64_t)t <= m->vcd_to)
         trace_cycle(m, m->vcd, t, m->units);
 }
 
@@ -1050,7 +1090,8 @@ alb_err sim_run_cycle(const alb_profile *p, const uint32_t *w, size_t n, const c
     catch_signal(SIGTERM, on_interrupt, &old_term);
     sim_cycle_config cfg = {.producer = ALB_PRODUCER_GP, .events = opt->events,
                             .sink = sink, .ctx = ctx, .name = name, .vcd = opt->vcd,
-                            .vcd_from = opt->vcd_from, .vcd_to = opt->vcd_to};
+                            .vcd_from = opt->vcd_from, .vcd_to = opt->vcd_to,
+                            .counters_only = opt->counters_only};
     sim_cycle *m = NULL;
     alb_err e = sim_cycle_open(&m, p, &cfg, d);
     if (!e)

@@ -21,8 +21,20 @@ typedef struct {
 
 int bins_init(sim_bins *b);
 void bins_free(sim_bins *b);
-/* Add the cycles [a, b) to the counter at `offset` of the bins they fall in. */
-void bins_add(sim_bins *b, size_t offset, int64_t a, int64_t e);
+/* Add the cycles [a, b) to the counter at `offset` of the bins they fall in:
+ * at once into the open bin when they all follow the last retirement (the
+ * usual case), else split over the bins (bins_add_split). */
+void bins_add_split(sim_bins *b, size_t offset, int64_t a, int64_t e);
+static inline void bins_add(sim_bins *b, size_t offset, int64_t a, int64_t e)
+{
+    if (a >= e)
+        return;
+    if (b->nretired && a <= b->retire[b->nretired - 1]) {
+        bins_add_split(b, offset, a, e);
+        return;
+    }
+    *(uint64_t *)((char *)&b->bin[b->nretired] + offset) += (uint64_t)(e - a);
+}
 alb_sim_counters *bins_at(sim_bins *b, int64_t t);
 /* Close the open frame at cycle r; -1 if out of memory. */
 int bins_retire(sim_bins *b, int64_t r);
@@ -42,11 +54,15 @@ static inline void *queue_front(const item_queue *q) { return (char *)q->a + q->
 void queue_drop(item_queue *q, size_t k);
 void queue_free(item_queue *q);
 
-/* Per-pixel time (docs/microarchitecture.md): charges per cell, per level,
- * spread over the samples at the end of the frame. */
+/* Per-pixel time (docs/microarchitecture.md): each charge of a cell spread
+ * over its samples.  A cell of at most 16 samples gives each exactly
+ * cycles * 2^(16 - log2 samples), added to the samples at once (mod 2^32,
+ * the width of the frame's plane); larger cells are charged per level and
+ * pushed down at the end of the frame, truncated per cell. */
 typedef struct {
-    uint64_t *lvl[ALB_VP_MAX_LEVELS];
-    unsigned levels;
+    uint64_t *lvl[ALB_VP_MAX_LEVELS];   /* levels below fine_from: cycles per cell */
+    uint32_t *fine;                     /* per sample: the small cells' shares */
+    unsigned levels, fine_from;
 } cycle_map;
 
 int cycle_map_init(cycle_map *m, const alb_vp *vp);
@@ -54,6 +70,9 @@ void cycle_map_free(cycle_map *m);
 void cycle_map_charge(cycle_map *m, const alb_vp *vp, const vp_cell *k, uint64_t cycles);
 /* Write the frame's per-pixel cycles into out->cycles and clear the map. */
 void cycle_map_resolve(cycle_map *m, const alb_vp *vp, alb_frame *out);
+
+/* A frame's description without its planes (timing without frames). */
+void sim_frame_without_planes(const alb_profile *p, alb_frame *f);
 
 /* Cycles of an engine step and of a fill (docs/microarchitecture.md). */
 static inline uint64_t step_cycles(unsigned edges, unsigned units)
@@ -63,6 +82,20 @@ static inline uint64_t step_cycles(unsigned edges, unsigned units)
 static inline uint64_t fill_cycles(uint32_t samples, unsigned rate)
 {
     return (samples + rate - 1) / rate;
+}
+/* The same durations as tables, so that no step or cell costs a division: a
+ * step's cycles by the edges it evaluates, a fill's by the log2 of its
+ * samples (a cell's samples are a power of two). */
+typedef struct {
+    uint8_t step[ALB_WS_MAX_EDGES + 1];
+    uint64_t fill[2 * (ALB_VP_MAX_LEVELS - 1) + 1];
+} sim_durations;
+static inline void sim_durations_init(sim_durations *d, const alb_profile *p)
+{
+    for (unsigned e = 0; e <= ALB_WS_MAX_EDGES; e++)
+        d->step[e] = (uint8_t)step_cycles(e, p->edge_units);
+    for (unsigned s = 0; s < sizeof d->fill / sizeof *d->fill; s++)
+        d->fill[s] = ((1ull << s) + p->fill_rate - 1) / p->fill_rate;
 }
 /* The GP's compute time before a packet, from its header word. */
 uint64_t gp_header_cycles(const alb_profile *p, uint32_t header);
@@ -79,6 +112,9 @@ typedef struct {
     const char *name;         /* the stream's name in messages */
     struct alb_vcd *vcd;          /* a trace, or NULL */
     uint64_t vcd_from, vcd_to;
+    bool counters_only;           /* no frame wanted (alb_sim_options.counters_only):
+                                     frames without planes, unless FRAME events (their
+                                     CRC) are recorded */
 } sim_cycle_config;
 
 typedef struct sim_cycle sim_cycle;
@@ -116,8 +152,10 @@ uint64_t sim_feed_next_cycle(const alb_sim_feed *f);
 /* Words taken (whole packets), and whether the last was END. */
 size_t sim_feed_taken(const alb_sim_feed *f, bool *ended);
 
+/* frames: the sink wants pixels; without, only the statistics and counters
+ * are made (alb_sim_options.counters_only). */
 alb_err sim_run_timed(const alb_profile *p, const uint32_t *w, size_t n, const char *name,
-                      alb_sim_sink sink, void *ctx, alb_diag *d);
+                      bool frames, alb_sim_sink sink, void *ctx, alb_diag *d);
 alb_err sim_run_cycle(const alb_profile *p, const uint32_t *w, size_t n, const char *name,
                       const alb_sim_options *opt, alb_sim_sink sink, void *ctx, alb_diag *d);
 

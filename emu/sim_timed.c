@@ -24,8 +24,12 @@ typedef struct {
     uint64_t faces;
     int64_t engine_free;      /* first cycle the engine can start a face */
     int64_t *take_ring;       /* fill_queue last cells: cycle the fill unit took them */
+    unsigned take_slot;       /* cells % fill_queue: the oldest of them, the next to write */
+    sim_durations dur;
     uint64_t cells;
     int64_t fill_free;        /* first cycle the fill unit can take a cell */
+    int64_t now;              /* the engine's next cycle in the face being walked */
+    vp_timer timer;           /* the walk's steps and hand-overs (hand_over) */
     int64_t drain;            /* last cycle of any face's activity so far */
     int64_t frame_last;       /* last activity of the current frame's faces */
     int64_t frame_start;      /* first cycle a face of the current frame may start */
@@ -41,6 +45,10 @@ typedef struct {
     } *pending;
     unsigned npending, cap_pending;
     alb_frame spare;            /* a flushed frame's planes, reused (no copies) */
+    /* frames wanted: else only what timing and the statistics need — the
+     * walk and the fills (depth and tag), no output stage, no per-pixel
+     * cycles — and the sink gets frames without planes */
+    bool frames;
 } timed;
 
 static int64_t max64(int64_t a, int64_t b) { return a > b ? a : b; }
@@ -54,6 +62,12 @@ static int64_t room(timed *t, const alb_ws_event *ev)
     case ALB_WS_EV_TEXTURE:
     case ALB_WS_EV_END:
         return t->drain + 1;   /* wait until every earlier face retired */
+    case ALB_WS_EV_FRAME: {
+        /* frame k (every earlier one retired in the model's order) needs a
+         * free register set: frame k - frame_queue retired before the cycle */
+        unsigned k = t->bins.nretired, q = t->p->frame_queue;
+        return k >= q ? t->bins.retire[k - q] + 1 : 0;
+    }
     default:
         return 0;
     }
@@ -100,48 +114,63 @@ static void word_times(timed *t, int64_t compute, int64_t ready)
     t->words++;
 }
 
-/* The engine and fill unit on one loaded face, from cycle `start`. */
-static void run_face(timed *t, const vp_loaded_face *lf, int64_t loaded)
+/* A cell handed over to the fill unit in the last cycle of the engine's
+ * step: `cycles` are the engine's since the previous hand-over, this step's
+ * included (the walk's timer, vp_draw_face_timed). */
+static void hand_over(vp_timer *tm, const vp_cell *k, uint64_t cycles)
+{
+    timed *t = tm->ctx;
+    const alb_profile *p = t->p;
+    bins_add(&t->bins, CNT(engine_busy), t->now, t->now + (int64_t)cycles);
+    int64_t end = t->now + (int64_t)cycles - 1;
+    /* the queue held fewer than fill_queue cells at the start of the cycle:
+     * the cell fill_queue back (the ring's oldest) had been taken */
+    int64_t put = end;
+    if (t->cells >= p->fill_queue)
+        put = max64(put, t->take_ring[t->take_slot] + 1);
+    bins_add(&t->bins, CNT(engine_stall), end + 1, put + 1);
+    int64_t take = max64(put + 1, t->fill_free);
+    uint64_t f = t->dur.fill[k->wl + k->hl];
+    if (t->frames)
+        cycle_map_charge(&t->map, t->vp, k, f);
+    bins_add(&t->bins, CNT(fill_busy), take, take + (int64_t)f);
+    t->fill_free = take + (int64_t)f;
+    t->take_ring[t->take_slot] = take;
+    t->take_slot = t->take_slot + 1 == p->fill_queue ? 0 : t->take_slot + 1;
+    t->cells++;
+    int64_t written = take + (int64_t)f - 1 + t->latency - 1;
+    t->frame_last = max64(t->frame_last, written);
+    t->now = put + 1;
+}
+
+/* Each step's cycles on the per-pixel cycle map (frames wanted). */
+static void charge(vp_timer *tm, const vp_cell *k, uint64_t cycles)
+{
+    timed *t = tm->ctx;
+    cycle_map_charge(&t->map, t->vp, k, cycles);
+}
+
+/* The engine and fill unit on one loaded face: its walk, timed. */
+static alb_err run_face(timed *t, vp_loaded_face *lf, int64_t loaded, alb_diag *d)
 {
     const alb_profile *p = t->p;
-    int64_t now = max64(max64(loaded + 1, t->engine_free), t->first_face_of_frame ? t->frame_start : 0);
+    t->now = max64(max64(loaded + 1, t->engine_free), t->first_face_of_frame ? t->frame_start : 0);
     t->first_face_of_frame = false;
-    vp_walk w;
-    vp_step step;
-    vp_count_face(t->vp, lf);
-    vp_walk_begin(&w, t->vp, lf);
-    while (vp_walk_next(t->vp, &w, &step)) {
-        uint64_t c = step_cycles(step.edges, p->edge_units);
-        cycle_map_charge(&t->map, t->vp, &step.cell, c);
-        bins_add(&t->bins, CNT(engine_busy), now, now + (int64_t)c);
-        int64_t end = now + (int64_t)c - 1;
-        if (step.kind == VP_STEP_FILL || step.kind == VP_STEP_SAMPLE_IN) {
-            /* hand-over: the queue held fewer than fill_queue cells */
-            int64_t put = end;
-            uint64_t n = t->cells;
-            if (n >= p->fill_queue)
-                put = max64(put, t->take_ring[(n - p->fill_queue) % p->fill_queue] + 1);
-            bins_add(&t->bins, CNT(engine_stall), end + 1, put + 1);
-            int64_t take = max64(put + 1, t->fill_free);
-            uint64_t f = fill_cycles(vp_cell_samples(&step.cell), p->fill_rate);
-            cycle_map_charge(&t->map, t->vp, &step.cell, f);
-            bins_add(&t->bins, CNT(fill_busy), take, take + (int64_t)f);
-            t->fill_free = take + (int64_t)f;
-            t->take_ring[n % p->fill_queue] = take;
-            t->cells++;
-            int64_t written = take + (int64_t)f - 1 + t->latency - 1;
-            t->frame_last = max64(t->frame_last, written);
-            vp_fill(t->vp, &lf->fs, &step.cell);
-            end = put;
-        }
-        now = end + 1;
-    }
+    alb_err e = vp_begin_face(t->vp, lf, d);
+    if (e)
+        return e;
+    t->timer.pending = 0;
+    vp_draw_face_timed(t->vp, lf, &t->timer);
+    /* the steps after the last hand-over */
+    bins_add(&t->bins, CNT(engine_busy), t->now, t->now + (int64_t)t->timer.pending);
+    t->now += (int64_t)t->timer.pending;
     /* the face is finished in its last step's cycle; its slot is free next */
-    t->engine_free = now;
-    t->frame_last = max64(t->frame_last, now - 1);
-    t->slot_free[t->faces % p->face_slots] = now;
+    t->engine_free = t->now;
+    t->frame_last = max64(t->frame_last, t->now - 1);
+    t->slot_free[t->faces % p->face_slots] = t->now;
     t->faces++;
     t->drain = max64(t->drain, t->frame_last);
+    return ALB_OK;
 }
 
 /* Hand retired frames to the sink once no later word can add to their
@@ -175,8 +204,13 @@ static alb_err frame_end(timed *t, int64_t popped, alb_diag *d)
     int64_t r = max64(max64(popped, t->frame_last), t->prev_retire + 1);
     if (bins_retire(&t->bins, r))
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory");
-    alb_vp_frame_end(t->vp, &t->frame);
-    cycle_map_resolve(&t->map, t->vp, &t->frame);
+    if (t->frames) {
+        alb_vp_frame_end(t->vp, &t->frame);
+        cycle_map_resolve(&t->map, t->vp, &t->frame);
+    } else {
+        vp_store_finish(t->vp);
+        t->frame.number = t->vp->frame.number;
+    }
     t->prev_retire = r;
     t->drain = max64(t->drain, r);
     if (t->npending == t->cap_pending) {
@@ -191,7 +225,9 @@ static alb_err frame_end(timed *t, int64_t popped, alb_diag *d)
      * spare set */
     struct pending *pf = &t->pending[t->npending];
     pf->frame = t->frame;
-    if (t->spare.rgb) {
+    if (!t->frames) {
+        /* the same frame without planes goes on */
+    } else if (t->spare.rgb) {
         t->frame = t->spare;
         memset(&t->spare, 0, sizeof t->spare);
     } else if (alb_vp_frame_alloc(t->vp, &t->frame, true)) {
@@ -204,7 +240,7 @@ static alb_err frame_end(timed *t, int64_t popped, alb_diag *d)
     return ALB_OK;
 }
 
-static alb_err timed_init(timed *t, const alb_profile *p, alb_diag *d)
+static alb_err timed_init(timed *t, const alb_profile *p, bool frames, alb_diag *d)
 {
     memset(t, 0, sizeof *t);
     t->p = p;
@@ -213,14 +249,21 @@ static alb_err timed_init(timed *t, const alb_profile *p, alb_diag *d)
     t->prev_retire = -1;
     t->drain = -1;
     t->frame_last = -1;
+    t->frames = frames;
+    sim_frame_without_planes(p, &t->frame);
     alb_err e = alb_vp_create(&t->vp, p, d);
     if (e)
         return e;
+    vp_timer_init(&t->timer, p->edge_units);
+    sim_durations_init(&t->dur, p);
+    t->timer.hand_over = hand_over;
+    t->timer.charge = frames ? charge : NULL;
+    t->timer.ctx = t;
     t->pop_ring = calloc(p->fifo_depth + 1, sizeof *t->pop_ring);
     t->slot_free = calloc(p->face_slots, sizeof *t->slot_free);
     t->take_ring = calloc(p->fill_queue, sizeof *t->take_ring);
     if (!t->pop_ring || !t->slot_free || !t->take_ring || bins_init(&t->bins) ||
-        cycle_map_init(&t->map, t->vp) || alb_vp_frame_alloc(t->vp, &t->frame, true))
+        (frames && (cycle_map_init(&t->map, t->vp) || alb_vp_frame_alloc(t->vp, &t->frame, true))))
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the timed model");
     return ALB_OK;
 }
@@ -272,7 +315,7 @@ static alb_err timed_event(timed *t, const alb_ws_event *ev, vp_loaded_face *lf,
         break;
     case ALB_WS_EV_FACE:
         if (!(e = vp_load_face(t->vp, &ev->u.face, lf, d)))
-            run_face(t, lf, t->last_pop);
+            e = run_face(t, lf, t->last_pop, d);
         break;
     case ALB_WS_EV_FRAME_END:
         e = frame_end(t, t->last_pop, d);
@@ -284,10 +327,10 @@ static alb_err timed_event(timed *t, const alb_ws_event *ev, vp_loaded_face *lf,
 }
 
 alb_err sim_run_timed(const alb_profile *p, const uint32_t *w, size_t n, const char *name,
-                      alb_sim_sink sink, void *ctx, alb_diag *d)
+                      bool frames, alb_sim_sink sink, void *ctx, alb_diag *d)
 {
     timed t;
-    alb_err e = timed_init(&t, p, d);
+    alb_err e = timed_init(&t, p, frames, d);
     alb_ws_reader r;
     alb_ws_event *ev = malloc(sizeof *ev);
     vp_loaded_face *lf = malloc(sizeof *lf);
@@ -328,7 +371,7 @@ alb_err alb_sim_feed_open(alb_sim_feed **out, const alb_profile *p, const char *
     *out = NULL;
     if (!f)
         return alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
-    alb_err e = timed_init(&f->t, p, d);
+    alb_err e = timed_init(&f->t, p, true, d);
     f->ok = true;
     f->ev = malloc(sizeof *f->ev);
     f->lf = malloc(sizeof *f->lf);

@@ -6,8 +6,10 @@
  * signal handler may call, so SIGINT, SIGTERM, SIGABRT and SIGSEGV still
  * leave a complete trace. */
 #include "albatros/vcd.h"
+#include "albatros/file.h"
 
 #include <errno.h>
+#include <stdbool.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <stdio.h>
@@ -19,6 +21,7 @@
 #define MAX_KEEP 16
 
 struct alb_vcd {
+    alb_out out;              /* a temporary file renamed into place at the end */
     int fd;
     int failed;
     size_t len;
@@ -29,6 +32,10 @@ struct alb_vcd {
     uint64_t period;          /* ps */
     uint64_t now, written;    /* current time; last "#t" written (+1, 0 = none) */
     uint64_t last_cycle;
+    uint64_t from, to;        /* the cycles traced (alb_vcd_window) */
+    bool in_window;           /* the current time is one of them */
+    bool started, dumped;     /* the window's first time came; $dumpvars written */
+    uint64_t dump_time;       /* of $dumpvars: the window's first */
     char keep[MAX_KEEP][32];  /* scopes kept below the top one; none: all */
     unsigned nkeep;
     unsigned depth;           /* of the scope being declared */
@@ -46,7 +53,8 @@ static void flush(alb_vcd *v)
         if (k < 0) {
             if (errno == EINTR)
                 continue;
-            v->failed = 1;
+            if (!v->failed)
+                v->failed = errno ? errno : EIO;
             break;
         }
         off += (size_t)k;
@@ -64,27 +72,54 @@ static void put(alb_vcd *v, const char *s, size_t n)
 
 static void puts_(alb_vcd *v, const char *s) { put(v, s, strlen(s)); }
 
+/* "#t\n" without stdio: a signal handler writes it too. */
+static int time_line(uint64_t x, char t[32])
+{
+    char rev[24];
+    int k = 0, n = 0;
+    do
+        rev[k++] = (char)('0' + x % 10);
+    while ((x /= 10) && k < 23);
+    t[n++] = '#';
+    while (k)
+        t[n++] = rev[--k];
+    t[n++] = '\n';
+    return n;
+}
+
+static void value_line(alb_vcd *v, unsigned id, uint64_t value);
+
+/* The window's first time is complete: every variable's value then, as
+ * $dumpvars — the values the run had reached, not reset zeros — so the
+ * trace starts at the window with all its signals known. */
+static void dump_values(alb_vcd *v)
+{
+    char t[32];
+    put(v, t, (size_t)time_line(v->dump_time, t));
+    puts_(v, "$dumpvars\n");
+    for (unsigned i = 0; i < v->nvars; i++)
+        if (v->width[i])
+            value_line(v, i, v->value[i]);
+    puts_(v, "$end\n");
+    v->written = v->dump_time + 1;
+    v->dumped = true;
+}
+
 /* Async-signal-safe: a final timestamp, the buffer, then the default action. */
 static void on_fatal(int sig)
 {
     if (active) {
         char t[32];
-        int n = 0;
-        uint64_t x = active->now + active->period;
-        char rev[24];
-        int k = 0;
-        do
-            rev[k++] = (char)('0' + x % 10);
-        while ((x /= 10) && k < 23);
-        t[n++] = '#';
-        while (k)
-            t[n++] = rev[--k];
-        t[n++] = '\n';
+        if (!active->dumped)   /* a trace with its values, however short */
+            dump_values(active);
+        int n = time_line(active->now + active->period, t);
         if (active->len + (size_t)n <= BUF) {
             memcpy(active->buf + active->len, t, (size_t)n);
             active->len += (size_t)n;
         }
         flush(active);
+        /* the trace is complete up to now: put it under its name */
+        alb_out_commit_in_signal(&active->out);
         active = NULL;
     }
     signal(sig, SIG_DFL);
@@ -98,13 +133,13 @@ alb_vcd *alb_vcd_open(const char *path, alb_diag *d)
         alb_diag_at(d, ALB_ERR_NOMEM, path, 0, 0, "out of memory");
         return NULL;
     }
-    v->fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0666);
-    if (v->fd < 0) {
-        alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot create trace: %s", strerror(errno));
+    if (alb_out_open(&v->out, path, 0, d)) {
         free(v);
         return NULL;
     }
+    v->fd = v->out.fd;
     puts_(v, "$version albatros cycle model $end\n$timescale 1ps $end\n");
+    v->to = UINT64_MAX;   /* every cycle unless alb_vcd_window says otherwise */
     active = v;
     signal(SIGABRT, on_fatal);
     signal(SIGSEGV, on_fatal);
@@ -202,27 +237,45 @@ static void value_line(alb_vcd *v, unsigned id, uint64_t value)
     put(v, line, (size_t)n);
 }
 
+void alb_vcd_window(alb_vcd *v, uint64_t from, uint64_t to)
+{
+    v->from = from;
+    v->to = to;
+}
+
 void alb_vcd_begin(alb_vcd *v, uint64_t period_ps)
 {
     v->period = period_ps ? period_ps : 1;
-    puts_(v, "$enddefinitions $end\n#0\n$dumpvars\n");
-    for (unsigned i = 0; i < v->nvars; i++)
-        if (v->width[i])
-            value_line(v, i, 0);
-    puts_(v, "$end\n");
-    v->written = 1;   /* "#0" */
+    puts_(v, "$enddefinitions $end\n");
+    v->written = 0;   /* none: $dumpvars comes at the window's first time */
 }
 
 void alb_vcd_time(alb_vcd *v, uint64_t cycle, int half)
 {
-    v->now = cycle * v->period + (half ? v->period / 2 : 0);
+    uint64_t now = cycle * v->period + (half ? v->period / 2 : 0);
+    if (v->started && !v->dumped && now != v->now)
+        dump_values(v);
+    v->now = now;
     v->last_cycle = cycle;
+    v->in_window = cycle >= v->from && cycle <= v->to;
+    if (v->in_window && !v->started) {
+        v->started = true;
+        v->dump_time = now;
+    }
 }
 
 void alb_vcd_set(alb_vcd *v, unsigned id, uint64_t value)
 {
     /* a variable not declared or in a dropped scope has width 0 */
     if (id >= v->nvars || v->value[id] == value || !v->width[id])
+        return;
+    /* before the window, and at its first time: the value only, for
+     * $dumpvars; after it, nothing */
+    if (!v->dumped) {
+        v->value[id] = value;
+        return;
+    }
+    if (!v->in_window)
         return;
     if (v->written != v->now + 1) {
         char t[32];
@@ -237,22 +290,46 @@ void alb_vcd_set(alb_vcd *v, unsigned id, uint64_t value)
 void alb_vcd_end(alb_vcd *v, uint64_t cycle)
 {
     char t[32];
+    /* a window the run never reached: its values at the end, so the file
+     * still has them */
+    if (!v->started)
+        v->dump_time = v->now;
+    if (!v->dumped)
+        dump_values(v);
+    /* the file ends with the window: the end of its last cycle */
+    if (v->to < UINT64_MAX && cycle > v->to + 1)
+        cycle = v->to + 1;
     uint64_t end = cycle * v->period;
     if (v->written != end + 1 && end + 1 > v->written) {
-        int n = snprintf(t, sizeof t, "#%llu\n", (unsigned long long)end);
-        put(v, t, (size_t)n);
+        put(v, t, (size_t)time_line(end, t));
         v->written = end + 1;
     }
+}
+
+void alb_vcd_abort(alb_vcd *v)
+{
+    if (!v)
+        return;
+    if (active == v)
+        active = NULL;
+    alb_out_abort(&v->out);
+    free(v);
 }
 
 int alb_vcd_close(alb_vcd *v)
 {
     if (!v)
         return 0;
-    flush(v);
-    int bad = v->failed || close(v->fd) != 0;
     if (active == v)
         active = NULL;
+    flush(v);
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    int bad = v->failed;
+    if (bad)
+        alb_out_abort(&v->out);   /* the old trace, if any, stays */
+    else if (alb_out_commit(&v->out, &d) != ALB_OK)
+        bad = errno ? errno : EIO;
     free(v);
-    return bad ? -1 : 0;
+    return bad;
 }

@@ -150,8 +150,9 @@ static alb_err check_stream_values(const alb_scene *s, alb_diag *d)
 {
     if (!(s->near >= FLT_MIN && s->near <= FLT_MAX))
         return alb_diag_at(d, ALB_ERR_LIMIT, s->file, s->near_line, s->near_col,
-                       "near %g is outside %g .. %g: the word stream stores near as IEEE-754 "
-                       "binary32", s->near, FLT_MIN, FLT_MAX);
+                       "near %.17g is outside %.17g .. %.17g: the word stream stores near as "
+                       "IEEE-754 binary32, normal numbers only", s->near, (double)FLT_MIN,
+                       (double)FLT_MAX);
     uint32_t wn, wf;
     if (s->fog && !(fog_word(s->fog_far, s->near, &wf) && fog_word(s->fog_near, s->near, &wn)))
         return alb_diag_at(d, ALB_ERR_LIMIT, s->file, s->fog_line, s->fog_col,
@@ -245,9 +246,10 @@ static mat3 observer_part(const alb_gp *gp, const alb_scene_observer *ob)
     return m3_mul(&s, &v);
 }
 
-static int object_xform(const alb_scene_frame *fr, const mat3 *sv, unsigned oi, xform *x)
+static int object_xform(const alb_scene *s, const alb_scene_frame *fr, unsigned frame,
+                        const mat3 *sv, unsigned oi, xform *x)
 {
-    const alb_scene_pose *pose = &fr->poses[oi];
+    const alb_scene_pose *pose = alb_scene_pose_at(s, frame, oi);
     mat3 q = m3_orientation(pose->yaw, pose->pitch, pose->roll);
     x->t = m3_mul(sv, &q);
     if (!m3_inverse_transpose(&x->t, &x->tk))
@@ -437,7 +439,7 @@ static bool build_face(alb_gp *gp, const alb_scene_object *o, const alb_scene_fa
         return false;
     }
     vec3 z = v3_scale(n_n, 1 / d_n);   /* Az, Bz, Cz */
-    int sat = 0;
+    int sat = 0, sat_shade = 0, sat_tex = 0;
     wf->n_edges = 0;
     wf->id = f->id;
     wf->rgb = (uint32_t)f->rgb[0] << 16 | (uint32_t)f->rgb[1] << 8 | f->rgb[2];
@@ -492,7 +494,7 @@ static bool build_face(alb_gp *gp, const alb_scene_object *o, const alb_scene_fa
         vec3 m_n;
         double dd;
         field_to_observer(x, field, &m_n, &dd);
-        wf->shade = numerator_form(gp, m_n, dd, z, &sat);
+        wf->shade = numerator_form(gp, m_n, dd, z, &sat_shade);
         wf->flags |= ALB_WS_FACE_SHADE;
     }
     if (f->texmap != ALB_TEXMAP_NONE) {
@@ -504,14 +506,20 @@ static bool build_face(alb_gp *gp, const alb_scene_object *o, const alb_scene_fa
              * texture periods — so the VP keeps its precision near the
              * observer however far the texture origin is. */
             dd -= floor(dd);
-            *(t ? &wf->tex_v : &wf->tex_u) = numerator_form(gp, m_n, dd, z, &sat);
+            *(t ? &wf->tex_v : &wf->tex_u) = numerator_form(gp, m_n, dd, z, &sat_tex);
         }
         wf->flags |= ALB_WS_FACE_TEXTURE;
         wf->texture = (uint8_t)f->texture;
     }
     if (s->fog && f->fog)
         wf->flags |= ALB_WS_FACE_FOG;
-    st->coef_saturated += (unsigned)sat;
+    /* the first face whose forms were clamped, and which of them: the
+     * warning names it (a huge intensity is not an edge-on face) */
+    if ((sat || sat_shade || sat_tex) && !st->saturated_line) {
+        st->saturated_line = f->line;
+        st->saturated_form = sat ? "depth" : sat_shade ? "intensity" : "texture";
+    }
+    st->coef_saturated += (sat || sat_shade || sat_tex) ? 1u : 0u;
     st->edges_out += wf->n_edges;
     return true;
 }
@@ -552,7 +560,7 @@ alb_err alb_gp_frame(alb_gp *gp, unsigned frame, alb_ws_buf *out, alb_gp_stats *
     for (unsigned oi = 0; oi < s->nobj; oi++) {
         const alb_scene_object *o = &s->obj[oi];
         xform x;
-        if (object_xform(fr, &sv, oi, &x)) {
+        if (object_xform(s, fr, frame, &sv, oi, &x)) {
             free(face);
             return alb_diag_at(d, ALB_ERR_GEOMETRY, s->file, o->line, 0,
                            "frame %u: object '%s' has a singular observer transform", frame,
@@ -577,6 +585,7 @@ alb_err alb_gp_frame(alb_gp *gp, unsigned frame, alb_ws_buf *out, alb_gp_stats *
     }
     free(face);
     alb_ws_put_frame_end(out, st->faces_out);
+    st->saturated_frame = frame;
     if (out->oom)
         return alb_diag_at(d, ALB_ERR_NOMEM, s->file, 0, 0, "out of memory for the word stream");
     st->words = out->n - start;
@@ -592,6 +601,11 @@ void alb_gp_stats_add(alb_gp_stats *sum, const alb_gp_stats *s)
     ADD(bound_excess);
     ADD(coef_saturated); ADD(words);
 #undef ADD
+    if (!sum->saturated_line && s->saturated_line) {
+        sum->saturated_line = s->saturated_line;
+        sum->saturated_form = s->saturated_form;
+        sum->saturated_frame = s->saturated_frame;
+    }
 }
 
 alb_err alb_gp_run(alb_gp *gp, alb_ws_buf *out, alb_gp_stats *total, alb_diag *d)

@@ -24,6 +24,10 @@
  * area: the margin over TOL_AREA keeps every ear we emit clear of the check. */
 #define TOL_EAR   1e-10
 #define TOL_UP    1e-6          /* sin(angle) below which --up is along the view */
+/* Unknown keywords and undefined materials named in a warning each; the
+ * rest are counted in one warning at the end (a generated file may hold
+ * thousands, docs/scene-format.md). */
+#define OBJ_WARN_NAMED 10
 
 /* ---- small helpers ---- */
 
@@ -45,12 +49,18 @@ static void *grow(void *p, unsigned *cap, unsigned need, size_t elem)
     return q;
 }
 
-static alb_err read_file(const char *path, char **out, size_t *len, alb_diag *d)
+/* The OBJ file may be anything that can be read (a pipe, say); a material
+ * library it names must be a regular file: a FIFO would block, /dev/zero
+ * never end.  Both are text, so a NUL stops the reading (the parser
+ * reports it). */
+static alb_err read_file(const char *path, bool regular_only, char **out, size_t *len,
+                         alb_diag *d)
 {
-    FILE *f = fopen(path, "rb");
+    const char *why;
+    FILE *f = alb_file_open_input(path, regular_only, &why);
     if (!f)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
-    int rc = alb_file_read_all(f, out, len);
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open: %s", why);
+    int rc = alb_file_read_text(f, out, len);
     int err = errno;
     fclose(f);
     if (rc == -2)
@@ -118,6 +128,11 @@ static alb_err next_line(reader *r, bool *got)
     r->next = end + 1;
     for (size_t i = 0; i < r->lnlen; i++) {
         unsigned char c = (unsigned char)r->ln[i];
+        /* a CR not before the LF: classic Mac line ends, which would read
+         * as one long line ("expected a number, found 'v'") */
+        if (c == '\r' && i + 1 < r->lnlen)
+            return rerr(r, (unsigned)i + 1, "line ends with a bare carriage return (CR): use LF "
+                        "or CRLF line ends");
         if (c == 0 || c >= 0x80)
             return rerr(r, (unsigned)i + 1, "byte 0x%02x: expected ASCII text%s", c,
                         alb_scene_byte_hint(r->text, r->len, (size_t)(r->ln - r->text) + i));
@@ -217,6 +232,61 @@ typedef struct {
     uint8_t rgb[3];
 } material;
 
+/* Names to their index + 1 (0: empty), open addressing, at most half full:
+ * looking up a material or keyword costs the same in a file of a hundred
+ * thousand of them (it was a linear search: quadratic in all). */
+typedef struct {
+    unsigned *slot;
+    size_t cap;
+} name_index;
+
+static size_t name_hash(const char *s, size_t len)
+{
+    uint64_t h = 1469598103934665603u;   /* FNV-1a */
+    for (size_t i = 0; i < len; i++)
+        h = (h ^ (unsigned char)s[i]) * 1099511628211u;
+    return (size_t)h;
+}
+
+/* The slot of name in the index (holding its index + 1, or 0 if absent);
+ * names[i] is the name of index i. */
+static unsigned *index_slot(const name_index *x, char *const *names, size_t stride,
+                            const char *name, size_t len)
+{
+    size_t mask = x->cap - 1;
+    for (size_t i = name_hash(name, len) & mask;; i = (i + 1) & mask) {
+        unsigned k = x->slot[i];
+        const char *nm = k ? *(char *const *)(const void *)((const char *)names + (k - 1) * stride) : NULL;
+        if (!k || (strlen(nm) == len && !memcmp(nm, name, len)))
+            return &x->slot[i];
+    }
+}
+
+/* Index `count` (already in names) under its name; -1 if out of memory. */
+static int index_add(name_index *x, char *const *names, size_t stride, unsigned count)
+{
+    if (2 * (size_t)count >= x->cap) {
+        name_index big = {calloc(x->cap ? 2 * x->cap : 64, sizeof *big.slot), x->cap ? 2 * x->cap : 64};
+        if (!big.slot)
+            return -1;
+        for (unsigned k = 0; k < count; k++) {
+            const char *nm = *(char *const *)(const void *)((const char *)names + k * stride);
+            *index_slot(&big, names, stride, nm, strlen(nm)) = k + 1;
+        }
+        free(x->slot);
+        *x = big;
+    }
+    const char *nm = *(char *const *)(const void *)((const char *)names + count * stride);
+    *index_slot(x, names, stride, nm, strlen(nm)) = count + 1;
+    return 0;
+}
+
+static unsigned index_find(const name_index *x, char *const *names, size_t stride,
+                           const char *name, size_t len)
+{
+    return x->cap ? *index_slot(x, names, stride, name, len) : 0;
+}
+
 typedef struct {
     alb_scene *s;
     alb_scene_object *o;
@@ -226,9 +296,13 @@ typedef struct {
     unsigned nvt, nvn;       /* counted only, to check face indices */
     material *mat;           /* a later definition of a name wins */
     unsigned nmat, cap_mat;
+    name_index mat_index;    /* name -> its latest definition */
     int cur_mat;             /* -1: none */
-    char **kw;               /* unknown keywords already warned about */
+    unsigned undefined, undefined_more, undefined_line;   /* usemtl of unknown names */
+    char **kw;               /* unknown keywords seen */
     unsigned nkw, cap_kw;
+    name_index kw_index;
+    unsigned kw_more, kw_more_line;   /* statements of keywords not named */
     bool warned_vcolour, warned_kd;
     unsigned *poly;          /* vertex indices of the face being read */
     unsigned cap_poly;
@@ -246,6 +320,8 @@ static void importer_free(importer *im)
         free(im->kw[i]);
     free(im->mat);
     free(im->kw);
+    free(im->mat_index.slot);
+    free(im->kw_index.slot);
     free(im->poly);
 }
 
@@ -273,10 +349,9 @@ static alb_err __attribute__((format(printf, 2, 3))) gerr(importer *im, const ch
 
 static int find_material(const importer *im, const char *name, unsigned len)
 {
-    for (unsigned i = im->nmat; i-- > 0;)
-        if (strlen(im->mat[i].name) == len && memcmp(im->mat[i].name, name, len) == 0)
-            return (int)i;
-    return -1;
+    if (!im->nmat)
+        return -1;
+    return (int)index_find(&im->mat_index, &im->mat[0].name, sizeof im->mat[0], name, len) - 1;
 }
 
 /* Returns the new index, -1 if out of memory. */
@@ -290,6 +365,9 @@ static int add_material(importer *im, const char *name, unsigned len)
     if (!nm)
         return -1;
     im->mat[im->nmat] = (material){nm, {GREY, GREY, GREY}};
+    /* a later definition of the name replaces the earlier in the index */
+    if (index_add(&im->mat_index, &im->mat[0].name, sizeof im->mat[0], im->nmat))
+        return -1;
     return (int)im->nmat++;
 }
 
@@ -374,8 +452,10 @@ static alb_err load_mtl(importer *im, const otok *name, bool warn, bool *opened)
     size_t len;
     alb_diag io;
     alb_diag_init(&io, NULL);
-    alb_err e = read_file(path, &text, &len, &io);
+    alb_err e = read_file(path, true, &text, &len, &io);
     *opened = e != ALB_ERR_IO;
+    if (!e && alb_scene_note_file(im->s, path))
+        e = ALB_ERR_NOMEM;
     if (e == ALB_ERR_IO) {
         if (warn)
             alb_diag_warn(im->d, im->path, im->line, "material library '%s': %s; faces using its "
@@ -415,9 +495,13 @@ static alb_err st_usemtl(importer *im, reader *r)
         return expected(r, NULL, "a material name");
     int m = find_material(im, t.s, t.len);
     if (m < 0) {
-        /* Remembered as a grey material so that it is reported only once. */
-        alb_diag_warn(im->d, im->path, r->line, "material '%.*s' is not defined in any material "
-                  "library; its faces get the default colour", clip_len(t.len), t.s);
+        /* Remembered as a grey material so that it is reported only once;
+         * past the first few, counted for one warning at the end. */
+        if (im->undefined++ < OBJ_WARN_NAMED)
+            alb_diag_warn(im->d, im->path, r->line, "material '%.*s' is not defined in any "
+                      "material library; its faces get the default colour", clip_len(t.len), t.s);
+        else if (!im->undefined_more++)
+            im->undefined_line = r->line;
         if ((m = add_material(im, t.s, t.len)) < 0)
             return ALB_ERR_NOMEM;
     }
@@ -894,21 +978,42 @@ static alb_err st_f(importer *im, reader *r, unsigned col)
 
 /* ---- statements ---- */
 
+/* An unknown keyword: a warning the first time, for the first few; the
+ * statements of the others are counted for one warning at the end. */
 static alb_err warn_keyword(importer *im, reader *r, const otok *k)
 {
-    for (unsigned i = 0; i < im->nkw; i++)
-        if (tok_is(k, im->kw[i]))
-            return ALB_OK;
+    unsigned seen = im->nkw ? index_find(&im->kw_index, im->kw, sizeof *im->kw, k->s, k->len) : 0;
+    if (seen) {
+        if (seen > OBJ_WARN_NAMED)
+            im->kw_more++;
+        return ALB_OK;
+    }
     char **kw = grow(im->kw, &im->cap_kw, im->nkw + 1, sizeof *kw);
     if (!kw)
         return ALB_ERR_NOMEM;
     im->kw = kw;
-    if (!(im->kw[im->nkw] = dup_n(k->s, k->len)))
+    if (!(im->kw[im->nkw] = dup_n(k->s, k->len)) ||
+        index_add(&im->kw_index, im->kw, sizeof *im->kw, im->nkw))
         return ALB_ERR_NOMEM;
-    im->nkw++;
-    alb_diag_warn(im->d, im->path, r->line, "'%.*s' statements are not supported and are ignored",
-              clip_len(k->len), k->s);
+    if (++im->nkw <= OBJ_WARN_NAMED)
+        alb_diag_warn(im->d, im->path, r->line, "'%.*s' statements are not supported and are "
+                  "ignored", clip_len(k->len), k->s);
+    else if (!im->kw_more++)
+        im->kw_more_line = r->line;
     return ALB_OK;
+}
+
+/* What was counted rather than named. */
+static void warn_counted(importer *im)
+{
+    if (im->kw_more)
+        alb_diag_warn(im->d, im->path, 0, "%u more statements of %u other unsupported keywords "
+                  "were ignored, the first on line %u (only the first %d keywords are named)",
+                  im->kw_more, im->nkw - OBJ_WARN_NAMED, im->kw_more_line, OBJ_WARN_NAMED);
+    if (im->undefined_more)
+        alb_diag_warn(im->d, im->path, 0, "%u more materials are not defined in any material "
+                  "library, the first on line %u; their faces get the default colour",
+                  im->undefined_more, im->undefined_line);
 }
 
 static alb_err statement(importer *im, reader *r, const otok *k)
@@ -973,6 +1078,7 @@ static alb_err import(importer *im, const char *text, size_t len)
     alb_err e = obj_parse(im, text, len);
     if (e)
         return e;
+    warn_counted(im);
     if (im->ndegenerate)
         alb_diag_warn(im->d, im->path, 0, "skipped %u degenerate face%s (no area), the first on "
                   "line %u", im->ndegenerate, im->ndegenerate == 1 ? "" : "s",
@@ -990,24 +1096,41 @@ static bool finite3(vec3 v)
     return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
 }
 
+/* v's length, with v scaled by its largest component first, so that
+ * neither 1e308 (whose square overflows) nor a denormal (whose square is
+ * 0) is mistaken: inf only if the length itself overflows. */
+static double length_of(vec3 v, vec3 *unit)
+{
+    double m = fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z)));
+    if (!(m > 0) || !isfinite(m))
+        return m;
+    vec3 s = v3(v.x / m, v.y / m, v.z / m);   /* not * (1 / m): 1 / a denormal overflows */
+    double l = v3_len(s);
+    *unit = v3_scale(s, 1 / l);
+    return m * l;
+}
+
 alb_err alb_scene_camera_check(const alb_scene_camera *c, alb_diag *d)
 {
     if (!finite3(c->eye) || !finite3(c->at) || !finite3(c->up))
         return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--eye, --at and --up must be finite");
-    vec3 f = v3_sub(c->at, c->eye);
-    double fl = v3_len(f), ul = v3_len(c->up);
-    if (!(fl > 0 && isfinite(fl)))
+    vec3 f = v3_sub(c->at, c->eye), fu = {0, 0, 0}, uu = {0, 0, 0};
+    double fl = length_of(f, &fu), ul = length_of(c->up, &uu);
+    if (!isfinite(fl))
+        return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--eye and --at are too far apart: their "
+                       "difference overflows a double");
+    if (!(fl > 0))
         return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--eye and --at must be different points "
                        "(the camera looks from --eye toward --at)");
-    if (!(ul > 0 && isfinite(ul)))
+    if (!(ul > 0))
         return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--up must be a non-zero vector");
-    if (!(v3_len(v3_cross(v3_scale(f, 1 / fl), v3_scale(c->up, 1 / ul))) > TOL_UP))
+    if (!(v3_len(v3_cross(fu, uu)) > TOL_UP))
         return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--up (%g,%g,%g) is parallel to the view "
                        "direction from --eye to --at; choose an up vector across it",
                        c->up.x, c->up.y, c->up.z);
-    if (!(c->fov_y > 0 && c->fov_y < 180))
+    if (!(c->fov_y >= ALB_SCENE_MIN_FOV && c->fov_y < 180))
         return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0, "--fov %g: the vertical field of view must "
-                       "be in (0, 180) degrees", c->fov_y);
+                       "be in [%g, 180) degrees", c->fov_y, ALB_SCENE_MIN_FOV);
     return ALB_OK;
 }
 
@@ -1053,7 +1176,7 @@ alb_err alb_scene_load_obj(const char *path, const alb_scene_camera *cam_obj, al
     /* checked as the user gave it, so that the messages quote what was typed
      * (negating z changes no length and no angle) */
     alb_err e = alb_scene_camera_check(cam_obj, d);
-    if (e || (e = camera_size_check(cam_obj, d)) || (e = read_file(path, &text, &len, d)))
+    if (e || (e = camera_size_check(cam_obj, d)) || (e = read_file(path, false, &text, &len, d)))
         return e;
     alb_scene_camera c = *cam_obj, *cam = &c;
     c.eye.z = -c.eye.z;

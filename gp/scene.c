@@ -20,6 +20,8 @@ typedef struct {
     unsigned len, col;
 } token;
 
+#define NO_QUOTE 0u   /* parser.open_quote: every quote was closed */
+
 typedef struct {
     alb_scene *s;
     alb_diag *d;
@@ -27,13 +29,14 @@ typedef struct {
     unsigned line;
     token tok[MAX_TOKENS];
     unsigned ntok;
+    unsigned open_quote;          /* column of a '"' the line did not close */
     alb_scene_object *obj;        /* inside object ... end */
     uint8_t colour[3];
     int texture;
     alb_scene_frame init;         /* state before the first frame line */
     alb_scene_frame *cur;         /* state being modified */
     bool in_frames;
-    unsigned cap_poses;       /* of init.poses */
+    unsigned cap_frames;          /* of s->frames */
     /* object names -> index + 1, open addressing, at most half full: a
      * lookup by name costs the same in a scene of a million objects */
     unsigned *names;
@@ -105,17 +108,67 @@ alb_scene_face *alb_scene_add_face(alb_scene *s, alb_scene_object *o, const unsi
     return f;
 }
 
+const alb_scene_pose *alb_scene_pose_at(const alb_scene *s, unsigned f, unsigned oi)
+{
+    static const alb_scene_pose origin;
+    const alb_scene_object *o = &s->obj[oi];
+    if (!o->npose)
+        return &origin;
+    unsigned lo = 0, hi = o->npose;   /* the last change at or before f */
+    while (hi - lo > 1) {
+        unsigned mid = lo + (hi - lo) / 2;
+        if (o->pose_from[mid] <= f)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return &o->pose[lo];
+}
+
+int alb_scene_set_pose(alb_scene *s, unsigned oi, unsigned f, const alb_scene_pose *p)
+{
+    alb_scene_object *o = &s->obj[oi];
+    if (o->npose && o->pose_from[o->npose - 1] > f)
+        return -1;
+    if (o->npose && o->pose_from[o->npose - 1] == f) {
+        o->pose[o->npose - 1] = *p;
+        return 0;
+    }
+    unsigned cap = o->cap_pose;
+    if (grow((void **)&o->pose, &cap, o->npose + 1, sizeof *o->pose) ||
+        grow((void **)&o->pose_from, &o->cap_pose, o->npose + 1, sizeof *o->pose_from))
+        return -1;
+    o->pose[o->npose] = *p;
+    o->pose_from[o->npose++] = f;
+    return 0;
+}
+
+int alb_scene_note_file(alb_scene *s, const char *path)
+{
+    char **f = realloc(s->files, (s->nfiles + 1) * sizeof *f);
+    if (!f)
+        return -1;
+    s->files = f;
+    if (!(f[s->nfiles] = malloc(strlen(path) + 1)))
+        return -1;
+    strcpy(f[s->nfiles++], path);
+    return 0;
+}
+
 void alb_scene_free(alb_scene *s)
 {
+    for (unsigned i = 0; i < s->nfiles; i++)
+        free(s->files[i]);
+    free(s->files);
     for (unsigned i = 0; i < s->nobj; i++) {
         free(s->obj[i].v);
         free(s->obj[i].idx);
         free(s->obj[i].f);
+        free(s->obj[i].pose);
+        free(s->obj[i].pose_from);
     }
     for (unsigned i = 0; i < s->ntex; i++)
         free(s->tex[i].texels);
-    for (unsigned i = 0; i < s->nframes; i++)
-        free(s->frames[i].poses);
     free(s->obj);
     free(s->tex);
     free(s->frames);
@@ -245,9 +298,20 @@ alb_err alb_scene_check_face(const alb_scene *s, const alb_scene_object *o, cons
                        f->id, o->name);
     vec3 nn = alb_scene_face_newell(o, f);
     double nl = v3_len(nn);
-    if (!(nl > TOL_AREA * L * L))
+    if (!(nl > TOL_AREA * L * L)) {
+        /* no area because a vertex is used twice (not in a row: that is a
+         * zero-length edge), folding the face onto itself: say so, not
+         * "collinear" (f 1 2 1 3) */
+        for (unsigned k = 0; k < n; k++)
+            for (unsigned j = k + 2; j < n; j++)
+                if (o->idx[f->first + k] == o->idx[f->first + j] && !(k == 0 && j == n - 1))
+                    return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, vertex_col(f, cols, j),
+                                   "face %u of object '%s' has zero area: vertex %u is used "
+                                   "twice (as its vertex %u and %u), folding it onto itself",
+                                   f->id, o->name, vertex_number(o, f, k), k + 1, j + 1);
         return alb_diag_at(d, ALB_ERR_GEOMETRY, file, f->line, f->col,
                        "face %u of object '%s' has zero area (collinear vertices)", f->id, o->name);
+    }
     /* Planar: every vertex within TOL_PLANE L of the plane of the Newell
      * normal through the centroid. */
     vec3 u = v3_scale(nn, 1 / nl);
@@ -293,6 +357,7 @@ alb_err alb_scene_check_face(const alb_scene *s, const alb_scene_object *o, cons
 static void tokenize(parser *p, const char *line, size_t len)
 {
     p->ntok = 0;
+    p->open_quote = NO_QUOTE;
     size_t i = 0;
     while (i < len) {
         while (i < len && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r'))
@@ -304,6 +369,8 @@ static void tokenize(parser *p, const char *line, size_t len)
             start = ++i;
             while (i < len && line[i] != '"')
                 i++;
+            if (i >= len && !p->open_quote)
+                p->open_quote = (unsigned)start;   /* the quote's own column */
         } else {
             while (i < len && line[i] != ' ' && line[i] != '\t' && line[i] != '\r' && line[i] != '#')
                 i++;
@@ -332,10 +399,25 @@ perr(parser *p, unsigned col, const char *fmt, ...)
     return alb_diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, col, "%s", msg);
 }
 
+/* A word as a message quotes it: at most 40 characters, and those that
+ * would not print (a form feed, a vertical tab) as \x0c. */
+static void quote_word(char *out, size_t cap, const char *s, unsigned len)
+{
+    size_t n = 0;
+    for (unsigned i = 0; i < len && i < 40 && n + 5 < cap; i++) {
+        unsigned char c = (unsigned char)s[i];
+        if (c >= 0x20 && c < 0x7F)
+            out[n++] = (char)c;
+        else
+            n += (size_t)snprintf(out + n, cap - n, "\\x%02x", c);
+    }
+    out[n] = 0;
+}
+
 static alb_err err_found(parser *p, const token *t, const char *expected)
 {
-    char got[48];
-    snprintf(got, sizeof got, "%.*s", (int)(t->len > 40 ? 40 : t->len), t->s);
+    char got[200];
+    quote_word(got, sizeof got, t->s, t->len);
     return alb_diag_at(p->d, ALB_ERR_PARSE, p->file, p->line, t->col, "expected %s, found '%s'",
                    expected, got);
 }
@@ -591,14 +673,17 @@ static alb_err st_observer(parser *p)
         if (tok_is(&p->tok[i], "fov")) {
             if ((e = num(p, i + 1, &v)))
                 return e;
-            if (!(v > 0 && v < 180))
-                return perr(p, p->tok[i + 1].col, "field of view must be in (0, 180) degrees");
+            if (!(v >= ALB_SCENE_MIN_FOV && v < 180))
+                return perr(p, p->tok[i + 1].col, "field of view %g must be in [%g, 180) "
+                            "degrees: a narrower view magnifies beyond what the GP's doubles "
+                            "hold", v, ALB_SCENE_MIN_FOV);
             o->fov_y = v;
         } else if (tok_is(&p->tok[i], "aspect")) {
             if ((e = aspect_ratio(p, i + 1, &v)))
                 return e;
-            if (!(v > 0 && v < 100))
-                return perr(p, p->tok[i + 1].col, "aspect must be in (0, 100)");
+            if (!(v >= ALB_SCENE_MIN_ASPECT && v < 100))
+                return perr(p, p->tok[i + 1].col, "aspect %g must be in [%g, 100)", v,
+                            ALB_SCENE_MIN_ASPECT);
             o->aspect = v;
         } else {
             return err_tok(p, i, "at, yaw, pitch, roll, fov or aspect");
@@ -663,18 +748,24 @@ static alb_err st_texture(parser *p)
             return err_tok(p, 3, "a file name");
         if (p->ntok > 4)
             return err_tok(p, 4, "end of line");
-        char path[512];
-        const char *slash = strrchr(s->file, '/');
-        int dirlen = slash ? (int)(slash - s->file + 1) : 0;
+        /* relative to the scene file's folder, from its whole name (not
+         * the one kept for messages, which may be cut short) */
+        const char *slash = strrchr(p->file, '/');
+        int dirlen = slash ? (int)(slash - p->file + 1) : 0;
         if (p->tok[3].s[0] == '/')
             dirlen = 0;
-        if (snprintf(path, sizeof path, "%.*s%.*s", dirlen, s->file, (int)p->tok[3].len,
-                     p->tok[3].s) >= (int)sizeof path)
-            return perr(p, p->tok[3].col, "texture path longer than %zu characters",
-                        sizeof path - 1);
+        char *path = alb_strprintf("%.*s%.*s", dirlen, p->file, (int)p->tok[3].len, p->tok[3].s);
+        if (!path)
+            return ALB_ERR_NOMEM;
         alb_diag inner;
         alb_diag_init(&inner, NULL);
-        if ((e = alb_scene_texture_png(&t, path, &inner)))
+        e = alb_scene_texture_png(&t, path, &inner);
+        if (!e && alb_scene_note_file(s, path))
+            e = ALB_ERR_NOMEM;
+        free(path);
+        if (e == ALB_ERR_NOMEM)
+            return e;
+        if (e)
             return alb_diag_at(p->d, e, p->file, p->line, p->tok[3].col, "texture '%s': %s",
                            name, inner.msg);
     } else {
@@ -709,10 +800,9 @@ static alb_err st_object(parser *p)
     unsigned next;
     if ((e = pose_options(p, i, &pose, &next, NULL)))
         return e;
-    /* the initial pose, copied into every frame */
-    if (grow((void **)&p->init.poses, &p->cap_poses, p->s->nobj, sizeof *p->init.poses))
+    /* the initial pose, from frame 0 until a 'pose' changes it */
+    if (alb_scene_set_pose(p->s, p->s->nobj - 1, 0, &pose))
         return ALB_ERR_NOMEM;
-    p->init.poses[p->s->nobj - 1] = pose;
     p->obj = o;
     p->colour[0] = p->colour[1] = p->colour[2] = 200;
     p->texture = -1;
@@ -857,19 +947,13 @@ static alb_err st_pose(parser *p)
     alb_scene_object *o = find_object(p, &p->tok[1]);
     if (!o)
         return err_tok(p, 1, "the name of an object defined above");
-    unsigned next;
-    return pose_options(p, 2, &p->cur->poses[o - p->s->obj], &next, NULL);
-}
-
-static alb_err copy_frame(alb_scene_frame *dst, const alb_scene_frame *src, unsigned nobj)
-{
-    *dst = *src;
-    dst->poses = malloc((nobj ? nobj : 1) * sizeof *dst->poses);
-    if (!dst->poses)
-        return ALB_ERR_NOMEM;
-    if (nobj)
-        memcpy(dst->poses, src->poses, nobj * sizeof *dst->poses);
-    return ALB_OK;
+    /* a change from this frame on: what it does not set stays as it was */
+    unsigned next, oi = (unsigned)(o - p->s->obj), frame = p->s->nframes - 1;
+    alb_scene_pose pose = *alb_scene_pose_at(p->s, frame, oi);
+    alb_err e = pose_options(p, 2, &pose, &next, NULL);
+    if (!e && alb_scene_set_pose(p->s, oi, frame, &pose))
+        e = ALB_ERR_NOMEM;
+    return e;
 }
 
 static alb_err st_frame(parser *p)
@@ -877,14 +961,10 @@ static alb_err st_frame(parser *p)
     alb_scene *s = p->s;
     if (p->ntok > 1)
         return err_tok(p, 1, "end of line");
-    alb_scene_frame *nf = realloc(s->frames, (s->nframes + 1) * sizeof *nf);
-    if (!nf)
+    /* doubling: a scene of 100,000 frames is read in linear time */
+    if (grow((void **)&s->frames, &p->cap_frames, s->nframes + 1, sizeof *s->frames))
         return ALB_ERR_NOMEM;
-    s->frames = nf;
-    const alb_scene_frame *prev = s->nframes ? &s->frames[s->nframes - 1] : &p->init;
-    alb_err e = copy_frame(&s->frames[s->nframes], prev, s->nobj);
-    if (e)
-        return e;
+    s->frames[s->nframes] = s->nframes ? s->frames[s->nframes - 1] : p->init;
     p->cur = &s->frames[s->nframes++];
     p->in_frames = true;
     return ALB_OK;
@@ -1005,13 +1085,10 @@ alb_err alb_scene_finish(alb_scene *s, alb_diag *d)
         s->nframes = 1;
         alb_scene_default_frame(&s->frames[0]);
     }
-    for (unsigned f = 0; f < s->nframes; f++) {
-        if (!s->frames[f].poses) {
-            s->frames[f].poses = calloc(s->nobj ? s->nobj : 1, sizeof(alb_scene_pose));
-            if (!s->frames[f].poses)
-                return ALB_ERR_NOMEM;
-        }
-    }
+    static const alb_scene_pose origin;
+    for (unsigned i = 0; i < s->nobj; i++)
+        if (!s->obj[i].npose && alb_scene_set_pose(s, i, 0, &origin))
+            return ALB_ERR_NOMEM;
     return ALB_OK;
 }
 
@@ -1040,7 +1117,7 @@ alb_err alb_scene_parse(const char *text, size_t len, const char *name, alb_scen
     alb_scene_init(s, name);
     p.s = s;
     p.d = d;
-    p.file = s->file;
+    p.file = name ? name : s->file;
     p.texture = -1;
     alb_scene_default_frame(&p.init);
     p.cur = &p.init;
@@ -1058,9 +1135,20 @@ alb_err alb_scene_parse(const char *text, size_t len, const char *name, alb_scen
         pos = end + 1;
         if (p.ntok == 0)
             continue;
+        if (p.open_quote) {
+            e = alb_diag_at(d, ALB_ERR_PARSE, p.file, p.line, p.open_quote,
+                        "unterminated quote: the '\"' here is not closed on its line");
+            break;
+        }
         if (p.ntok > MAX_TOKENS) {
-            e = alb_diag_at(d, ALB_ERR_PARSE, p.file, p.line, p.tok[MAX_TOKENS - 1].col,
-                        "more than %d words on one line", MAX_TOKENS);
+            /* a face is the one statement that long: its own limit says more */
+            if (tok_is(&p.tok[0], "f") && p.obj)
+                e = alb_diag_at(d, ALB_ERR_LIMIT, p.file, p.line, p.tok[0].col,
+                            "face has more than %d vertices (%u words on the line); split it "
+                            "(docs/limits.md)", ALB_SCENE_MAX_FACE_VERTICES, p.ntok - 1);
+            else
+                e = alb_diag_at(d, ALB_ERR_PARSE, p.file, p.line, p.tok[MAX_TOKENS - 1].col,
+                            "more than %d words on one line", MAX_TOKENS);
             break;
         }
         if (!header) {
@@ -1085,12 +1173,11 @@ alb_err alb_scene_parse(const char *text, size_t len, const char *name, alb_scen
     if (!e && s->nframes == 0) {
         /* one frame: the initial state itself */
         s->frames = malloc(sizeof *s->frames);
-        if (!s->frames || copy_frame(s->frames, &p.init, s->nobj))
+        if (!s->frames)
             e = ALB_ERR_NOMEM;
         else
-            s->nframes = 1;
+            s->frames[s->nframes++] = p.init;
     }
-    free(p.init.poses);
     free(p.names);
     if (!e)
         e = alb_scene_finish(s, d);
@@ -1103,12 +1190,14 @@ alb_err alb_scene_parse(const char *text, size_t len, const char *name, alb_scen
 
 alb_err alb_scene_load(const char *path, alb_scene *s, alb_diag *d)
 {
-    FILE *f = fopen(path, "rb");
+    const char *why;
+    FILE *f = alb_file_open_input(path, false, &why);
     if (!f)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open scene: %s", strerror(errno));
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open scene: %s", why);
     char *buf;
     size_t len;
-    int rc = alb_file_read_all(f, &buf, &len);
+    /* a NUL ends the reading: the parser refuses it where it stands */
+    int rc = alb_file_read_text(f, &buf, &len);
     int err = errno;
     fclose(f);
     if (rc == -2)
@@ -1166,8 +1255,10 @@ alb_err alb_scene_resolve_screenspace(alb_scene *s, unsigned width, unsigned hei
         s->frames[f].obs.pose = (alb_scene_pose){{0, 0, 0}, 0, 0, 0};
         s->frames[f].obs.fov_y = 90;
         s->frames[f].obs.aspect = 1;
-        for (unsigned i = 0; i < s->nobj; i++)
-            s->frames[f].poses[i] = (alb_scene_pose){{0, 0, 0}, 0, 0, 0};
+    }
+    for (unsigned i = 0; i < s->nobj; i++) {   /* one pose, at the origin, in every frame */
+        s->obj[i].npose = 1;
+        s->obj[i].pose[0] = (alb_scene_pose){{0, 0, 0}, 0, 0, 0};
     }
     s->screenspace = false;
     return ALB_OK;

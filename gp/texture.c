@@ -2,6 +2,7 @@
  * checker and PNG files through libpng.  The VP sees only texels, loaded
  * through TEXTURE packets of the word stream. */
 #include "albatros/scene.h"
+#include "albatros/file.h"
 
 #include <errno.h>
 #ifndef ALB_NO_EXTERNAL
@@ -137,9 +138,11 @@ alb_err alb_scene_texture_png(alb_scene_texture *t, const char *path, alb_diag *
 {
     /* Opened here rather than by libpng, so that the messages can name the
      * path and the system's reason, and tell an empty file from a bad one. */
-    FILE *f = fopen(path, "rb");
+    const char *why;
+    /* a regular file only: a FIFO would block, a device might never end */
+    FILE *f = alb_file_open_input(path, true, &why);
     if (!f)
-        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open '%s': %s", path, strerror(errno));
+        return alb_diag_at(d, ALB_ERR_IO, path, 0, 0, "cannot open '%s': %s", path, why);
     png_byte sig[8];
     size_t got = fread(sig, 1, sizeof sig, f);
     alb_err e;

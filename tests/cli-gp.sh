@@ -39,10 +39,15 @@ expect 0 "warning: frame 0: 512 samples are farther than near x 2\^depth_bits = 
     "$bin" render "$tmp/under.scene" --profile t32 -o "$tmp/under.exr"
 # a plane 1e-300 from the eye: depth form 1e300, beyond the exponent range
 printf 'albatros-scene 1\nobserver fov 90\nobject t\n v -1 1e-300 1\n v 0 1e-300 3\n v 1 1e-300 1\n f 1 2 3\nend\n' > "$tmp/edge.scene"
-expect 0 "warning: 1 linear forms exceeded the exponent range" \
+# the warning names the face's line, the form and its likely cause
+expect 0 "edge.scene:7: warning: frame 0: the face's depth form exceeds the exponent range .*nearly edge-on.*1 face in all" \
     "$bin" render "$tmp/edge.scene" --profile t32 -o "$tmp/edge.exr"
-expect 0 "warning: 1 coefficient forms saturated their exponent" \
+expect 0 "edge.scene:7: warning: frame 0: the face's depth form exceeds" \
     "$bin" gp "$tmp/edge.scene" --profile t32 -o "$tmp/edge.stream"
+# huge intensities are not an edge-on face: the intensity form is named
+printf 'albatros-scene 1\nobserver fov 90\nobject t\n v -1 -1 5 i 1e300\n v 1 -1 5 i 0\n v 0 1 5 i 0\n f 1 2 3\nend\n' > "$tmp/inten.scene"
+expect 0 "inten.scene:7: warning: frame 0: the face's intensity form exceeds .*intensities are too large" \
+    "$bin" render "$tmp/inten.scene" --profile t32 -o "$tmp/inten.exr"
 
 # screen space: near/Z = near x depth / largest depth; the largest depth
 # saturates the store at the default near 1, and a written near is kept
@@ -84,5 +89,13 @@ expect 2 "--set near=0.5: near is the scene's depth scale, not a profile field: 
 # --near replaces a scene's near too: the stream's CONFIG word holds it
 "$bin" gp "$tmp/tie.scene" --near 0.25 -o "$tmp/n25.stream" >/dev/null 2>&1
 expect 0 "near=0\.25" "$bin" dump "$tmp/n25.stream"
+
+# extreme cameras are cameras (issue 16, item 10): a denormal --up is the
+# direction it points, an eye at 1e308 is no "coincident" eye and at
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$tmp/cam.obj"
+"$bin" gp "$tmp/cam.obj" --up 1e-320,0,0 -q -o "$tmp/tiny.stream" && "$bin" gp "$tmp/cam.obj" --up 1,0,0 -q -o "$tmp/one.stream" &&
+    cmp -s "$tmp/tiny.stream" "$tmp/one.stream" && ok || bad "a denormal --up is not its direction"
+expect 0 '"faces_in": 1' "$bin" gp "$tmp/cam.obj" --eye 1e308,0,0 --json
+expect 2 "--eye and --at are too far apart" "$bin" gp "$tmp/cam.obj" --eye 1e308,0,0 --at -1e308,0,0 --json
 
 finish

@@ -49,6 +49,17 @@ expect 2 "random: --per-angle is for slivers only" "$bin" scene random --per-ang
 expect 2 "cyclic: --size is for random only" "$bin" scene cyclic --severity 1 --size 0.5
 expect 0 "" "$bin" scene random --faces 3 --flat --size 0.2 --seed 4 -o "$tmp/r.scene"
 expect 0 "" "$bin" scene slivers --per-angle 1 --seed 4 -o "$tmp/s.scene"
+# scene random --behind/--backfacing: the fractions of faces crossing Z = 0
+# and wound away (the bench's scenes have neither: both renderers draw them all)
+"$bin" scene random --faces 40 --seed 7 --behind 0 --backfacing 0 -o "$tmp/front.scene"
+expect 0 "faces: 40 in, 40 out; dropped 0 behind, 0 back-facing" "$bin" gp "$tmp/front.scene" -o "$tmp/front.stream"
+"$bin" scene random --faces 40 --seed 7 --backfacing 1 -o "$tmp/back.scene"
+expect 0 "faces: 40 in, 0 out; dropped 0 behind, 40 back-facing" "$bin" gp "$tmp/back.scene" -o "$tmp/back.stream"
+"$bin" scene random --faces 40 --seed 7 -o "$tmp/default.scene"
+expect 0 "faces: 40 in, 30 out; dropped 0 behind, 8 back-facing" "$bin" gp "$tmp/default.scene" -o "$tmp/default.stream"
+expect 2 "--behind 1.5: expected a fraction in \[0, 1\]" "$bin" scene random --behind 1.5
+expect 2 "--backfacing x: expected a fraction" "$bin" scene random --backfacing x
+expect 2 "slivers: --behind is for random only" "$bin" scene slivers --behind 0
 
 # stability --jobs: with --family, only those jobs; the speed job with --speed
 "$bin" stability --jobs --family cyclic --out "$tmp/st" > "$tmp/jobs1.txt"

@@ -84,4 +84,32 @@ expect 0 "" "$bin" reference -q "$tmp/c.scene" --profile t32 -o "$tmp/r.exr"
 expect 1 "1024 pixels: [1-9][0-9]* with a different face" "$bin" compare "$tmp/r.exr" "$tmp/p.exr"
 expect 0 "1024 pixels: 0 with a different face" "$bin" compare "$tmp/r.exr" "$tmp/z.exr"
 
+# the charts read right (docs/stability.md): every panel's axes say what
+# they measure, no two series share a colour, a family where nothing differs
+# is named rather than drawn flat, and the speed chart labels its points by
+# number with the names in its key
+mkdir -p "$tmp/rep"
+cp docs/stability/stability-*.csv docs/stability/speed.csv "$tmp/rep/" 2>/dev/null ||
+    cp "$(dirname "$0")"/../docs/stability/stability-*.csv "$(dirname "$0")"/../docs/stability/speed.csv "$tmp/rep/"
+if "$bin" stability --report --out "$tmp/rep" -q > /dev/null 2>&1; then ok; else bad "stability --report"; fi
+gp=$tmp/rep/stability.gp
+panels=$(grep -c '^set title' "$gp")
+[[ $(grep -c "^set xlabel 'severity: [a-z]" "$gp") -eq $((panels - 1)) && $(grep -c "^set ylabel 'pixels wrong, %'" "$gp") -eq 1 ]] &&
+    ok || bad "stability panels without axis labels: $(grep -c '^set xlabel' "$gp") of $panels"
+colours=$(grep -o "^set linetype [0-9]* lc rgb '#[0-9a-f]*'" "$gp" | awk '{print $6}')
+[[ $(wc -l <<<"$colours") -eq 17 && $(sort -u <<<"$colours" | wc -l) -eq 17 ]] && ok ||
+    bad "stability series colours: $(sort <<<"$colours" | uniq -d | tr '\n' ' ') repeat"
+grep -q "no configuration differs anywhere on: texture-far" "$gp" && ! grep -q "^set title 'texture-far'" "$gp" &&
+    ok || bad "a flat panel is drawn"
+[[ $(grep -o "ls [0-9]* title '[^']*'" "$gp" | wc -l) -eq 17 ]] && ok || bad "the legend lacks series"
+spd=$tmp/rep/speed-points.dat
+[[ $(awk -F'"' 'NF > 4 && $4 !~ /^[0-9,]*$/' "$spd" | wc -l) -eq 0 && $(grep -c "keyentry" "$tmp/rep/speed.gp") -eq $(grep -c . "$tmp/rep/speed.csv" | awk '{print $1 - 1}') ]] &&
+    ok || bad "speed chart points not numbered, or the key incomplete"
+grep -q "set xlabel 'host time per frame, ms" "$tmp/rep/speed.gp" && ok || bad "speed chart x axis"
+# a failed gnuplot run keeps the last good chart and leaves no temporary
+cp "$tmp/rep/stability.png" "$tmp/good.png"
+PATH=/nonexistent "$bin" stability --report --out "$tmp/rep" -q > /dev/null 2>&1
+[[ $? -ne 0 ]] && cmp -s "$tmp/rep/stability.png" "$tmp/good.png" && ! compgen -G "$tmp/rep/.*.tmp" > /dev/null &&
+    ok || bad "a failed chart run replaced or left files"
+
 finish

@@ -143,4 +143,62 @@ for u in engine pipe; do
     cmp -s <(changes $u "$tmp/vall.vcd") <(changes $u "$tmp/v.vcd") && ok || bad "vp: $u changes differ"
 done
 
+# --vcd-window A:B: the trace starts at cycle A with every signal's real
+# value ($dumpvars, not reset zeros) and ends at the end of cycle B, and at
+# every time between it holds what the whole run's trace holds
+"$bin" scene random --faces 30 --seed 7 -o "$tmp/r.scene"
+"$bin" render "$tmp/r.scene" --profile t32 --fidelity cycle -q --vcd "$tmp/all.vcd" &&
+    "$bin" render "$tmp/r.scene" --profile t32 --fidelity cycle -q --vcd "$tmp/win.vcd" --vcd-window 300:700 &&
+    ok || bad "window traces"
+python3 - "$tmp/all.vcd" "$tmp/win.vcd" 300 700 <<'PYEOF' && ok || bad "the windowed trace is not the whole trace's window"
+import sys
+def parse(path):
+    """(dumpvars time, dumpvars values, [(time, id, value)] after it, every time)"""
+    ids, changes, times, dump, dump_t, t, in_dump = set(), [], [], {}, None, None, False
+    for line in open(path):
+        w = line.split()
+        if not w:
+            continue
+        if w[0] == '$var':
+            ids.add(w[3])
+        elif w[0] == '$dumpvars':
+            in_dump, dump_t = True, t
+        elif w[0] == '$end' and in_dump:
+            in_dump = False
+        elif w[0].startswith('#'):
+            t = int(w[0][1:])
+            times.append(t)
+        elif w[0][0] in '01' or w[0][0] == 'b':
+            val, ident = (w[0][1:], w[1]) if w[0][0] == 'b' else (w[0][0], w[0][1:])
+            (dump.__setitem__(ident, int(val, 2)) if in_dump else changes.append((t, ident, int(val, 2))))
+    return ids, dump_t, dump, changes, times
+ids_a, ta, da, ca, times_a = parse(sys.argv[1])
+ids_w, tw, dw, cw, times_w = parse(sys.argv[2])
+a, b = int(sys.argv[3]), int(sys.argv[4])
+# the whole trace's clock: a rising edge each cycle, times cycle * period
+period = sorted(set(x for x in times_a))[2]   # 0, period/2, period
+def state(d, changes, until):
+    s = dict(d)
+    for t, i, v in changes:
+        if t > until:
+            break
+        s[i] = v
+    return s
+err = []
+if tw != a * period: err.append('window starts at %s, not %d' % (tw, a * period))
+if max(times_w) != (b + 1) * period: err.append('ends at %d, not %d' % (max(times_w), (b + 1) * period))
+if min(times_w) < a * period: err.append('a time before the window')
+if set(dw) != ids_w: err.append('$dumpvars lacks %s' % sorted(ids_w - set(dw)))
+for t in sorted(set(times_w))[:-1]:   # the last is the end of cycle B, no change
+    sa, sw = state(da, ca, t), state(dw, cw, t)
+    bad = [i for i in ids_w if sa.get(i, 0) != sw.get(i, 0)]
+    if bad:
+        err.append('at %d: %s differ' % (t, bad[:5]))
+        break
+# the window must show something the reset state does not
+if all(v == 0 for i, v in dw.items() if i != '!'): err.append('$dumpvars all zeros')
+print('\n'.join(err))
+sys.exit(1 if err else 0)
+PYEOF
+
 finish

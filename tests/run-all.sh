@@ -14,6 +14,8 @@ if [[ ${2:-} == --memcheck ]]; then
     printf '#!/bin/sh\nexec %s "%s" "$@"\n' "${vg[*]}" "$(realpath "$build/albatros")" > "$bin"
     chmod +x "$bin"
     unit=("${vg[@]}")
+    # for runners that need the program itself (cachegrind counts, short runs)
+    export ALBATROS_UNWRAPPED=$(realpath "$build/albatros")
 fi
 total_pass=0 total_fail=0 status=0
 log=$(mktemp)
@@ -50,5 +52,6 @@ run dpi bash tests/dpi.sh "$build"
 run python bash tests/python.sh "$build"
 run install bash tests/install.sh "$build"
 run usb-umockdev bash tests/usb-umockdev.sh "$build" "$bin"
+run cosim bash tests/cosim.sh "$build"
 echo "$total_pass passed, $total_fail failed"
 [[ $status -eq 0 && $total_fail -eq 0 ]]

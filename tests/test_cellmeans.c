@@ -61,6 +61,8 @@ static bool hw_next(hw_walk *w, unsigned n, vp_step *out)
         return false;
     hw_cell cell = w->stack[--w->top];
     vp_cell *k = &cell.k;
+    /* the edges the step evaluates: those active when it starts */
+    const unsigned evaluated = (unsigned)__builtin_popcountll(k->active);
     for (unsigned i = 0; i < n; i++)
         for (int j = 0; j < 4; j++)
             note(w, cell.h[i][j]);
@@ -72,7 +74,7 @@ static bool hw_next(hw_walk *w, unsigned n, vp_step *out)
                 int64_t bottom = mean(w, cell.h[i][2], cell.h[i][3]);
                 in &= mean(w, top, bottom) >= 0;   /* the sample's centre */
             }
-        *out = (vp_step){in ? VP_STEP_SAMPLE_IN : VP_STEP_SAMPLE_OUT, *k, 0};
+        *out = (vp_step){in ? VP_STEP_SAMPLE_IN : VP_STEP_SAMPLE_OUT, *k, evaluated};
         return true;
     }
     for (unsigned i = 0; i < n; i++) {
@@ -84,17 +86,17 @@ static bool hw_next(hw_walk *w, unsigned n, vp_step *out)
             hi = cell.h[i][j] > hi ? cell.h[i][j] : hi;
         }
         if (hi < 0) {
-            *out = (vp_step){VP_STEP_OUT, *k, 0};
+            *out = (vp_step){VP_STEP_OUT, *k, evaluated};
             return true;
         }
         if (lo >= 0)
             k->active &= ~(1ull << i);
     }
     if (!k->active) {
-        *out = (vp_step){VP_STEP_FILL, *k, 0};
+        *out = (vp_step){VP_STEP_FILL, *k, evaluated};
         return true;
     }
-    *out = (vp_step){VP_STEP_SPLIT, *k, 0};
+    *out = (vp_step){VP_STEP_SPLIT, *k, evaluated};
     /* children top-left, top-right, bottom-left, bottom-right; a side one
      * sample long is not split.  Corner grid of the parent: 3 x 3 points. */
     unsigned nx = k->wl ? 2 : 1, ny = k->hl ? 2 : 1;
@@ -116,8 +118,8 @@ static bool hw_next(hw_walk *w, unsigned n, vp_step *out)
     for (unsigned dy = 0; dy < ny; dy++)
         for (unsigned dx = 0; dx < nx; dx++) {
             hw_cell *c = &kids[nk++];
-            c->k = (vp_cell){k->c0 + (dx << wl), k->r0 + (dy << hl), wl, hl,
-                             (uint8_t)(k->level + 1), k->active};
+            c->k = (vp_cell){.c0 = k->c0 + (dx << wl), .r0 = k->r0 + (dy << hl), .wl = wl,
+                             .hl = hl, .level = (uint8_t)(k->level + 1), .active = k->active};
             /* a child's corners in the parent's grid: a side not split
              * spans the whole grid (index 0 to 2 via the far corner) */
             unsigned x0 = nx == 2 ? dx : 0, x1 = nx == 2 ? dx + 1 : 2;
@@ -169,7 +171,7 @@ static void check_profile(const char *name, const char *const *sets, unsigned fa
         f.n = 1 + (unsigned)(rng() % MAX_EDGES);
         hw.top = 0;
         hw_cell *root = &hw.stack[hw.top++];
-        root->k = (vp_cell){0, 0, (uint8_t)vp->lw, (uint8_t)vp->lh, 0, (1ull << f.n) - 1};
+        root->k = (vp_cell){.wl = (uint8_t)vp->lw, .hl = (uint8_t)vp->lh, .active = (1ull << f.n) - 1};
         /* near the screen's middle most of the time, so faces are neither
          * all outside nor all inside */
         uint32_t span = (rng() & 3) ? (2u << vp->cfg.edge_frac_bits) : qmax + 1;
@@ -204,14 +206,15 @@ static void check_profile(const char *name, const char *const *sets, unsigned fa
             verdicts[a.kind]++;
             bool same = a.kind == b.kind && a.cell.c0 == b.cell.c0 && a.cell.r0 == b.cell.r0 &&
                         a.cell.wl == b.cell.wl && a.cell.hl == b.cell.hl &&
-                        a.cell.level == b.cell.level &&
+                        a.cell.level == b.cell.level && a.edges == b.edges &&
                         (a.kind == VP_STEP_OUT || a.cell.active == b.cell.active);
             if (!same) {
-                CHECK_MSG(0, "%s face %u: cell (%u, %u) level %u: the model says %d (active %llx),"
-                          " the hardware walk %d at (%u, %u) level %u (active %llx)",
+                CHECK_MSG(0, "%s face %u: cell (%u, %u) level %u: the model says %d (active %llx,"
+                          " %u evaluated), the hardware walk %d at (%u, %u) level %u (active "
+                          "%llx, %u evaluated)",
                           name, t, a.cell.c0, a.cell.r0, a.cell.level, a.kind,
-                          (unsigned long long)a.cell.active, b.kind, b.cell.c0, b.cell.r0,
-                          b.cell.level, (unsigned long long)b.cell.active);
+                          (unsigned long long)a.cell.active, a.edges, b.kind, b.cell.c0,
+                          b.cell.r0, b.cell.level, (unsigned long long)b.cell.active, b.edges);
                 bad++;
                 break;
             }

@@ -427,8 +427,11 @@ TEST(gp_refuses_values_the_stream_cannot_hold)
         const char *msg;     /* NULL: accepted */
     } cases[] = {
         /* near: binary32's normal range, FLT_MIN .. FLT_MAX */
-        {"near 1e40\n", 2, 6, "near 1e+40 is outside 1.17549e-38 .. 3.40282e+38: the word stream "
-                              "stores near as IEEE-754 binary32"},
+        {"near 1e40\n", 2, 6, "near 1e+40 is outside 1.1754943508222875e-38 .. "
+                              "3.4028234663852886e+38: the word stream stores near as IEEE-754 "
+                              "binary32"},
+        /* the decimal just below FLT_MIN: the message has the digits to show it */
+        {"near 1.17549435e-38\n", 2, 6, "near 1.17549435e-38 is outside 1.1754943508222875e-38"},
         {"near 1e-50\n", 2, 6, "near 1e-50 is outside"},
         {"near 3.5e38\n", 2, 6, "near 3.5e+38 is outside"},
         {"near 1.1e-38\n", 2, 6, "near 1.1e-38 is outside"},

@@ -5,23 +5,12 @@
  * golden vectors, masks, and errors. */
 #include "t.h"
 #include "gp_helpers.h"
+#include "refpacket.h"
 #include "albatros/albatros.h"
 #include "../tools/scenegen.h"
 
 #include <stdlib.h>
 #include <string.h>
-
-/* CRC-32 bit by bit (IEEE 802.3, reflected): not the library's tables. */
-static uint32_t crc_bitwise(uint32_t crc, const uint8_t *p, size_t n)
-{
-    crc = ~crc;
-    for (size_t i = 0; i < n; i++) {
-        crc ^= p[i];
-        for (int k = 0; k < 8; k++)
-            crc = crc & 1 ? (crc >> 1) ^ 0xEDB88320u : crc >> 1;
-    }
-    return ~crc;
-}
 
 /* The frame CRC of docs/cosim.md: R, G, B of every pixel, 16-bit LE. */
 static uint32_t frame_crc(const alb_frame *f)
@@ -29,7 +18,7 @@ static uint32_t frame_crc(const alb_frame *f)
     uint32_t crc = 0;
     for (size_t i = 0; i < 3 * (size_t)f->width * f->height; i++) {
         uint8_t b[2] = {(uint8_t)f->rgb[i], (uint8_t)(f->rgb[i] >> 8)};
-        crc = crc_bitwise(crc, b, 2);
+        crc = ref_crc32_more(crc, b, 2);
     }
     return crc;
 }
@@ -198,7 +187,7 @@ TEST(model_worked_example_event_by_event)
             uint8_t px[6] = {255, 0, 128, 0, 64, 0};
             uint32_t crc = 0;
             for (int px_i = 0; px_i < 1024; px_i++)
-                crc = crc_bitwise(crc, px, 6);
+                crc = ref_crc32_more(crc, px, 6);
             CHECK_EQ(e->crc, crc);
             break;
         }
@@ -538,4 +527,79 @@ TEST(model_errors_are_located)
     CHECK_EQ(alb_model_open(&m, "t32", good_set, NULL, &d), ALB_OK);
     alb_model_destroy(m);
     alb_ws_buf_free(&b);
+}
+
+/* A heavy frame (whole-screen faces) and then `empty` empty frames, taken
+ * while it drains as far as the FRAME registers allow (frame_queue). */
+static void frames_behind_a_heavy_one(alb_profile *p, alb_ws_buf *b, unsigned empty)
+{
+    alb_profile_lookup("t32", p);
+    alb_ws_buf_init(b);
+    alb_ws_config cfg = {p->edge_frac_bits, p->coef_bits, 1.0f};
+    alb_ws_put_config(b, &cfg);
+    for (unsigned k = 0; k <= empty; k++) {
+        alb_ws_frame fr = {k, 0x101010, false, 0, 0, 0};
+        alb_ws_put_frame(b, &fr);
+        unsigned faces = k ? 0 : 3;
+        for (unsigned i = 0; i < faces; i++) {
+            alb_ws_face f;
+            memset(&f, 0, sizeof f);
+            f.id = i;
+            f.rgb = 0x808080;
+            f.depth = (alb_ws_form){-1, {0, 0, 1}};
+            alb_ws_put_face(b, &f);
+        }
+        alb_ws_put_frame_end(b, faces);
+    }
+    alb_ws_put_end(b);
+}
+
+static bool counters_same(const alb_sim_counters *a, const alb_sim_counters *b)
+{
+#define SAME(field) if (a->field != b->field) return false;
+    ALB_SIM_COUNTER_FIELDS(SAME)
+#undef SAME
+    return true;
+}
+
+/* The FRAME registers (docs/microarchitecture.md, "VP input parser"): with
+ * one set a FRAME waits for the frame before it to retire, so each empty
+ * frame after the heavy one takes its 6 words' pops (5 of FRAME, 1 of
+ * FRAME_END) from the retirement before it; with 16, the next 15 are taken
+ * while the heavy frame drains and retire one a cycle after it.  Timed and
+ * cycle agree on every counter at every queue size. */
+TEST(model_frame_registers_hold_frame_queue_frames)
+{
+    static const unsigned queues[] = {1, 2, 3, 16};
+    for (size_t qi = 0; qi < sizeof queues / sizeof *queues; qi++) {
+        alb_profile p;
+        alb_ws_buf b;
+        frames_behind_a_heavy_one(&p, &b, 24);
+        p.frame_queue = queues[qi];
+        ev_log lc = {0}, lt = {0};
+        alb_model *c = model(&p, ALB_FIDELITY_CYCLE, ALB_PRODUCER_GP, ALB_EV_FRAME);
+        alb_model *t = model(&p, ALB_FIDELITY_TIMED, ALB_PRODUCER_GP, ALB_EV_FRAME);
+        CHECK(c && run_all(c, &b, 1000, &lc) == 0);
+        CHECK(t && run_all(t, &b, 1000, &lt) == 0);
+        CHECK_EQ(lc.n, 25);
+        CHECK(events_equal(&lc, &lt, ALB_EV_FRAME));
+        for (unsigned k = 0; k < lc.n; k++) {
+            const alb_sim_counters *cc = alb_model_counters(c, k), *ct = alb_model_counters(t, k);
+            CHECK_MSG(cc && ct && counters_same(cc, ct), "frame_queue=%u frame %u: counters",
+                      queues[qi], k);
+        }
+        uint64_t r0 = lc.n ? lc.e[0].cycle : 0;
+        for (unsigned k = 1; k < lc.n; k++) {
+            uint64_t want = queues[qi] == 1 ? r0 + 6 * k : queues[qi] == 16 && k <= 15 ? r0 + k : 0;
+            if (want)
+                CHECK_MSG(lc.e[k].cycle == want, "frame_queue=%u: frame %u retired in %llu, "
+                          "expected %llu", queues[qi], k, (unsigned long long)lc.e[k].cycle,
+                          (unsigned long long)want);
+        }
+        if (queues[qi] == 1)   /* FRAME 1 waited, in frame 0's cycles: blocked */
+            CHECK(alb_model_counters(c, 0) && alb_model_counters(c, 0)->parser_blocked > 0);
+        free(lc.e), free(lt.e);
+        alb_model_destroy(c), alb_model_destroy(t);
+        alb_ws_buf_free(&b);
+    }
 }

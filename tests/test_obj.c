@@ -151,6 +151,8 @@ TEST(obj_errors_are_located)
          "f 1 2 3 4 5 6\n", 7, 0, "non-convex and non-planar"},
         {"v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\n", 5, 0, "self-intersecting"},
         {"# nothing\n", 1, 0, "no faces"},
+        /* classic Mac line ends: named, not "expected a number, found 'v'" */
+        {"v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r", 1, 8, "bare carriage return (CR)"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         const char *path = write_file("bad.obj", cases[i].text);
@@ -241,6 +243,38 @@ TEST(obj_camera_orientation)
     cam = default_camera();
     cam.width = 0;   /* the size is the profile's to check */
     CHECK(alb_scene_camera_check(&cam, &d) == ALB_OK);
+}
+
+/* The camera's lengths neither overflow nor underflow on the way: an eye
+ * at 1e308 is not "the same point as at", a denormal up is not zero; what
+ * does overflow says so (issue 16, item 10). */
+TEST(obj_camera_check_takes_extreme_values)
+{
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_scene_camera c = default_camera();
+    c.eye = v3(1e308, 0, 0);
+    CHECK_MSG(alb_scene_camera_check(&c, &d) == ALB_OK, "%s", d.msg);
+    c = default_camera();
+    c.up = v3(1e-320, 0, 0);
+    CHECK_MSG(alb_scene_camera_check(&c, &d) == ALB_OK, "%s", d.msg);
+    c = default_camera();
+    c.eye = v3(1e308, 0, 0);
+    c.at = v3(-1e308, 0, 0);
+    CHECK(alb_scene_camera_check(&c, &d) == ALB_ERR_CONFIG);
+    CHECK_STR_CONTAINS(d.msg, "too far apart");
+    c = default_camera();
+    c.at = c.eye;
+    CHECK(alb_scene_camera_check(&c, &d) == ALB_ERR_CONFIG);
+    CHECK_STR_CONTAINS(d.msg, "must be different points");
+    c = default_camera();
+    c.up = v3(0, 0, 0);
+    CHECK(alb_scene_camera_check(&c, &d) == ALB_ERR_CONFIG);
+    CHECK_STR_CONTAINS(d.msg, "non-zero");
+    c = default_camera();
+    c.fov_y = 1e-300;
+    CHECK(alb_scene_camera_check(&c, &d) == ALB_ERR_CONFIG);
+    CHECK_STR_CONTAINS(d.msg, "[1e-06, 180)");
 }
 
 /* face.id is the OBJ's face order (docs/vp.md §7): a skipped degenerate face

@@ -44,7 +44,7 @@ TEST(scene_parses_everything)
     CHECK(o->f[1].texmap == ALB_TEXMAP_AXES && !o->f[1].fog && o->f[1].rgb[0] == 9);
     CHECK_NEAR(o->v[1].n.z, -1, 1e-12);   /* normals are normalised */
     /* frame 1 inherits frame 0's pose and changes the observer */
-    CHECK(s.frames[0].poses[0].pos.x == 1 && s.frames[1].poses[0].pos.x == 1);
+    CHECK(alb_scene_pose_at(&s, 0, 0)->pos.x == 1 && alb_scene_pose_at(&s, 1, 0)->pos.x == 1);
     CHECK(s.frames[0].obs.pose.pos.x == 1 && s.frames[1].obs.pose.pos.x == 0);
     CHECK(s.frames[0].obs.fov_y == 45 && s.frames[1].light.dir.x == 1);
     alb_scene_free(&s);
@@ -103,7 +103,7 @@ TEST(scene_errors_name_line_column_and_expectation)
         {HDR "observer aspect /3\n" TRI, 2, 17, "expected W/H with a number"},
         {HDR "observer aspect x/3\n" TRI, 2, 17, "expected a number, found 'x'"},
         {HDR "observer aspect 4/3x\n" TRI, 2, 19, "expected a number, found '3x'"},
-        {HDR "observer aspect 400/3\n" TRI, 2, 17, "aspect must be in (0, 100)"},
+        {HDR "observer aspect 400/3\n" TRI, 2, 17, "aspect 133.333 must be in [1e-06, 100)"},
         {HDR "object t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n f 1 2 3\n", 6, 1, "has no 'end'"},
         {HDR "object t\nend\n", 3, 1, "has no faces"},
         {HDR TRI "object t\n", 8, 8, "defined twice"},
@@ -120,7 +120,7 @@ TEST(scene_errors_name_line_column_and_expectation)
         {HDR "texture c checker 11 0 0 0 1 1 1\n" TRI, 2, 19, "2^1 .. 2^10"},
         {HDR "texture c file /nonexistent/x.png\n" TRI, 2, 16,
          "texture 'c': cannot open '/nonexistent/x.png': No such file or directory"},
-        {HDR "observer fov 180\n" TRI, 2, 14, "(0, 180)"},
+        {HDR "observer fov 180\n" TRI, 2, 14, "[1e-06, 180)"},
         /* the scene format takes any positive near; whether the word stream
          * can hold it is the GP's check (test_gp.c) */
         {HDR "near 1e40\n" TRI, 0, 0, NULL},
@@ -142,6 +142,14 @@ TEST(scene_errors_name_line_column_and_expectation)
          "is too long: 64 characters, at most 63"},
         {HDR "near 1111111111111111111111111111111111111111111111111111111111111111x\n" TRI, 2, 6,
          "expected a number, found '1111"},
+        /* messages that say what is wrong (issue 16, item 10) */
+        {HDR "object t\n v 0 0 5\n v 1 0 5\n v 0 1 5\n f 1 2 1 3\nend\n", 6, 8,
+         "vertex 1 is used twice (as its vertex 1 and 3), folding it onto itself"},
+        {HDR "observer fov 1e-300\n" TRI, 2, 14, "field of view 1e-300 must be in [1e-06, 180)"},
+        {HDR "observer aspect 1e-300\n" TRI, 2, 17, "aspect 1e-300 must be in [1e-06, 100)"},
+        {HDR "near 1\f\n" TRI, 2, 6, "expected a number, found '1\\x0c'"},
+        {HDR "near \v 1\n" TRI, 2, 6, "expected a number, found '\\x0b'"},
+        {HDR "texture t file \"a b.png\n" TRI, 2, 16, "unterminated quote"},
         {HDR TRI, 0, 0, NULL},   /* valid */
         {"albatros-scene 1\r\nnear +.5e-1\r\nbackground 1. 2 3\r\n" TRI, 0, 0, NULL},
         /* 63 characters, the longest number taken */
@@ -275,7 +283,7 @@ TEST(texture_png_errors_say_why)
         {"sig.png", "is truncated: the file ends after 4 bytes, inside the PNG signature"},
         {"header.png", "is truncated: the file ends after 20 bytes"},
         {"data.png", "is truncated"},
-        {".", "Is a directory"},
+        {".", "is a directory"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         alb_scene_texture t = {0};
@@ -354,5 +362,61 @@ TEST(builtin_scene_parses)
             textured |= s.obj[i].f[j].texmap != ALB_TEXMAP_NONE;
         }
     CHECK(moving && vertex_shaded && textured);
+    alb_scene_free(&s);
+}
+
+/* A face longer than the format takes is named for that limit, not for the
+ * words on its line (issue 16, item 10). */
+TEST(scene_long_face_names_the_vertex_limit)
+{
+    char *text = NULL;
+    size_t size = 0;
+    FILE *f = open_memstream(&text, &size);
+    fprintf(f, "albatros-scene 1\nobject t\n");
+    for (int k = 0; k < 1000; k++)
+        fprintf(f, " v %.17g %.17g 5\n", cos(k * 6.283185307179586 / 1000), sin(k * 6.283185307179586 / 1000));
+    fprintf(f, " f");
+    for (int k = 1; k <= 1000; k++)
+        fprintf(f, " %d", k);
+    fprintf(f, "\nend\n");
+    fclose(f);
+    alb_scene s;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    CHECK(alb_scene_parse(text, size, "x.scene", &s, &d) == ALB_ERR_LIMIT);
+    CHECK_EQ(d.line, 1003);
+    CHECK_STR_CONTAINS(d.msg, "face has more than 32 vertices (1000 words on the line)");
+    free(text);
+}
+
+/* Poses are kept per change: 1000 objects over 20000 frames in which one
+ * object moves each frame hold 1000 + 20000 poses, not 20 million, and each
+ * frame still sees every object where its last change put it. */
+TEST(scene_poses_per_change_not_per_frame)
+{
+    char *text = NULL;
+    size_t size = 0;
+    FILE *f = open_memstream(&text, &size);
+    fprintf(f, "albatros-scene 1\n");
+    for (int o = 0; o < 1000; o++)
+        fprintf(f, "object o%d at %d 0 50\n v 0 0 0\n v 1 0 0\n v 0 1 0\n f 1 2 3\nend\n", o, o);
+    for (int k = 0; k < 20000; k++)
+        fprintf(f, "frame\n pose o%d yaw %d\n", k % 1000, k);
+    fclose(f);
+    alb_scene s;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    CHECK(alb_scene_parse(text, size, "x.scene", &s, &d) == ALB_OK);
+    free(text);
+    unsigned long poses = 0;
+    for (unsigned o = 0; o < s.nobj; o++)
+        poses += s.obj[o].npose;
+    /* object 0's first change is in frame 0, where it replaces the initial pose */
+    CHECK_EQ(poses, 1000 + 20000 - 1);
+    CHECK_EQ(s.nframes, 20000);
+    /* object 7 moves in frames 7, 1007, ...: yaw 7 from frame 7 to 1006 */
+    CHECK(alb_scene_pose_at(&s, 6, 7)->yaw == 0 && alb_scene_pose_at(&s, 7, 7)->yaw == 7);
+    CHECK(alb_scene_pose_at(&s, 1006, 7)->yaw == 7 && alb_scene_pose_at(&s, 1007, 7)->yaw == 1007);
+    CHECK(alb_scene_pose_at(&s, 19999, 999)->yaw == 19999 && alb_scene_pose_at(&s, 0, 999)->pos.x == 999);
     alb_scene_free(&s);
 }

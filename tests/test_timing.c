@@ -55,6 +55,37 @@ static alb_err run_threads(const alb_profile *p, const alb_ws_buf *b, alb_fideli
     return e;
 }
 
+/* A clocked run with counters_only: each frame's counters and statistics,
+ * and how many frames came with a plane (there must be none). */
+typedef struct {
+    unsigned n, with_planes;
+    alb_sim_counters c[MAX_FRAMES];
+    alb_vp_stats s[MAX_FRAMES];
+} counters_log;
+
+static int log_counters(void *ctx, const alb_frame *f, const alb_vp_stats *vs,
+                        const alb_sim_counters *sc)
+{
+    counters_log *l = ctx;
+    l->with_planes += f->rgb || f->depth || f->face || f->level || f->coverage || f->cycles;
+    if (l->n < MAX_FRAMES) {
+        l->c[l->n] = *sc;
+        l->s[l->n] = *vs;
+    }
+    l->n++;
+    return 0;
+}
+
+static alb_err run_counters(const alb_profile *p, const alb_ws_buf *b, alb_fidelity fid,
+                            counters_log *l)
+{
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_sim_options o = {.fid = fid, .counters_only = true};
+    memset(l, 0, sizeof *l);
+    return alb_sim_run(p, b->w, b->n, "test", &o, log_counters, l, &d);
+}
+
 static alb_err run(const alb_profile *p, const alb_ws_buf *b, alb_fidelity fid, run_log *l, alb_vcd *v)
 {
     return run_threads(p, b, fid, 1, l, v);
@@ -238,6 +269,35 @@ static void check_fidelities(const alb_profile *p, const alb_ws_buf *b, const ch
                   (unsigned long long)lt.c[i].cycles, (unsigned long long)lc.c[i].cycles);
         CHECK_MSG(frames_equal(&lt.f[i], &lc.f[i], true), "%s frame %u: timed/cycle frames", what, i);
         CHECK_MSG(frames_equal(&lf.f[i], &lc.f[i], false), "%s frame %u: functional/cycle", what, i);
+        /* the frame's nearest surface: the largest depth of its depth plane */
+        uint64_t nearest = 0;
+        for (size_t k = 0; k < (size_t)lf.f[i].width * lf.f[i].height; k++)
+            nearest = lf.f[i].depth[k] > nearest ? lf.f[i].depth[k] : nearest;
+        CHECK_MSG(lf.s[i].depth_nearest == nearest, "%s frame %u: depth_nearest %llu, the "
+                  "frame's largest depth %llu", what, i,
+                  (unsigned long long)lf.s[i].depth_nearest, (unsigned long long)nearest);
+        /* the functional engine walks faces its own way (vp_draw_face), the
+         * clocked models step by step: every statistic must agree */
+        CHECK_MSG(!memcmp(&lf.s[i], &lt.s[i], sizeof lf.s[i]) &&
+                      !memcmp(&lc.s[i], &lt.s[i], sizeof lc.s[i]),
+                  "%s frame %u: statistics differ between the fidelities", what, i);
+    }
+    /* no frame asked for: the depth tests alone, the same counters and
+     * statistics, frames without planes */
+    for (int fid = ALB_FIDELITY_TIMED; fid <= ALB_FIDELITY_CYCLE; fid++) {
+        counters_log lo;
+        if (run_counters(p, b, (alb_fidelity)fid, &lo)) {
+            CHECK_MSG(0, "%s: the %s run without frames failed", what,
+                      alb_fidelity_name((alb_fidelity)fid));
+            continue;
+        }
+        CHECK_MSG(lo.n == lt.n && lo.with_planes == 0, "%s, %s without frames: %u frames, %u "
+                  "with planes", what, alb_fidelity_name((alb_fidelity)fid), lo.n, lo.with_planes);
+        for (unsigned i = 0; i < lo.n && i < lt.n; i++)
+            CHECK_MSG(counters_equal(&lo.c[i], &lt.c[i]) &&
+                          !memcmp(&lo.s[i], &lt.s[i], sizeof lo.s[i]),
+                      "%s frame %u: %s without frames: a counter or statistic differs", what, i,
+                      alb_fidelity_name((alb_fidelity)fid));
     }
     check_threads(p, b, &lf, what);
     log_free(&lf);

@@ -184,10 +184,11 @@ static void same_with_all_units(const char *what, const char *text, const char *
     alb_frame_free(&b);
 }
 
-/* The fill loops specialised per set of units (vp/fill.c) against the
- * all-units path, over every combination: the built-in scene has shaded,
- * textured and flat faces, all fogged; without its fog line none is; a
- * random scene gives Gouraud faces, and --flat faces with no unit at all. */
+/* The output stage's shading loops specialised per set of units (vp/shade.c,
+ * vp_shade_run) against the all-units path, over every combination: the
+ * built-in scene has shaded, textured and flat faces, all fogged; without
+ * its fog line none is; a random scene gives Gouraud faces, and --flat
+ * faces with no unit at all. */
 TEST(units_a_scene_needs_change_no_pixel)
 {
     char *text = builtin_scene_copy();

@@ -323,6 +323,8 @@ static size_t board_tx(mock *m, uint8_t *buf, size_t cap)
     if (!m->sink)
         return sim_board_tx(m->board, buf, cap);
     size_t n = m->sink_tx_len < cap ? m->sink_tx_len : cap;
+    if (!n)
+        return 0;   /* nothing yet (and perhaps no buffer: memcpy may not see NULL) */
     memcpy(buf, m->sink_tx, n);
     memmove(m->sink_tx, m->sink_tx + n, m->sink_tx_len - n);
     m->sink_tx_len -= n;

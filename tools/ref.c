@@ -74,10 +74,9 @@ static void observer_axes(const alb_scene_observer *ob, lvec axes[3])
 
 /* Observer space P = (sx X, sy Y, Z), (X, Y, Z) the eye's right, up and
  * forward components of (Q R + pos - E): P = m R + t, and R = inv (P - t). */
-static void object_to_observer(const alb_scene_frame *fr, unsigned oi, double aspect, mat3 *m, vec3 *t,
+static void object_to_observer(const alb_scene_frame *fr, const alb_scene_pose *pose, double aspect, mat3 *m, vec3 *t,
                                mat3 *inv, mat3 *q_out)
 {
-    const alb_scene_pose *pose = &fr->poses[oi];
     const alb_scene_observer *ob = &fr->obs;
     ldbl a = ob->aspect > 0 ? ob->aspect : aspect;
     ldbl half = (ldbl)ob->fov_y * 3.14159265358979323846264338327950288L / 360;
@@ -144,7 +143,8 @@ int ref_prepare(const alb_scene *s, const alb_profile *prof, unsigned frame, ref
         const alb_scene_object *o = &s->obj[oi];
         mat3 m, inv, q;
         vec3 t;
-        object_to_observer(fr, oi, (double)prof->width / prof->height, &m, &t, &inv, &q);
+        object_to_observer(fr, alb_scene_pose_at(s, frame, oi), (double)prof->width / prof->height,
+                           &m, &t, &inv, &q);
         mat3 qt = m3_transpose(&q);
         for (unsigned j = 0; j < o->nf; j++) {
             const alb_scene_face *f = &o->f[j];

@@ -10,7 +10,11 @@
 #include "albatros/sim.h"
 #include "albatros/gp.h"
 
+#include "albatros/file.h"
+
 #include <errno.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,12 +25,18 @@
 static const struct {
     const char *family;
     double severity[SWEEP_SEVERITIES];
+    const char *unit;        /* what the severity measures (tools/stress.h): the x axis */
 } families[] = {
-    {"sliver", {10, 1, 0.1, 0.01}},          {"crossing-z0", {0, 0.3, 0.7, 0.95}},
-    {"far", {10, 1e3, 1e4, 1e6}},             {"texture-far", {10, 1e4, 1e8, 1e12}},
-    {"interpenetrating", {45, 5, 0.5, 0.01}}, {"cyclic", {0.05, 0.1, 0.2, 0.4}},
-    {"degenerate", {0.1, 1e-3, 1e-6, 1e-9}},  {"tjunction", {2, 8, 32, 64}},
-    {"deep", {1, 8, 32, 64}},                 {"coords", {0, 10, 25, 40}},
+    {"sliver", {10, 1, 0.1, 0.01}, "tip angle, degrees"},
+    {"crossing-z0", {0, 0.3, 0.7, 0.95}, "fraction of the face behind Z = 0"},
+    {"far", {10, 1e3, 1e4, 1e6}, "distance of the front face (gap 1)"},
+    {"texture-far", {10, 1e4, 1e8, 1e12}, "distance from the texture origin, periods"},
+    {"interpenetrating", {45, 5, 0.5, 0.01}, "angle between the planes, degrees"},
+    {"cyclic", {0.05, 0.1, 0.2, 0.4}, "bar width / distance between crossings"},
+    {"degenerate", {0.1, 1e-3, 1e-6, 1e-9}, "triangle height / base"},
+    {"tjunction", {2, 8, 32, 64}, "rows of T-junctions"},
+    {"deep", {1, 8, 32, 64}, "depth complexity at the centre"},
+    {"coords", {0, 10, 25, 40}, "log10 of the coordinate scale"},
 };
 #define NFAMILIES (sizeof families / sizeof families[0])
 
@@ -411,21 +421,126 @@ static void family_table(FILE *md, const row *r, size_t n, unsigned fam)
     breaks_table(md, r, n, fam);
 }
 
+/* ---- report files: each under its name only once complete (file.h) ---- */
+
+typedef struct {
+    alb_out out;
+    FILE *f;
+    char *path;
+} report_file;
+
+static FILE *report_open(report_file *r, const char *dir, const char *name)
+{
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    r->f = NULL;
+    if (!(r->path = alb_strprintf("%s/%s", dir, name))) {
+        fprintf(stderr, "albatros stability: out of memory\n");
+        return NULL;
+    }
+    if (alb_out_open(&r->out, r->path, 0, &d) || !(r->f = alb_out_stdio(&r->out, &d))) {
+        fprintf(stderr, "albatros stability: ");
+        alb_diag_print(&d, stderr);
+        free(r->path);
+        r->path = NULL;
+    }
+    return r->f;
+}
+
+/* Put the file in place (ok) or drop it; -1 if it is not in place. */
+static int report_close(report_file *r, bool ok)
+{
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    int rc = 0;
+    if (!ok) {
+        alb_out_abort(&r->out);
+        rc = -1;
+    } else if (alb_out_commit(&r->out, &d)) {
+        fprintf(stderr, "albatros stability: ");
+        alb_diag_print(&d, stderr);
+        rc = -1;
+    }
+    free(r->path);
+    return rc;
+}
+
+/* path as a gnuplot single-quoted string: a quote doubled */
+static void gp_quoted(FILE *g, const char *path)
+{
+    fputc('\'', g);
+    for (const char *p = path; *p; p++) {
+        if (*p == '\'')
+            fputc('\'', g);
+        fputc(*p, g);
+    }
+    fputc('\'', g);
+}
+
+/* gnuplot on a script (no shell: any file name will do); 0 if it ran and
+ * succeeded. */
 static int run_gnuplot(const char *script_path)
 {
-    char cmd[1200];
-    snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>&1", script_path);
-    int rc = system(cmd);
-    return rc == 0 ? 0 : -1;
+    pid_t pid;
+    char name[] = "gnuplot", *script = alb_strprintf("%s", script_path);
+    char *argv[] = {name, script, NULL};
+    extern char **environ;
+    int rc = script ? posix_spawnp(&pid, "gnuplot", NULL, NULL, argv, environ) : -1;
+    free(script);
+    if (rc != 0)
+        return -1;
+    int status;
+    while (waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR)
+            return -1;
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 0 : -1;
+}
+
+/* A chart: gnuplot runs the script at script_name, which draws into the
+ * PNG's temporary file (its path given to write_script), put in place only
+ * if gnuplot succeeded — a failed run keeps the last good chart. */
+static int draw_chart(const char *dir, const char *script_name, const char *png_name,
+                      void (*write_script)(FILE *g, const char *png_path, const void *ctx),
+                      const void *ctx)
+{
+    report_file png, gp;
+    if (!report_open(&png, dir, png_name))
+        return -1;
+    char *tmp = alb_out_temp_path(&png.out);
+    if (!tmp || !report_open(&gp, dir, script_name)) {
+        free(tmp);
+        report_close(&png, false);
+        return -1;
+    }
+    /* the script names the chart by its final name; gnuplot is run on a
+     * copy that writes the temporary */
+    write_script(gp.f, png.path, ctx);
+    int rc = report_close(&gp, true);
+    char *run = rc ? NULL : alb_strprintf("%s/.%s.run", dir, script_name);
+    FILE *rf = run ? fopen(run, "w") : NULL;
+    if (rf) {
+        fputs("set output ", rf);
+        gp_quoted(rf, tmp);
+        fputc('\n', rf);
+        write_script(rf, NULL, ctx);
+        rc = fclose(rf) ? -1 : run_gnuplot(run);
+        remove(run);   /* ours: made just above */
+    } else {
+        rc = -1;
+    }
+    free(run);
+    free(tmp);
+    return report_close(&png, rc == 0) || rc ? -1 : 0;
 }
 
 /* Per family, a gnuplot data file: step, then one column per configuration
  * (NaN where it refused), so each configuration is a connected line. */
 static int family_data(const char *dir, unsigned fam, const row *r, size_t n)
 {
-    char path[600];
-    snprintf(path, sizeof path, "%s/stability-%s.dat", dir, families[fam].family);
-    FILE *f = fopen(path, "w");
+    char name[64];
+    snprintf(name, sizeof name, "stability-%s.dat", families[fam].family);
+    report_file rf;
+    FILE *f = report_open(&rf, dir, name);
     if (!f)
         return -1;
     unsigned nc = config_count();
@@ -441,7 +556,7 @@ static int family_data(const char *dir, unsigned fam, const row *r, size_t n)
         }
         fputc('\n', f);
     }
-    return fclose(f);
+    return report_close(&rf, true);
 }
 
 static bool family_present(unsigned fam, const row *r, size_t n)
@@ -452,74 +567,176 @@ static bool family_present(unsigned fam, const row *r, size_t n)
     return false;
 }
 
-/* The top of a family's panel: its largest value with a margin, and at
- * least 1% (a family where nothing differs still gets an axis). */
-static double family_ymax(unsigned fam, const row *r, size_t n)
+/* The largest value of a family's panel (0: nothing differs anywhere). */
+static double family_max(unsigned fam, const row *r, size_t n)
 {
     double m = 0;
     for (size_t i = 0; i < n; i++)
         if (!strcmp(r[i].family, families[fam].family) && r[i].have && r[i].face > m)
             m = r[i].face;
-    return m * 1.05 > 1 ? m * 1.05 : 1;
+    return m;
+}
+
+/* Seventeen series told apart by colour alone (no two share one), and by
+ * the line: the classic methods solid with filled points, the Albatros
+ * configurations dashed with open ones. */
+static const char *const method_colours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728",
+                                             "#9467bd", "#8c564b", "#e377c2", "#4d4d4d"};
+static const char *const vp_colours[] = {"#17becf", "#bcbd22", "#000000", "#e6ab02",
+                                         "#a6761d", "#1b9e77", "#d95f02", "#7570b3",
+                                         "#e7298a", "#66a61e", "#999999", "#0000cd"};
+
+static void series_styles(FILE *g)
+{
+    unsigned nm, nc = config_count();
+    methods_all(&nm);
+    static const int filled[] = {5, 7, 9, 11, 13, 15}, open[] = {4, 6, 8, 10, 12, 14, 1, 2, 3};
+    for (unsigned k = 0; k < nc; k++) {
+        bool m = k < nm;
+        unsigned i = m ? k : k - nm;
+        const char *colour = m ? method_colours[i % 8] : vp_colours[i % 12];
+        int pt = m ? filled[i % 6] : open[i % 9];
+        fprintf(g, "set linetype %u lc rgb '%s' lw 1.6 dt %d pt %d ps 1.1\n", k + 1, colour,
+                m ? 1 : 2, pt);
+    }
+}
+
+typedef struct {
+    const char *dir;
+    const row *r;
+    size_t n;
+} chart_ctx;
+
+static void stability_script(FILE *g, const char *png, const void *ctx)
+{
+    const chart_ctx *c = ctx;
+    unsigned nc = config_count(), drawn = 0;
+    char none[400] = "";
+    for (unsigned f = 0; f < NFAMILIES; f++) {
+        if (!family_present(f, c->r, c->n))
+            continue;
+        if (family_max(f, c->r, c->n) > 0)
+            drawn++;
+        else   /* a flat panel says nothing: named in the title instead */
+            snprintf(none + strlen(none), sizeof none - strlen(none), "%s%s", none[0] ? ", " : "",
+                     families[f].family);
+    }
+    unsigned rows = (drawn + 1 + 1) / 2;   /* the panels and the legend's */
+    fprintf(g, "# stability chart, written by albatros stability --report\n"
+               "set terminal pngcairo size 1600,%u font ',10' noenhanced\n", 330 * rows + 60);
+    if (png) {
+        fputs("set output ", g);
+        gp_quoted(g, png);
+        fputc('\n', g);
+    }
+    fprintf(g, "set multiplot layout %u,2 title \"Pixels whose face differs from the exact "
+               "reference, %%, against each family's severity (more severe to the right)%s%s\"\n"
+               "set grid\nset datafile missing 'NaN'\nunset key\nset ylabel 'pixels wrong, %%'\n",
+            rows, none[0] ? "\\nno configuration differs anywhere on: " : "", none);
+    series_styles(g);
+    for (unsigned f = 0; f < NFAMILIES; f++) {
+        double m = family_max(f, c->r, c->n);
+        if (!family_present(f, c->r, c->n) || !(m > 0))
+            continue;
+        /* each panel's own range: small differences are not a flat line */
+        fprintf(g, "set title '%s'\nset xlabel 'severity: %s'\nset yrange [0:%g]\nset xtics (",
+                families[f].family, families[f].unit, m * 1.15 > 0.05 ? m * 1.15 : 0.05);
+        for (unsigned j = 0; j < SWEEP_SEVERITIES; j++)
+            fprintf(g, "%s'%g' %u", j ? ", " : "", families[f].severity[j], j + 1);
+        fprintf(g, ")\nplot ");
+        for (unsigned k = 0; k < nc; k++) {
+            char *dat = alb_strprintf("%s/stability-%s.dat", c->dir, families[f].family);
+            fprintf(g, "%s", k ? ", \\\n     " : "");
+            gp_quoted(g, dat ? dat : "");
+            fprintf(g, " using 1:%u with linespoints ls %u notitle", k + 2, k + 1);
+            free(dat);
+        }
+        fputc('\n', g);
+    }
+    /* one legend, in a panel of its own, each series as it is drawn */
+    fprintf(g, "set title 'series'\nunset xlabel\nunset ylabel\nunset border\nunset tics\n"
+               "unset grid\nset xrange [0:1]\nset yrange [0:1]\n"
+               "set key center center vertical maxrows 9 width 2 font ',11' samplen 4\nplot ");
+    for (unsigned k = 0; k < nc; k++)
+        fprintf(g, "%sNaN with linespoints ls %u title '%s'", k ? ", \\\n     " : "", k + 1,
+                config_name(k));
+    fprintf(g, "\nunset multiplot\n");
 }
 
 static int stability_chart(const char *dir, const row *r, size_t n)
 {
-    char path[600];
-    unsigned present = 0;
     for (unsigned f = 0; f < NFAMILIES; f++)
-        if (family_present(f, r, n)) {
-            present++;
-            if (family_data(dir, f, r, n))
-                return -1;
-        }
-    snprintf(path, sizeof path, "%s/stability.gp", dir);
-    FILE *g = fopen(path, "w");
-    if (!g)
-        return -1;
-    fprintf(g, "# stability chart, written by albatros stability --report\n"
-               "set terminal pngcairo size 1600,2000 font ',9' noenhanced\n"
-               "set output '%s/stability.png'\n"
-               "set multiplot layout %u,2 title 'Pixels whose face differs from the exact "
-               "reference (%%) against severity'\nset key outside right font ',7'\n"
-               "set grid\nset datafile missing 'NaN'\n", dir,
-            (present + 1) / 2);
-    unsigned nc = config_count();
-    bool first = true;
-    for (unsigned f = 0; f < NFAMILIES; f++) {
-        if (!family_present(f, r, n))
-            continue;
-        fprintf(g, "set title '%s'\nset yrange [0:%g]\nset xtics (", families[f].family,
-                family_ymax(f, r, n));
-        for (unsigned j = 0; j < SWEEP_SEVERITIES; j++)
-            fprintf(g, "%s'%g' %u", j ? ", " : "", families[f].severity[j], j + 1);
-        fprintf(g, ")\nplot ");
-        for (unsigned k = 0; k < nc; k++)
-            fprintf(g, "%s'%s/stability-%s.dat' using 1:%u with linespoints title '%s'",
-                    k ? ", \\\n     " : "", dir, families[f].family, k + 2,
-                    first ? config_name(k) : "");
+        if (family_present(f, r, n) && family_data(dir, f, r, n))
+            return -1;
+    chart_ctx c = {dir, r, n};
+    return draw_chart(dir, "stability.gp", "stability.png", stability_script, &c);
+}
+
+typedef struct sp {
+    char config[40], fid[16];
+    double face, ms;
+    bool pareto;
+} speed_point;
+
+typedef struct {
+    const char *dir;
+    const speed_point *pts;
+    unsigned n;
+} speed_ctx;
+
+/* Each point numbered on the chart, its name in the key by the number: long
+ * labels beside clustered points piled up. */
+static void speed_script(FILE *g, const char *png, const void *ctx)
+{
+    const speed_ctx *c = ctx;
+    char *dat = alb_strprintf("%s/speed-points.dat", c->dir);
+    fprintf(g, "# speed against accuracy, written by albatros stability --report\n"
+               "set terminal pngcairo size 1400,800 font ',10' noenhanced\n");
+    if (png) {
+        fputs("set output ", g);
+        gp_quoted(g, png);
         fputc('\n', g);
-        first = false;
     }
-    fprintf(g, "unset multiplot\n");
-    fclose(g);
-    return run_gnuplot(path);
+    fprintf(g, "set title 'Speed against accuracy: each point a method, or an Albatros "
+               "configuration at a fidelity (numbered as in the key)'\n"
+               "set xlabel 'host time per frame, ms (log scale)'\nset logscale x\n"
+               "set ylabel 'pixels whose face differs from the exact reference, %% (log scale; "
+               "0 drawn at 0.001)'\nset logscale y\nset grid\n"
+               "set key outside right top vertical font ',9' spacing 1.1 title 'points'\n"
+               "set rmargin 38\nplot ");
+    gp_quoted(g, dat ? dat : "");
+    fprintf(g, " index 0 using 1:2 with points pt 7 ps 1.3 lc rgb '#1f77b4' notitle, \\\n"
+               "     '' index 0 using 1:2:5 with labels left offset char 0.7,0.6 font ',9' "
+               "notitle, \\\n"
+               "     '' index 1 using 1:2 with lines lw 2 lc rgb '#d62728' title 'Pareto front "
+               "(nothing faster and more accurate)'");
+    for (unsigned i = 0; i < c->n; i++)
+        fprintf(g, ", \\\n     keyentry with points pt 7 ps 0 lc rgb '#ffffff' title '%u  %s%s%s'",
+                i + 1, c->pts[i].config, strcmp(c->pts[i].fid, "-") ? ", " : "",
+                strcmp(c->pts[i].fid, "-") ? c->pts[i].fid : "");
+    fputc('\n', g);
+    free(dat);
+}
+
+/* Two points a label's width apart or less on the log-log chart: within 3%
+ * in time and 10% in error. */
+static bool same_spot(const speed_point *a, const speed_point *b)
+{
+    return fabs(log(a->ms / b->ms)) < 0.03 &&
+           fabs(log(fmax(a->face, 0.001) / fmax(b->face, 0.001))) < 0.1;
 }
 
 /* speed.md and speed.png from speed.csv; 1 if written, 0 if the directory
  * has no speed sweep, -1 on error. */
 static int speed_report(const char *dir)
 {
-    char path[600];
-    snprintf(path, sizeof path, "%s/speed.csv", dir);
-    FILE *f = fopen(path, "r");
+    char *path = alb_strprintf("%s/speed.csv", dir);
+    const char *why;
+    FILE *f = path ? alb_file_open_input(path, true, &why) : NULL;
+    free(path);
     if (!f)
         return 0;   /* no speed sweep in this directory: nothing written */
-    struct sp {
-        char config[40], fid[16];
-        double face, ms;
-        bool pareto;
-    } pts[64];
+    speed_point pts[64];
     unsigned n = 0;
     char line[256];
     if (!fgets(line, sizeof line, f)) {
@@ -541,45 +758,50 @@ static int speed_report(const char *dir)
                 (pts[j].ms < pts[i].ms || pts[j].face < pts[i].face))
                 pts[i].pareto = false;
     }
-    snprintf(path, sizeof path, "%s/speed.md", dir);
-    FILE *md = fopen(path, "w");
-    snprintf(path, sizeof path, "%s/speed-points.dat", dir);
-    FILE *dat = fopen(path, "w");
-    if (!md || !dat) {
-        if (md)
-            fclose(md);
-        if (dat)
-            fclose(dat);
+    report_file md, dat;
+    if (!report_open(&md, dir, "speed.md"))
+        return -1;
+    if (!report_open(&dat, dir, "speed-points.dat")) {
+        report_close(&md, false);
         return -1;
     }
-    fprintf(md, "| configuration | fidelity | ms per frame | pixels wrong, %% | Pareto front |\n"
-                "|---|---|---|---|---|\n");
-    for (unsigned i = 0; i < n; i++) {
-        fprintf(md, "| %s | %s | %.2f | %.3f | %s |\n", pts[i].config, pts[i].fid, pts[i].ms,
+    fprintf(md.f, "| configuration | fidelity | ms per frame | pixels wrong, %% | Pareto front |\n"
+                  "|---|---|---|---|---|\n");
+    for (unsigned i = 0; i < n; i++)
+        fprintf(md.f, "| %s | %s | %.2f | %.3f | %s |\n", pts[i].config, pts[i].fid, pts[i].ms,
                 pts[i].face, pts[i].pareto ? "yes" : "");
-        /* errors of 0 are drawn at 0.001 on the logarithmic axis */
-        fprintf(dat, "%g %g %d \"%s%s%s\"\n", pts[i].ms, fmax(pts[i].face, 0.001), pts[i].pareto,
-                pts[i].config, strcmp(pts[i].fid, "-") ? " " : "",
-                strcmp(pts[i].fid, "-") ? pts[i].fid : "");
+    /* block 0: the points (errors of 0 drawn at 0.001 on the logarithmic
+     * axis), each labelled with its number, those that fall on one spot
+     * with one label listing them all */
+    for (unsigned i = 0; i < n; i++) {
+        char label[128] = "";
+        bool first = true;
+        for (unsigned j = 0; j < i && first; j++)
+            first = !same_spot(&pts[i], &pts[j]);
+        for (unsigned j = i; j < n && first; j++)
+            if (same_spot(&pts[i], &pts[j]))
+                snprintf(label + strlen(label), sizeof label - strlen(label), "%s%u",
+                         label[0] ? "," : "", j + 1);
+        fprintf(dat.f, "%g %g %d \"%s%s%s\" \"%s\"\n", pts[i].ms, fmax(pts[i].face, 0.001),
+                pts[i].pareto, pts[i].config, strcmp(pts[i].fid, "-") ? " " : "",
+                strcmp(pts[i].fid, "-") ? pts[i].fid : "", label);
     }
-    fclose(md);
-    fclose(dat);
-    snprintf(path, sizeof path, "%s/speed.gp", dir);
-    FILE *g = fopen(path, "w");
-    if (!g)
+    /* block 1: the Pareto front in order of time */
+    fprintf(dat.f, "\n\n");
+    for (double last = -1;;) {
+        int next = -1;
+        for (unsigned i = 0; i < n; i++)
+            if (pts[i].pareto && pts[i].ms > last && (next < 0 || pts[i].ms < pts[next].ms))
+                next = (int)i;
+        if (next < 0)
+            break;
+        fprintf(dat.f, "%g %g\n", pts[next].ms, fmax(pts[next].face, 0.001));
+        last = pts[next].ms;
+    }
+    if (report_close(&md, true) | report_close(&dat, true))
         return -1;
-    fprintf(g, "# speed against accuracy, written by albatros stability --report\n"
-               "set terminal pngcairo size 1100,750 noenhanced\nset output '%s/speed.png'\n"
-               "set title 'Speed against accuracy (each point: a method or configuration)'\n"
-               "set xlabel 'host milliseconds per frame (log)'\nset logscale x\n"
-               "set ylabel 'pixels whose face differs from the exact reference, %% (log; 0 drawn "
-               "at 0.001)'\nset logscale y\nset grid\nset key top right\n"
-               "plot '%s/speed-points.dat' using 1:2 with points pt 7 title 'configurations', \\\n"
-               "     '' using 1:2:4 with labels offset 0.5,0.6 left rotate by 20 font ',7' notitle, "
-               "\\\n     '' using ($3 == 1 ? $1 : NaN):2 smooth unique with linespoints lw 2 pt 6 "
-               "ps 2 title 'Pareto front'\n", dir, dir);
-    fclose(g);
-    return run_gnuplot(path) ? -1 : 1;
+    speed_ctx c = {dir, pts, n};
+    return draw_chart(dir, "speed.gp", "speed.png", speed_script, &c) ? -1 : 1;
 }
 
 int sweep_report(const char *dir, bool *with_speed)
@@ -587,51 +809,51 @@ int sweep_report(const char *dir, bool *with_speed)
     *with_speed = false;
     row *rows = NULL;
     size_t n = 0;
-    char path[600], all[600];
-    snprintf(all, sizeof all, "%s/stability.csv", dir);
-    FILE *merged = fopen(all, "w");
-    if (!merged) {
-        fprintf(stderr, "albatros stability: cannot write %s: %s\n", all, strerror(errno));
+    report_file merged;
+    if (!report_open(&merged, dir, "stability.csv"))
         return -1;
-    }
-    fputs(CSV_HEADER, merged);
+    fputs(CSV_HEADER, merged.f);
     unsigned found = 0;
     for (unsigned f = 0; f < NFAMILIES; f++) {
-        snprintf(path, sizeof path, "%s/stability-%s.csv", dir, families[f].family);
+        char *path = alb_strprintf("%s/stability-%s.csv", dir, families[f].family);
         size_t before = n;
-        if (read_rows(path, &rows, &n))
+        int rc = path ? read_rows(path, &rows, &n) : -1;
+        free(path);
+        if (rc)
             continue;
         found++;
         for (size_t i = before; i < n; i++) {
             const row *x = &rows[i];
             if (x->have)
-                fprintf(merged, "%s,%u,%g,%s,%.4f,%.2f,%.3f,%u\n", x->family, x->step,
+                fprintf(merged.f, "%s,%u,%g,%s,%.4f,%.2f,%.3f,%u\n", x->family, x->step,
                         x->severity, x->config, x->face, x->psnr, x->ms, x->failed);
             else
-                fprintf(merged, "%s,%u,%g,%s,,,,%u\n", x->family, x->step, x->severity, x->config,
-                        x->failed);
+                fprintf(merged.f, "%s,%u,%g,%s,,,,%u\n", x->family, x->step, x->severity,
+                        x->config, x->failed);
         }
     }
-    fclose(merged);
     if (!found) {
+        report_close(&merged, false);
         fprintf(stderr, "albatros stability: no stability-FAMILY.csv in %s (run the jobs first)\n",
                 dir);
         free(rows);
         return -1;
     }
-    snprintf(path, sizeof path, "%s/stability.md", dir);
-    FILE *md = fopen(path, "w");
-    if (!md) {
+    report_file md;
+    if (report_close(&merged, true) || !report_open(&md, dir, "stability.md")) {
         free(rows);
         return -1;
     }
-    fprintf(md, "# Stability: the methods where they fail\n\nEvery classic method and Albatros "
-                "configuration on each stress family (tools/stress.c), against the exact "
-                "reference; written by `albatros stability --report` from the CSVs beside it.\n");
+    fprintf(md.f, "# Stability: the methods where they fail\n\nEvery classic method and Albatros "
+                  "configuration on each stress family (tools/stress.c), against the exact "
+                  "reference; written by `albatros stability --report` from the CSVs beside it.\n");
     for (unsigned f = 0; f < NFAMILIES; f++)
         if (family_present(f, rows, n))
-            family_table(md, rows, n, f);
-    fclose(md);
+            family_table(md.f, rows, n, f);
+    if (report_close(&md, true)) {
+        free(rows);
+        return -1;
+    }
     int chart = stability_chart(dir, rows, n);
     free(rows);
     if (chart) {

@@ -28,22 +28,36 @@ unsigned alb_vp_cores(void)
     return n < 1 ? 1 : n > ALB_VP_MAX_THREADS ? ALB_VP_MAX_THREADS : (unsigned)n;
 }
 
+/* The output stage's scratch rows for n threads; -1 if out of memory (the
+ * old scratch kept). */
+int vp_scratch_for(alb_vp *vp, unsigned n)
+{
+    size_t per = vp_store_scratch_bytes(vp);
+    if (!per)
+        return 0;
+    unsigned char *s = realloc(vp->scratch, per * n);
+    if (!s)
+        return -1;
+    vp->scratch = s;
+    return 0;
+}
+
 int alb_vp_set_threads(alb_vp *vp, unsigned n)
 {
     vp_flush_batch(vp);
     n = n ? n : alb_vp_cores();
-    vp->threads = n > ALB_VP_MAX_THREADS ? ALB_VP_MAX_THREADS : n;
-    if (vp->threads > 1 && !vp->batch) {
-        vp->batch = malloc(VP_BATCH * sizeof *vp->batch);
-        if (!vp->batch) {
-            vp->threads = 1;
-            return -1;
-        }
-    } else if (vp->threads == 1) {
+    n = n > ALB_VP_MAX_THREADS ? ALB_VP_MAX_THREADS : n;
+    int rc = 0;
+    if (n > 1 && !vp->batch && !(vp->batch = malloc(VP_BATCH * sizeof *vp->batch)))
+        rc = -1;
+    if (!rc && n > 1 && vp_scratch_for(vp, n))
+        rc = -1;   /* one thread's scratch is there since alb_vp_create */
+    vp->threads = rc ? 1 : n;
+    if (vp->threads == 1) {
         free(vp->batch);
         vp->batch = NULL;
     }
-    return 0;
+    return rc;
 }
 
 unsigned alb_vp_threads(const alb_vp *vp) { return vp->threads ? vp->threads : 1; }
@@ -65,6 +79,7 @@ void vp_stats_add(alb_vp_stats *dst, const alb_vp_stats *src)
         dst->tie_depth = src->tie_depth;
     }
     dst->depth_ties += src->depth_ties;
+
 }
 
 typedef struct {
@@ -88,23 +103,19 @@ static void *work(void *arg)
         if (t >= j->ntiles)
             return NULL;
         for (unsigned i = 0; i < j->vp->nbatch; i++) {
-            const vp_loaded_face *f = &j->vp->batch[i];
-            vp_walk w;
-            vp_step step;
-            vp_walk_begin_tile(&w, &wk->local, f, &j->tiles[t]);
-            while (vp_walk_next(&wk->local, &w, &step))
-                if (step.kind == VP_STEP_FILL || step.kind == VP_STEP_SAMPLE_IN)
-                    vp_fill(&wk->local, &f->fs, &step.cell);
+            vp_draw_face_tile(&wk->local, &j->vp->batch[i], &j->tiles[t]);
         }
     }
 }
 
 /* The tiles: the cells of the first level with at least 8 per thread (for
- * balance; threads take them as they finish), at most VP_MAX_TILES. */
+ * balance; threads take them as they finish), at most VP_MAX_TILES, and no
+ * smaller than the sample store's tiles (store.c), so that each store tile
+ * is cleared by the one thread whose tile holds it. */
 static void make_tiles(const alb_vp *vp, job *j)
 {
     unsigned want = 8 * vp->threads, l = 0, wl = vp->lw, hl = vp->lh;
-    while (l < vp->p && (1u << ((vp->lw - wl) + (vp->lh - hl))) < want &&
+    while (l < vp->tile_level && (1u << ((vp->lw - wl) + (vp->lh - hl))) < want &&
            (4u << ((vp->lw - wl) + (vp->lh - hl))) <= VP_MAX_TILES) {
         l++;
         wl -= wl > 0;
@@ -113,7 +124,7 @@ static void make_tiles(const alb_vp *vp, job *j)
     j->ntiles = 0;
     for (uint32_t r = 0; r < vp->sh; r += 1u << hl)
         for (uint32_t c = 0; c < vp->sw; c += 1u << wl)
-            j->tiles[j->ntiles++] = (vp_cell){c, r, (uint8_t)wl, (uint8_t)hl, (uint8_t)l, 0};
+            j->tiles[j->ntiles++] = (vp_cell){c, r, (uint8_t)wl, (uint8_t)hl, (uint8_t)l, 0, 0};
 }
 
 void vp_flush_batch(alb_vp *vp)
@@ -143,14 +154,8 @@ void vp_flush_batch(alb_vp *vp)
         work(&wk[0]);
     } else {
         /* no memory for the job: one thread, the whole screen */
-        for (unsigned i = 0; i < vp->nbatch; i++) {
-            vp_walk w;
-            vp_step step;
-            vp_walk_begin(&w, vp, &vp->batch[i]);
-            while (vp_walk_next(vp, &w, &step))
-                if (step.kind == VP_STEP_FILL || step.kind == VP_STEP_SAMPLE_IN)
-                    vp_fill(vp, &vp->batch[i].fs, &step.cell);
-        }
+        for (unsigned i = 0; i < vp->nbatch; i++)
+            vp_draw_face(vp, &vp->batch[i]);
     }
     for (unsigned i = 0; i < nw; i++) {
         if (i && started[i])
@@ -172,15 +177,21 @@ typedef struct {
     atomic_uint next;
 } row_job;
 
+typedef struct {
+    row_job *j;
+    unsigned worker;
+} row_worker;
+
 static void *row_work(void *arg)
 {
-    row_job *j = arg;
+    row_worker *w = arg;
+    row_job *j = w->j;
     for (;;) {
         uint32_t k = atomic_fetch_add(&j->next, 1);
         uint32_t r0 = k * j->chunk;
         if (k >= (j->rows + j->chunk - 1) / j->chunk)
             return NULL;
-        j->fn(j->vp, j->ctx, r0, r0 + j->chunk < j->rows ? r0 + j->chunk : j->rows);
+        j->fn(j->vp, j->ctx, w->worker, r0, r0 + j->chunk < j->rows ? r0 + j->chunk : j->rows);
     }
 }
 
@@ -188,16 +199,19 @@ void vp_parallel_rows(alb_vp *vp, uint32_t rows, vp_row_fn fn, void *ctx)
 {
     unsigned nt = alb_vp_threads(vp);
     if (nt <= 1 || rows < 2 * nt) {
-        fn(vp, ctx, 0, rows);
+        fn(vp, ctx, 0, 0, rows);
         return;
     }
     row_job j = {fn, vp, ctx, rows, (rows + 4 * nt - 1) / (4 * nt), 0};
     atomic_init(&j.next, 0);
     pthread_t tid[ALB_VP_MAX_THREADS];
+    row_worker w[ALB_VP_MAX_THREADS];
     bool started[ALB_VP_MAX_THREADS] = {false};
+    for (unsigned i = 0; i < nt; i++)
+        w[i] = (row_worker){&j, i};
     for (unsigned i = 1; i < nt; i++)
-        started[i] = pthread_create(&tid[i], NULL, row_work, &j) == 0;
-    row_work(&j);
+        started[i] = pthread_create(&tid[i], NULL, row_work, &w[i]) == 0;
+    row_work(&w[0]);
     for (unsigned i = 1; i < nt; i++)
         if (started[i])
             pthread_join(tid[i], NULL);

@@ -1,10 +1,13 @@
 /* shade.c — the VP's per-sample units: the depth store format, the
  * reciprocal unit that divides by depth (eq. 7), intensity, texture
- * addressing, the colour output stage and fog (docs/vp.md §3-§6).  Integer
- * arithmetic only; every rounding is named where it happens. */
+ * addressing, the colour output stage and fog (docs/vp.md §3-§6), and the
+ * output stage's shading of a run of a face's samples with only the units
+ * the face uses (vp_shade_run).  Integer arithmetic only; every rounding is
+ * named where it happens. */
 #include "units.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 uint32_t vp_depth_value(const alb_vp *vp, int64_t n, int exp)
 {
@@ -86,4 +89,118 @@ void vp_shade_sample(const alb_vp *vp, const vp_face_setup *fs, int64_t nz, int6
         uint16_t out = units_output(m, top, fi);
         rgb[ch] = fog ? units_fog_blend(out, vp->fog_rgb[ch], vis, fi) : out;
     }
+}
+
+/* ---- the output stage's shading: only the units a face uses ---- */
+
+enum { U_SHADE = 1, U_TEXTURE = 2, U_FOG = 4 };
+
+unsigned vp_face_units(const vp_face_setup *fs)
+{
+    return (fs->flags & ALB_WS_FACE_SHADE ? U_SHADE : 0) |
+           (fs->flags & ALB_WS_FACE_TEXTURE ? U_TEXTURE : 0) | (fs->flags & ALB_WS_FACE_FOG ? U_FOG : 0);
+}
+
+void vp_flat_colour(const alb_vp *vp, const vp_face_setup *fs, uint16_t rgb[3])
+{
+    const unsigned fi = vp->prof.shade_frac_bits;
+    const uint64_t top = (1u << vp->prof.colour_bits) - 1;
+    for (int ch = 0; ch < 3; ch++)
+        rgb[ch] = units_output((uint64_t)fs->rgb[ch] * 0xFF << fi, top, fi);
+}
+
+/* Samples [c0, c1) of row r of a face using `units`, a constant at each
+ * call site, so every test of it folds away: the unused units are absent
+ * and the forms the face uses are stepped by addition along the row. */
+static inline __attribute__((always_inline)) void
+shade_run(const alb_vp *vp, const vp_face_setup *fs, uint32_t r, uint32_t c0, uint32_t c1,
+          uint16_t *out, const unsigned units)
+{
+    if (!units) {   /* a flat, unfogged face: one colour */
+        vp_fill_rgb(out, c1 - c0, fs->flat);
+        return;
+    }
+    const unsigned fi = vp->prof.shade_frac_bits, rb = vp->prof.recip_bits, lg = fs->tex_log2;
+    const int64_t one = (int64_t)1 << fi;
+    const int ez = fs->depth.exp;
+    const uint64_t top = (1u << vp->prof.colour_bits) - 1;
+    /* every form stepped exactly along the row: N(c + 1, r) = N(c, r) + step_c */
+    int64_t nz = units_form_at(&fs->depth, c0, r);
+    int64_t ns = units & U_SHADE ? units_form_at(&fs->shade, c0, r) : 0;
+    int64_t nu = units & U_TEXTURE ? units_form_at(&fs->tex_u, c0, r) : 0;
+    int64_t nv = units & U_TEXTURE ? units_form_at(&fs->tex_v, c0, r) : 0;
+    for (uint32_t c = c0; c < c1; c++, out += 3) {
+        /* nz > 0: the face wrote this sample, so its depth was not 0 */
+        vp_recip rc = units_recip(vp, nz);
+        if (units & (U_SHADE | U_TEXTURE)) {
+            int64_t intensity = one;
+            if (units & U_SHADE)
+                intensity = fix_clamp(units_ratio(ns, fs->shade.exp, rc, ez, rb, (int)fi), 0, one);
+            uint32_t texel = 0xFFFFFF;
+            if (units & U_TEXTURE) {
+                unsigned u = units_fraction(nu, fs->tex_u.exp, rc, ez, rb, lg);
+                unsigned v = units_fraction(nv, fs->tex_v.exp, rc, ez, rb, lg);
+                texel = fs->texels[((size_t)v << lg) + u];
+            }
+            for (int i = 0; i < 3; i++)
+                out[i] = units_output((uint64_t)fs->rgb[i] * (texel >> (16 - 8 * i) & 0xFF) *
+                                          (uint64_t)intensity,
+                                      top, fi);
+        } else {
+            memcpy(out, fs->flat, sizeof fs->flat);
+        }
+        if (units & U_FOG) {
+            int64_t zq = units_ratio(1, (int)vp->p, rc, ez, rb, 8);
+            int64_t vis = units_fog_visibility(&vp->frame, zq, one);
+            for (int i = 0; i < 3; i++)
+                out[i] = units_fog_blend(out[i], vp->fog_rgb[i], vis, fi);
+        }
+        nz += fs->depth.step_c;
+        if (units & U_SHADE)
+            ns += fs->shade.step_c;
+        if (units & U_TEXTURE)
+            nu += fs->tex_u.step_c, nv += fs->tex_v.step_c;
+    }
+}
+
+/* Every unit on: each sample through vp_shade_sample. */
+static void shade_all_units(const alb_vp *vp, const vp_face_setup *fs, uint32_t r, uint32_t c0,
+                            uint32_t c1, uint16_t *out)
+{
+    for (uint32_t c = c0; c < c1; c++, out += 3)
+        vp_shade_sample(vp, fs, units_form_at(&fs->depth, c, r), c, r, out);
+}
+
+typedef void (*shade_fn)(const alb_vp *, const vp_face_setup *, uint32_t, uint32_t, uint32_t,
+                         uint16_t *);
+#define SHADE_UNITS(n) \
+    static void shade_##n(const alb_vp *vp, const vp_face_setup *fs, uint32_t r, uint32_t c0, \
+                          uint32_t c1, uint16_t *out) \
+    { \
+        shade_run(vp, fs, r, c0, c1, out, n); \
+    }
+SHADE_UNITS(0) SHADE_UNITS(1) SHADE_UNITS(2) SHADE_UNITS(3)
+SHADE_UNITS(4) SHADE_UNITS(5) SHADE_UNITS(6) SHADE_UNITS(7)
+#undef SHADE_UNITS
+
+static const shade_fn shade_for_units[8] = {
+    shade_0, shade_1, shade_2, shade_3, shade_4, shade_5, shade_6, shade_7,
+};
+
+void vp_shade_run(const alb_vp *vp, const vp_face_setup *fs, uint32_t r, uint32_t c0, uint32_t c1,
+                  uint16_t *rgb)
+{
+    if (vp->prof.all_units) {
+        shade_all_units(vp, fs, r, c0, c1, rgb);
+        return;
+    }
+    /* fog is a frame's choice as well as the face's */
+    unsigned units = fs->units & (vp->frame.fog ? 7u : (unsigned)~U_FOG & 7u);
+    shade_for_units[units](vp, fs, r, c0, c1, rgb);
+}
+
+void vp_sample_colour(const alb_vp *vp, const vp_face_setup *fs, uint32_t c, uint32_t r,
+                      uint16_t rgb[3])
+{
+    vp_shade_run(vp, fs, r, c, c + 1, rgb);
 }

@@ -1,8 +1,9 @@
 /* units.h — the VP's per-sample arithmetic units as inline functions, shared
- * by the specialised fill loops (fill.c) and the all-units path (shade.c):
- * the depth store format, the reciprocal ROM, the ratio of two forms, the
- * texture fraction, fog visibility and the colour output stage
- * (docs/vp.md §4-§6).  Integer arithmetic only. */
+ * by the fill (fill.c, the functional engine's walk in vp.c) and the output
+ * stage's shading (shade.c): the depth store format and one sample's depth
+ * test, the reciprocal ROM, the ratio of two forms, the texture fraction,
+ * fog visibility and the colour output stage (docs/vp.md §4-§6).  Integer
+ * arithmetic only. */
 #ifndef ALBATROS_VP_UNITS_H
 #define ALBATROS_VP_UNITS_H
 
@@ -30,6 +31,47 @@ static inline uint32_t units_depth(int64_t n, int sh, int64_t max)
         return 0;
     int64_t v = sh >= 0 ? fix_shl_sat(n, (unsigned)sh, 0, max) : fix_floor_shr(n, (unsigned)-sh);
     return (uint32_t)(v > max ? max : v);
+}
+
+/* Ties in the depth store (docs/vp.md §4: equal d, 0 < d < max — two faces
+ * in one depth step, the earlier kept; ties at the saturated max are
+ * depth_saturated's): `ties` of them by face fs, `idx` the lowest-indexed
+ * of those, which is kept with the faces that kept and lost it if it is the
+ * frame's lowest yet — the same sample whatever the tiling. */
+static inline void units_note_ties(alb_vp *vp, const vp_face_setup *fs, uint64_t ties, size_t idx)
+{
+    if (!vp->st.depth_ties || idx < vp->st.tie_sample) {
+        vp->st.tie_sample = idx;
+        vp->st.tie_kept = vp_frame_face(vp, vp->s_tag[idx])->id;
+        vp->st.tie_lost = fs->id;
+        vp->st.tie_depth = vp->s_depth[idx];
+    }
+    vp->st.depth_ties += ties;
+}
+
+/* The fill unit on one sample (c, r) of face fs decided at `level`: its
+ * depth through the depth unit and the depth test (docs/vp.md §4), counted
+ * in vp->st.  The fill loops of fill.c do the same a row at a time. */
+static inline void units_fill_sample(alb_vp *vp, const vp_face_setup *fs, uint32_t c, uint32_t r,
+                                     uint8_t level)
+{
+    vp_cell k = {.c0 = c, .r0 = r, .level = level};
+    vp_touch(vp, &k);
+    const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
+    const int64_t z = units_form_at(&fs->depth, c, r);
+    const size_t idx = (size_t)r * vp->sw + c;
+    uint32_t dv = units_depth(z, units_depth_shift(vp, fs->depth.exp), dmax);
+    vp->st.samples_covered++;
+    vp->st.depth_underflow += dv == 0 && z > 0;
+    vp->st.depth_saturated += dv == (uint32_t)dmax;
+    /* a later face wins only if strictly nearer; 0, no surface, never wins */
+    if (dv > vp->s_depth[idx]) {
+        vp->s_depth[idx] = dv;
+        vp->s_tag[idx] = fs->tag | level;
+        vp->st.samples_written++;
+    } else if (dv != 0 && dv == vp->s_depth[idx] && dv != (uint32_t)dmax) {
+        units_note_ties(vp, fs, 1, idx);
+    }
 }
 
 /* 1/n for n > 0 through the reciprocal ROM (or the divider, wider units). */

@@ -4,8 +4,8 @@
  * each classified against every edge by comparing the edge's positions at the
  * cell's borders with the cell's bounds — exact integers, so the middle of a
  * cell is the mean of its borders and every sample is decided exactly. */
-#include "vp_internal.h"
-#include "../common/fix.h"
+#include "units.h"
+#include "simd.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -24,12 +24,11 @@ alb_err alb_vp_create(alb_vp **out, const alb_profile *prof, alb_diag *d)
     vp->sw = 1u << vp->lw;
     vp->sh = 1u << vp->lh;
     vp->p = vp->lw > vp->lh ? vp->lw : vp->lh;
-    size_t n = (size_t)vp->sw * vp->sh;
-    vp->s_depth = malloc(n * sizeof *vp->s_depth);
-    vp->s_face = malloc(n * sizeof *vp->s_face);
-    vp->s_level = malloc(n * sizeof *vp->s_level);
-    vp->s_rgb = malloc(3 * n * sizeof *vp->s_rgb);
-    if (!vp->s_depth || !vp->s_face || !vp->s_level || !vp->s_rgb || vp_recip_rom_init(vp)) {
+    vp_depth_row_fn rows[3];
+    const char *names[3];
+    vp_depth_rows(rows, names);
+    vp->depth_row = rows[0];
+    if (vp_store_init(vp) || vp_scratch_for(vp, 1) || vp_recip_rom_init(vp)) {
         alb_vp_destroy(vp);
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for a %ux%u sample store",
                        vp->sw, vp->sh);
@@ -46,10 +45,8 @@ void alb_vp_destroy(alb_vp *vp)
         free(vp->tex[i]);
     free(vp->recip_rom);
     free(vp->batch);
-    free(vp->s_depth);
-    free(vp->s_face);
-    free(vp->s_level);
-    free(vp->s_rgb);
+    free(vp->scratch);
+    vp_store_free(vp);
     free(vp);
 }
 
@@ -86,22 +83,15 @@ alb_err alb_vp_texture(alb_vp *vp, const alb_ws_texture *t, alb_diag *d)
     if (!mem)
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for texture %u", t->id);
     memcpy(mem, t->texels, n * sizeof *mem);
-    free(vp->tex[t->id]);
+    /* faces of this frame drawn with the old texels are shaded with them
+     * when the frame is resolved */
+    if (vp->tex[t->id] && vp_store_retire_texture(vp, vp->tex[t->id])) {
+        free(mem);
+        return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for texture %u", t->id);
+    }
     vp->tex[t->id] = mem;
     vp->tex_log2[t->id] = t->log2size;
     return ALB_OK;
-}
-
-/* Sample rows [r0, r1): no surface, the background colour. */
-static void clear_rows(alb_vp *vp, void *ctx, uint32_t r0, uint32_t r1)
-{
-    (void)ctx;
-    size_t a = (size_t)r0 * vp->sw, n = (size_t)(r1 - r0) * vp->sw;
-    memset(vp->s_depth + a, 0, n * sizeof *vp->s_depth);
-    memset(vp->s_face + a, 0xFF, n * sizeof *vp->s_face);
-    memset(vp->s_level + a, ALB_FRAME_NO_LEVEL, n);
-    for (size_t i = a; i < a + n; i++)
-        memcpy(vp->s_rgb + 3 * i, vp->bg, sizeof vp->bg);
 }
 
 void alb_vp_frame_begin(alb_vp *vp, const alb_ws_frame *f)
@@ -112,7 +102,8 @@ void alb_vp_frame_begin(alb_vp *vp, const alb_ws_frame *f)
         vp->bg[i] = vp_scale_colour8(vp, f->background >> (16 - 8 * i) & 0xFF);
         vp->fog_rgb[i] = vp_scale_colour8(vp, f->fog_rgb >> (16 - 8 * i) & 0xFF);
     }
-    vp_parallel_rows(vp, vp->sh, clear_rows, NULL);
+    /* the store is cleared tile by tile as the frame's fills reach it */
+    vp_store_begin(vp);
 }
 
 /* ---- set-up of edges and forms (docs/vp.md §2, §3) ---- */
@@ -164,27 +155,31 @@ void vp_form_setup(const alb_vp *vp, const alb_ws_form *f, vp_form_fn *fn)
 
 /* Classify cell k against its active edges: -1 outside, 1 inside (every
  * edge holds it wholly), 0 crossing; k->active loses the edges that hold it. */
-static int classify(const vp_edge_fn *e, vp_cell *k)
+static inline __attribute__((always_inline)) int classify(const vp_edge_fn *e, vp_cell *k)
 {
-    int64_t c0 = 2 * (int64_t)k->c0, c1 = 2 * ((int64_t)k->c0 + (1 << k->wl));
-    int64_t r0 = 2 * (int64_t)k->r0, r1 = 2 * ((int64_t)k->r0 + (1 << k->hl));
+    const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
+    const int64_t w = (int64_t)2 << k->wl, h = (int64_t)2 << k->hl;
     uint64_t act = k->active;
     while (act) {
         unsigned i = (unsigned)__builtin_ctzll(act);
         act &= act - 1;
         const vp_edge_fn *f = &e[i];
-        /* h is linear: its extremes over the cell are at opposite corners */
-        int64_t hmin = f->a * (f->a > 0 ? c0 : c1) + f->b * (f->b > 0 ? r0 : r1) + f->c;
-        int64_t hmax = f->a * (f->a > 0 ? c1 : c0) + f->b * (f->b > 0 ? r1 : r0) + f->c;
+        /* h is linear: its extremes over the cell are at opposite corners,
+         * h at the top-left one plus the sides' positive or negative parts */
+        int64_t h0 = f->a * c0 + f->b * r0 + f->c, ax = f->a * w, by = f->b * h;
+        int64_t hmax = h0 + (ax > 0 ? ax : 0) + (by > 0 ? by : 0);
         if (hmax < 0)
             return -1;
-        if (hmin >= 0)
+        int64_t hmin = h0 + (ax < 0 ? ax : 0) + (by < 0 ? by : 0);
+        if (hmin >= 0) {
             k->active &= ~(1ull << i);
+            k->edges--;
+        }
     }
     return k->active ? 0 : 1;
 }
 
-static bool sample_inside(const vp_edge_fn *e, uint64_t active, uint32_t c, uint32_t r)
+static inline bool sample_inside(const vp_edge_fn *e, uint64_t active, uint32_t c, uint32_t r)
 {
     int64_t cc = 2 * (int64_t)c + 1, rr = 2 * (int64_t)r + 1;
     while (active) {
@@ -201,8 +196,9 @@ void vp_walk_begin(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f)
     w->e = f->e;
     w->top = 0;
     w->clipped = false;
-    w->stack[w->top++] = (vp_cell){0, 0, (uint8_t)vp->lw, (uint8_t)vp->lh, 0,
-                                   f->n == 64 ? ~0ull : (1ull << f->n) - 1};
+    w->stack[w->top++] = (vp_cell){.wl = (uint8_t)vp->lw, .hl = (uint8_t)vp->lh,
+                                   .edges = (uint8_t)f->n,
+                                   .active = f->n == 64 ? ~0ull : (1ull << f->n) - 1};
 }
 
 void vp_walk_begin_tile(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile)
@@ -226,24 +222,32 @@ static bool owns(const vp_walk *w, const vp_cell *k)
     return !w->clipped || (k->c0 - t->c0 < (1u << t->wl) && k->r0 - t->r0 < (1u << t->hl));
 }
 
+/* A child onto the stack, unless the walk is clipped to a tile it misses. */
+static inline void push(vp_walk *w, uint32_t c0, uint32_t r0, uint8_t wl, uint8_t hl, uint8_t level,
+                        const vp_cell *parent)
+{
+    vp_cell c = {c0, r0, wl, hl, level, parent->edges, parent->active};
+    if (!w->clipped || meets_tile(w, &c))
+        w->stack[w->top++] = c;
+}
+
 bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
 {
     if (!w->top)
         return false;
-    vp_cell k = w->stack[--w->top];
-    bool own = owns(w, &k);
-    vp->st.cells[k.level] += own;
-    step->edges = (unsigned)__builtin_popcountll(k.active);
-    step->cell = k;
-    if (k.wl == 0 && k.hl == 0) {
+    vp_cell *k = &step->cell;
+    *k = w->stack[--w->top];
+    bool own = owns(w, k);
+    vp->st.cells[k->level] += own;
+    step->edges = k->edges;
+    if (k->wl == 0 && k->hl == 0) {
         /* a single sample: decided at its centre */
         vp->st.samples_tested++;
-        step->kind = sample_inside(w->e, k.active, k.c0, k.r0) ? VP_STEP_SAMPLE_IN
-                                                               : VP_STEP_SAMPLE_OUT;
+        step->kind = sample_inside(w->e, k->active, k->c0, k->r0) ? VP_STEP_SAMPLE_IN
+                                                                 : VP_STEP_SAMPLE_OUT;
         return true;
     }
-    int cls = classify(w->e, &k);
-    step->cell = k;
+    int cls = classify(w->e, k);
     if (cls < 0) {
         vp->st.cells_outside += own;
         step->kind = VP_STEP_OUT;
@@ -252,30 +256,360 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
     if (cls > 0) {
         vp->st.cells_inside += own;
         step->kind = VP_STEP_FILL;
-        if (w->clipped && (k.wl > w->tile.wl || k.hl > w->tile.hl)) {
+        if (w->clipped && (k->wl > w->tile.wl || k->hl > w->tile.hl)) {
             /* fill only the tile's part, as decided at this cell's level */
-            step->cell = w->tile;
-            step->cell.level = k.level;
+            uint8_t level = k->level;
+            *k = w->tile;
+            k->level = level;
         }
         return true;
     }
     vp->st.cells_split += own;
     step->kind = VP_STEP_SPLIT;
-    /* children, visited top-left, top-right, bottom-left, bottom-right;
-     * a side already one sample long is not split */
-    uint8_t wl = k.wl ? k.wl - 1 : 0, hl = k.hl ? k.hl - 1 : 0;
-    vp_cell kids[4];
-    unsigned nk = 0;
-    for (unsigned dy = 0; dy < (k.hl ? 2u : 1u); dy++)
-        for (unsigned dx = 0; dx < (k.wl ? 2u : 1u); dx++) {
-            vp_cell c = {k.c0 + (dx << wl), k.r0 + (dy << hl), wl, hl, (uint8_t)(k.level + 1),
-                         k.active};
-            if (!w->clipped || meets_tile(w, &c))
-                kids[nk++] = c;
-        }
-    while (nk)
-        w->stack[w->top++] = kids[--nk];
+    /* children, visited top-left, top-right, bottom-left, bottom-right (so
+     * pushed in reverse); a side already one sample long is not split */
+    const uint8_t wl = k->wl ? k->wl - 1 : 0, hl = k->hl ? k->hl - 1 : 0, l = k->level + 1;
+    const uint32_t c0 = k->c0, r0 = k->r0, dx = k->wl ? 1u << wl : 0, dy = k->hl ? 1u << hl : 0;
+    if (dy) {
+        if (dx)
+            push(w, c0 + dx, r0 + dy, wl, hl, l, k);
+        push(w, c0, r0 + dy, wl, hl, l, k);
+    }
+    if (dx)
+        push(w, c0 + dx, r0, wl, hl, l, k);
+    push(w, c0, r0, wl, hl, l, k);
     return true;
+}
+
+/* ---- the functional engine: the same walk, drawing as it goes ----
+ *
+ * The clocked models need the walk a step at a time (vp_walk_next); the
+ * functional renderer only its outcome.  This is the same walk — the same
+ * cells in the same order, classified alike, counted alike, each sample
+ * decided at the same level — as a recursion that fills as it goes and
+ * decides the last level's single samples where their parent splits,
+ * without a step apiece.  Equal to vp_walk_next with vp_fill on every
+ * statistic and every sample (tests/test_timing.c compares the functional
+ * fidelity with the clocked ones). */
+
+/* The children of a cell k that splits, in the walk's order: bit 0 the
+ * top-left, 1 top-right, 2 bottom-left, 3 bottom-right.  A side one sample
+ * long is not split; a walk clipped to a tile leaves out the children that
+ * miss it. */
+static inline unsigned children_present(const vp_walk *w, const vp_cell *k, uint32_t dx, uint32_t dy,
+                                        uint8_t wl, uint8_t hl)
+{
+    unsigned present = 1u | (dx ? 2u : 0) | (dy ? 4u : 0) | (dx && dy ? 8u : 0);
+    if (w->clipped)
+        for (unsigned j = 0; j < 4; j++) {
+            vp_cell c = {k->c0 + (j & 1 ? dx : 0), k->r0 + (j & 2 ? dy : 0), wl, hl, 0, 0, 0};
+            if (!meets_tile(w, &c))
+                present &= ~(1u << j);
+        }
+    return present;
+}
+
+/* Bits of a 4-bit mask. */
+static inline unsigned bits4(unsigned m) { return (0x4332322132212110ull >> (4 * m)) & 0xF; }
+
+/* Edges in a mask (the timer's step cycles need the count of a child's). */
+static inline unsigned mask_edges(uint64_t m)
+{
+    m -= (m >> 1) & 0x5555555555555555ull;
+    m = (m & 0x3333333333333333ull) + ((m >> 2) & 0x3333333333333333ull);
+    m = (m + (m >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+    return (unsigned)((m * 0x0101010101010101ull) >> 56);
+}
+
+void vp_timer_init(vp_timer *tm, unsigned edge_units)
+{
+    memset(tm, 0, sizeof *tm);
+    for (unsigned e = 0; e <= ALB_WS_MAX_EDGES; e++)   /* docs/microarchitecture.md */
+        tm->step_cycles[e] = (uint8_t)(e ? (e + edge_units - 1) / edge_units : 1);
+}
+
+/* The timer's part of a step on cell k evaluating `edges` edges, and of a
+ * hand-over to the fill unit in its last cycle; nothing without a timer
+ * (`timed` is a constant at every call site). */
+static inline void timer_step(vp_timer *tm, const vp_cell *k, unsigned edges, const bool timed)
+{
+    if (!timed)
+        return;
+    unsigned c = tm->step_cycles[edges];
+    tm->pending += c;
+    if (tm->charge)
+        tm->charge(tm, k, c);
+}
+
+static inline void timer_hand_over(vp_timer *tm, const vp_cell *k, const bool timed)
+{
+    if (!timed)
+        return;
+    tm->hand_over(tm, k, tm->pending);
+    tm->pending = 0;
+}
+
+/* Children that are single samples, each the walk's next step in turn:
+ * decided at their centres, the active edges at the top-left one and the
+ * others a column (2a) or a row (2b) on.  A sample meeting the tile lies in
+ * it, so this walk counts it. */
+static inline __attribute__((always_inline)) void
+draw_samples(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
+             unsigned present, vp_timer *tm, const bool timed)
+{
+    const int64_t cc = 2 * (int64_t)k->c0 + 1, rr = 2 * (int64_t)k->r0 + 1;
+    unsigned in = present;
+    for (uint64_t act = k->active; act && in; act &= act - 1) {
+        const vp_edge_fn *f = &w->e[__builtin_ctzll(act)];
+        int64_t h = f->a * cc + f->b * rr + f->c;
+        in &= (h >= 0) | (h + 2 * f->a >= 0) << 1 | (h + 2 * f->b >= 0) << 2 |
+              (h + 2 * (f->a + f->b) >= 0) << 3;
+    }
+    const uint8_t l = k->level + 1;
+    vp->st.cells[l] += bits4(present);
+    vp->st.samples_tested += bits4(present);
+    for (unsigned j = 0; j < 4; j++) {
+        vp_cell c = {k->c0 + (j & 1), k->r0 + (j >> 1), 0, 0, l, 0, 0};
+        if (present >> j & 1)
+            timer_step(tm, &c, k->edges, timed);
+        if (in >> j & 1) {
+            units_fill_sample(vp, fs, c.c0, c.r0, l);
+            timer_hand_over(tm, &c, timed);
+        }
+    }
+}
+
+/* A cell the walk found inside every edge: filled, or, clipped to a smaller
+ * tile, the tile's part of it, as decided at the cell's level. */
+static void draw_fill(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k)
+{
+    if (w->clipped && (k->wl > w->tile.wl || k->hl > w->tile.hl)) {
+        vp_cell t = w->tile;
+        t.level = k->level;
+        vp_fill(vp, fs, &t);
+    } else {
+        vp_fill(vp, fs, k);
+    }
+}
+
+/* The cells below a 4 x 4 cell k that splits: its four 2 x 2 children and
+ * the samples of those that split, decided in one pass.  Per active edge,
+ * the children's extremes as in draw_split and the sixteen sample centres,
+ * a column (2a) or a row (2b) apart, as sign masks; a sample of a child
+ * that splits is tested against the child's active edges, and an edge that
+ * holds the child is >= 0 at its samples too, so the parent's edges give
+ * the same verdicts.  Then the counts, one fill of the block's samples, each
+ * with the level that decided it, and for a timer the steps in the walk's
+ * order. */
+static inline __attribute__((always_inline)) void
+draw_split4(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
+            const bool timed)
+{
+    /* 4 bits to 4 bytes: counts of the edges that do not hold each child */
+    static const uint32_t spread[16] = {
+        0x00000000, 0x00000001, 0x00000100, 0x00000101, 0x00010000, 0x00010001, 0x00010100,
+        0x00010101, 0x01000000, 0x01000001, 0x01000100, 0x01000101, 0x01010000, 0x01010001,
+        0x01010100, 0x01010101};
+    const uint8_t l = k->level + 1;
+    const unsigned present = children_present(w, k, 2, 2, 1, 1);
+    const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
+    /* children rejected by an edge, held wholly by every edge; samples
+     * outside some edge (bit 4y + x): sign bits, two lanes at a time */
+    unsigned out = 0, held = 0xF, outside = 0;
+    uint32_t loose = 0;   /* byte j: edges not holding child j */
+    for (uint64_t act = k->active; act; act &= act - 1) {
+        const vp_edge_fn *f = &w->e[__builtin_ctzll(act)];
+        const int64_t h = f->a * c0 + f->b * r0 + f->c, ax = 4 * f->a, by = 4 * f->b;
+        const v2 up = v2_splat((ax > 0 ? ax : 0) + (by > 0 ? by : 0));
+        const v2 down = v2_splat((ax < 0 ? ax : 0) + (by < 0 ? by : 0));
+        const v2 top = v2_set(h, h + ax), bottom = v2_set(h + by, h + ax + by);
+        out |= v2_neg(v2_add(top, up)) | v2_neg(v2_add(bottom, up)) << 2;
+        const unsigned not_held = v2_neg(v2_add(top, down)) | v2_neg(v2_add(bottom, down)) << 2;
+        held &= ~not_held;
+        if (timed)
+            loose += spread[not_held];
+        const int64_t s = h + f->a + f->b;   /* the top-left sample's centre */
+        v2 left = v2_set(s, s + 2 * f->a), right = v2_set(s + 4 * f->a, s + 6 * f->a);
+        const v2 row = v2_splat(2 * f->b);
+        for (unsigned y = 0; y < 16; y += 4, left = v2_add(left, row), right = v2_add(right, row))
+            outside |= (v2_neg(left) | v2_neg(right) << 2) << y;
+    }
+    /* the children's quadrants of the block's samples */
+    static const uint16_t quadrant[4] = {0x0033, 0x00CC, 0x3300, 0xCC00};
+    const unsigned kept = present & ~out, inside = kept & held, split = kept & ~held;
+    unsigned fill = 0, coarse = 0;
+    for (unsigned j = 0; j < 4; j++) {
+        if (inside >> j & 1)
+            coarse |= quadrant[j];   /* decided at the child's level */
+        if (split >> j & 1)
+            fill |= quadrant[j] & ~outside;
+    }
+    fill |= coarse;
+    unsigned owned = present;
+    if (w->clipped)
+        for (unsigned j = 0; j < 4; j++) {
+            vp_cell c = {k->c0 + (j & 1) * 2, k->r0 + (j >> 1) * 2, 1, 1, l, 0, 0};
+            if (!owns(w, &c))
+                owned &= ~(1u << j);
+        }
+    vp->st.cells[l] += bits4(owned);
+    vp->st.cells_outside += bits4(owned & out);
+    vp->st.cells_inside += bits4(owned & inside);
+    vp->st.cells_split += bits4(owned & split);
+    /* the samples of split children: each a step, counted by the tile it is in */
+    vp->st.cells[l + 1] += 4 * bits4(split);
+    vp->st.samples_tested += 4 * bits4(split);
+    if (fill)
+        vp_fill_block4(vp, fs, k->c0, k->r0, (uint16_t)fill, (uint16_t)coarse, (uint8_t)(l + 1));
+    if (!timed)
+        return;
+    for (unsigned j = 0; j < 4; j++) {
+        if (!(present >> j & 1))
+            continue;
+        vp_cell c = {k->c0 + (j & 1) * 2, k->r0 + (j >> 1) * 2, 1, 1, l, 0, 0};
+        timer_step(tm, &c, k->edges, timed);
+        if (inside >> j & 1)
+            timer_hand_over(tm, &c, timed);
+        if (!(split >> j & 1))
+            continue;
+        for (unsigned i = 0; i < 4; i++) {
+            vp_cell sc = {c.c0 + (i & 1), c.r0 + (i >> 1), 0, 0, (uint8_t)(l + 1), 0, 0};
+            timer_step(tm, &sc, loose >> 8 * j & 0xFF, timed);
+            if (fill >> (4 * (sc.r0 - k->r0) + sc.c0 - k->c0) & 1)
+                timer_hand_over(tm, &sc, timed);
+        }
+    }
+}
+
+static void draw_split_plain(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+                             const vp_cell *k, vp_timer *tm);
+static void draw_split_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+                             const vp_cell *k, vp_timer *tm);
+
+/* The cells below cell k, which splits.  Its children are classified
+ * together: an edge's value at a child's top-left corner is the parent's
+ * corner value plus a child's side or not, and its extremes over the child
+ * add the positive or the negative parts of the child's sides (h is linear)
+ * — the walk's classify, four cells at a time.  Then each child in turn is
+ * a step: counted, rejected, filled, or split further. */
+static inline __attribute__((always_inline)) void
+draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
+           const bool timed)
+{
+    const uint8_t wl = k->wl ? k->wl - 1 : 0, hl = k->hl ? k->hl - 1 : 0, l = k->level + 1;
+    const uint32_t dx = k->wl ? 1u << wl : 0, dy = k->hl ? 1u << hl : 0;
+    if (k->wl == 2 && k->hl == 2) {
+        draw_split4(vp, w, fs, k, tm, timed);
+        return;
+    }
+    const unsigned present = children_present(w, k, dx, dy, wl, hl);
+    if (!(wl | hl)) {
+        draw_samples(vp, w, fs, k, present, tm, timed);
+        return;
+    }
+    const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
+    const int64_t cw = (int64_t)2 << wl, ch = (int64_t)2 << hl;    /* a child's sides */
+    const int64_t ox = dx ? cw : 0, oy = dy ? ch : 0;                /* the children's offsets */
+    unsigned out = 0;
+    uint64_t held[4] = {0, 0, 0, 0};   /* edges holding each child wholly */
+    for (uint64_t act = k->active; act; act &= act - 1) {
+        const unsigned i = (unsigned)__builtin_ctzll(act);
+        const vp_edge_fn *f = &w->e[i];
+        const int64_t h = f->a * c0 + f->b * r0 + f->c, ax = f->a * cw, by = f->b * ch;
+        const int64_t up = (ax > 0 ? ax : 0) + (by > 0 ? by : 0);
+        const int64_t down = (ax < 0 ? ax : 0) + (by < 0 ? by : 0);
+        const int64_t hx = f->a * ox, hy = f->b * oy;
+        const int64_t t[4] = {h, h + hx, h + hy, h + hx + hy};
+        for (unsigned j = 0; j < 4; j++) {
+            out |= (unsigned)(t[j] + up < 0) << j;
+            held[j] |= (uint64_t)(t[j] + down >= 0) << i;
+        }
+    }
+    vp_cell c = {0, 0, wl, hl, l, 0, 0};
+    for (unsigned j = 0; j < 4; j++) {
+        if (!(present >> j & 1))
+            continue;
+        c.c0 = k->c0 + (j & 1 ? dx : 0), c.r0 = k->r0 + (j & 2 ? dy : 0);
+        const bool own = owns(w, &c);
+        vp->st.cells[l] += own;
+        timer_step(tm, &c, k->edges, timed);
+        if (out >> j & 1) {
+            vp->st.cells_outside += own;
+            continue;
+        }
+        c.active = k->active & ~held[j];
+        if (!c.active) {
+            vp->st.cells_inside += own;
+            draw_fill(vp, w, fs, &c);
+            timer_hand_over(tm, &c, timed);
+            continue;
+        }
+        vp->st.cells_split += own;
+        if (timed) {
+            c.edges = (uint8_t)mask_edges(c.active);
+            draw_split_timed(vp, w, fs, &c, tm);
+        } else {
+            draw_split_plain(vp, w, fs, &c, tm);
+        }
+    }
+}
+
+static void draw_split_plain(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+                             const vp_cell *k, vp_timer *tm)
+{
+    draw_split(vp, w, fs, k, tm, false);
+}
+
+static void draw_split_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+                             const vp_cell *k, vp_timer *tm)
+{
+    draw_split(vp, w, fs, k, tm, true);
+}
+
+/* The walk of a face from the top cell (never a single sample: a screen is
+ * at least 2 x 2). */
+static inline __attribute__((always_inline)) void
+draw_walk(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, vp_timer *tm, const bool timed)
+{
+    vp_cell k = w->stack[0];
+    const bool own = owns(w, &k);
+    vp->st.cells[k.level] += own;
+    timer_step(tm, &k, k.edges, timed);
+    int cls = classify(w->e, &k);
+    if (cls < 0) {
+        vp->st.cells_outside += own;
+    } else if (cls > 0) {
+        vp->st.cells_inside += own;
+        draw_fill(vp, w, fs, &k);
+        timer_hand_over(tm, &k, timed);
+    } else {
+        vp->st.cells_split += own;
+        if (timed)
+            draw_split_timed(vp, w, fs, &k, tm);
+        else
+            draw_split_plain(vp, w, fs, &k, tm);
+    }
+}
+
+void vp_draw_face(alb_vp *vp, const vp_loaded_face *f)
+{
+    vp_walk w;
+    vp_walk_begin(&w, vp, f);
+    draw_walk(vp, &w, &f->fs, NULL, false);
+}
+
+void vp_draw_face_tile(alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile)
+{
+    vp_walk w;
+    vp_walk_begin_tile(&w, vp, f, tile);
+    draw_walk(vp, &w, &f->fs, NULL, false);
+}
+
+void vp_draw_face_timed(alb_vp *vp, const vp_loaded_face *f, vp_timer *tm)
+{
+    vp_walk w;
+    vp_walk_begin(&w, vp, f);
+    draw_walk(vp, &w, &f->fs, tm, true);
 }
 
 alb_err vp_load_face(alb_vp *vp, const alb_ws_face *f, vp_loaded_face *out, alb_diag *d)
@@ -307,95 +641,86 @@ alb_err vp_load_face(alb_vp *vp, const alb_ws_face *f, vp_loaded_face *out, alb_
     return ALB_OK;
 }
 
-void vp_count_face(alb_vp *vp, const vp_loaded_face *f)
-{
-    vp->st.faces++;
-    vp->st.edges += f->n;
-    vp->st.faces_shaded += (f->fs.flags & ALB_WS_FACE_SHADE) != 0;
-    vp->st.faces_textured += (f->fs.flags & ALB_WS_FACE_TEXTURE) != 0;
-    vp->st.faces_fogged += vp->frame.fog && (f->fs.flags & ALB_WS_FACE_FOG);
-}
-
 alb_err alb_vp_face(alb_vp *vp, const alb_ws_face *f, alb_diag *d)
 {
     if (vp->batch) {
         /* threaded: load now (the stream's order of errors), draw in batches */
         alb_err err = vp_load_face(vp, f, &vp->batch[vp->nbatch], d);
+        if (!err)
+            err = vp_begin_face(vp, &vp->batch[vp->nbatch], d);
         if (err)
             return err;
-        vp_count_face(vp, &vp->batch[vp->nbatch]);
         if (++vp->nbatch == VP_BATCH)
             vp_flush_batch(vp);
         return ALB_OK;
     }
     vp_loaded_face lf;
     alb_err err = vp_load_face(vp, f, &lf, d);
+    if (!err)
+        err = vp_begin_face(vp, &lf, d);
     if (err)
         return err;
-    vp_count_face(vp, &lf);
-    vp_walk w;
-    vp_step step;
-    vp_walk_begin(&w, vp, &lf);
-    while (vp_walk_next(vp, &w, &step))
-        if (step.kind == VP_STEP_FILL || step.kind == VP_STEP_SAMPLE_IN)
-            vp_fill(vp, &lf.fs, &step.cell);
+    vp_draw_face(vp, &lf);
     return ALB_OK;
 }
 
 /* ---- output stage ---- */
 
-/* Pixel rows [y0, y1) of out from their 4^aa samples. */
-static void resolve_rows(alb_vp *vp, void *ctx, uint32_t y0, uint32_t y1)
-{
-    alb_frame *out = ctx;
-    unsigned aa = vp->prof.aa_levels, n = 1u << aa;
-    for (unsigned y = y0; y < y1; y++)
-        for (unsigned x = 0; x < vp->prof.width; x++) {
-            /* the pixel's nearest sample gives depth, face and level (ties:
-             * the first in raster order); colour is the mean of its samples,
-             * rounded half up */
-            uint32_t sum[3] = {0, 0, 0}, best = 0;
-            size_t best_idx = (size_t)(y << aa) * vp->sw + (x << aa);
-            unsigned covered = 0;
-            for (unsigned sy = 0; sy < n; sy++)
-                for (unsigned sx = 0; sx < n; sx++) {
-                    size_t i = (size_t)((y << aa) + sy) * vp->sw + (x << aa) + sx;
-                    for (int ch = 0; ch < 3; ch++)
-                        sum[ch] += vp->s_rgb[3 * i + ch];
-                    covered += vp->s_face[i] != ALB_FRAME_NO_FACE;
-                    if (vp->s_depth[i] > best) {
-                        best = vp->s_depth[i];
-                        best_idx = i;
-                    }
-                }
-            size_t p = (size_t)y * vp->prof.width + x;
-            for (int ch = 0; ch < 3; ch++)
-                out->rgb[3 * p + ch] = (uint16_t)((sum[ch] + (n * n / 2)) >> (2 * aa));
-            out->depth[p] = vp->s_depth[best_idx];
-            out->face[p] = vp->s_face[best_idx];
-            out->level[p] = vp->s_level[best_idx];
-            out->coverage[p] = (uint16_t)covered;
-        }
-}
-
 void alb_vp_frame_end(alb_vp *vp, alb_frame *out)
 {
     vp_flush_batch(vp);
-    unsigned aa = vp->prof.aa_levels;
+    vp_store_finish(vp);
     out->number = vp->frame.number;
     out->near = vp->cfg.near;
-    if (aa == 0) {
-        /* one sample per pixel: the store is the frame */
-        size_t np = (size_t)vp->prof.width * vp->prof.height;
-        memcpy(out->rgb, vp->s_rgb, 3 * np * sizeof *out->rgb);
-        memcpy(out->depth, vp->s_depth, np * sizeof *out->depth);
-        memcpy(out->face, vp->s_face, np * sizeof *out->face);
-        memcpy(out->level, vp->s_level, np);
-        for (size_t i = 0; i < np; i++)
-            out->coverage[i] = vp->s_face[i] != ALB_FRAME_NO_FACE;
-        return;
+    vp_store_resolve(vp, out);
+}
+
+/* The packets of r's words into the VP, each finished frame to sink, until
+ * the words or the stream end. */
+static alb_err run_packets(alb_vp *vp, alb_ws_reader *r, alb_ws_event *ev, alb_frame *frame,
+                           alb_vp_frame_sink sink, void *ctx, alb_diag *d)
+{
+    alb_err e = ALB_OK;
+    bool refused = false;     /* by the VP, not by the decoder: ev is that packet */
+    while (!e && !r->ended && r->pos < r->n) {
+        refused = false;
+        if ((e = alb_ws_next(r, ev, d)))
+            break;
+        refused = true;
+        switch (ev->kind) {
+        case ALB_WS_EV_CONFIG:
+            if ((e = alb_vp_config(vp, &ev->u.config, d)))
+                break;
+            alb_frame_free(frame);
+            if (alb_vp_frame_alloc(vp, frame, false))
+                e = alb_diag_at(d, ALB_ERR_NOMEM, r->name, 0, 0, "out of memory for a frame");
+            break;
+        case ALB_WS_EV_TEXTURE:
+            e = alb_vp_texture(vp, &ev->u.texture, d);
+            break;
+        case ALB_WS_EV_FRAME:
+            alb_vp_frame_begin(vp, &ev->u.frame);
+            break;
+        case ALB_WS_EV_FACE:
+            e = alb_vp_face(vp, &ev->u.face, d);
+            break;
+        case ALB_WS_EV_FRAME_END:
+            alb_vp_frame_end(vp, frame);
+            if (sink && sink(ctx, frame, &vp->st))
+                e = ALB_ERR_IO;
+            break;
+        case ALB_WS_EV_END:
+            break;
+        }
     }
-    vp_parallel_rows(vp, vp->prof.height, resolve_rows, out);
+    if (e && refused && (ev->kind == ALB_WS_EV_CONFIG || ev->kind == ALB_WS_EV_FACE) && d->offset < 0 &&
+        !d->line) {
+        /* a packet the decoder accepted but this VP cannot take: say where */
+        char msg[sizeof d->msg];
+        memcpy(msg, d->msg, sizeof msg);
+        alb_diag_off(d, e, r->name, (long long)ev->first * 4, "word %zu: %s", ev->first, msg);
+    }
+    return e;
 }
 
 alb_err alb_vp_run_stream(alb_vp *vp, const uint32_t *w, size_t n, const char *name,
@@ -409,46 +734,66 @@ alb_err alb_vp_run_stream(alb_vp *vp, const uint32_t *w, size_t n, const char *n
         return alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
     alb_ws_reader_init(&r, w, n, name);
     r.max_faces = vp->prof.frame_faces;
-    alb_err e = ALB_OK;
-    bool refused = false;     /* by the VP, not by the decoder: ev is that packet */
-    while (!e && !r.ended) {
-        refused = false;
-        if ((e = alb_ws_next(&r, ev, d)))
-            break;
-        refused = true;
-        switch (ev->kind) {
-        case ALB_WS_EV_CONFIG:
-            if ((e = alb_vp_config(vp, &ev->u.config, d)))
-                break;
-            if (alb_vp_frame_alloc(vp, &frame, false))
-                e = alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory for a frame");
-            break;
-        case ALB_WS_EV_TEXTURE:
-            e = alb_vp_texture(vp, &ev->u.texture, d);
-            break;
-        case ALB_WS_EV_FRAME:
-            alb_vp_frame_begin(vp, &ev->u.frame);
-            break;
-        case ALB_WS_EV_FACE:
-            e = alb_vp_face(vp, &ev->u.face, d);
-            break;
-        case ALB_WS_EV_FRAME_END:
-            alb_vp_frame_end(vp, &frame);
-            if (sink && sink(ctx, &frame, &vp->st))
-                e = ALB_ERR_IO;
-            break;
-        case ALB_WS_EV_END:
-            break;
-        }
-    }
-    if (e && refused && (ev->kind == ALB_WS_EV_CONFIG || ev->kind == ALB_WS_EV_FACE) && d->offset < 0 &&
-        !d->line) {
-        /* a packet the decoder accepted but this VP cannot take: say where */
-        char msg[sizeof d->msg];
-        memcpy(msg, d->msg, sizeof msg);
-        alb_diag_off(d, e, name, (long long)ev->first * 4, "word %zu: %s", ev->first, msg);
-    }
+    alb_err e = run_packets(vp, &r, ev, &frame, sink, ctx, d);
+    /* the words ran out before END: the decoder says so */
+    if (!e && !r.ended)
+        e = alb_ws_next(&r, ev, d);
     alb_frame_free(&frame);
     free(ev);
     return e;
+}
+
+struct alb_vp_feed {
+    alb_vp *vp;
+    alb_ws_reader r;
+    alb_ws_event *ev;
+    alb_frame frame;
+    alb_vp_frame_sink sink;
+    void *ctx;
+    unsigned long long fed;   /* words before the current piece */
+};
+
+alb_err alb_vp_feed_open(alb_vp_feed **out, alb_vp *vp, const char *name, alb_vp_frame_sink sink,
+                         void *ctx, alb_diag *d)
+{
+    alb_vp_feed *f = calloc(1, sizeof *f);
+    if (f && !(f->ev = malloc(sizeof *f->ev))) {
+        free(f);
+        f = NULL;
+    }
+    *out = f;
+    if (!f)
+        return alb_diag_at(d, ALB_ERR_NOMEM, name, 0, 0, "out of memory");
+    f->vp = vp;
+    f->sink = sink;
+    f->ctx = ctx;
+    alb_ws_reader_init(&f->r, NULL, 0, name);
+    f->r.max_faces = vp->prof.frame_faces;
+    return ALB_OK;
+}
+
+alb_err alb_vp_feed_words(alb_vp_feed *f, const uint32_t *w, size_t n, alb_diag *d)
+{
+    /* the reader keeps its state (CONFIG seen, inside a frame) from piece
+     * to piece; only its words change */
+    f->r.w = w;
+    f->r.n = n;
+    f->r.pos = 0;
+    alb_err e = run_packets(f->vp, &f->r, f->ev, &f->frame, f->sink, f->ctx, d);
+    if (!e && f->r.pos < n)
+        e = alb_diag_off(d, ALB_ERR_STREAM, f->r.name, (long long)(f->fed + f->r.pos) * 4,
+                         "words after END");
+    if (e && d->offset >= 0)   /* located in the whole stream, not the piece */
+        d->offset += (long long)f->fed * 4;
+    f->fed += n;
+    return e;
+}
+
+void alb_vp_feed_close(alb_vp_feed *f)
+{
+    if (!f)
+        return;
+    alb_frame_free(&f->frame);
+    free(f->ev);
+    free(f);
 }

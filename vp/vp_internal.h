@@ -23,6 +23,14 @@ typedef struct {
     int exp;             /* value = N * 2^(exp - P) */
 } vp_form_fn;
 
+/* A row of the fill's fast loop (fill.c, vp_depth_rows): samples written,
+ * samples tied, and the first tied one's index in the row (if any). */
+typedef struct {
+    uint32_t written, ties, first_tie;
+} vp_row_result;
+typedef vp_row_result (*vp_depth_row_fn)(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z,
+                                         int64_t dz, unsigned sr, unsigned sl, uint32_t t);
+
 /* Per-face shading set-up. */
 typedef struct {
     uint32_t id;
@@ -31,9 +39,21 @@ typedef struct {
     vp_form_fn depth, shade, tex_u, tex_v;
     const uint32_t *texels;
     unsigned tex_log2;
-    unsigned units;          /* the shading units the face uses (fill.c) */
+    unsigned units;          /* the shading units the face uses (shade.c) */
     uint16_t flat[3];        /* its colour where it uses neither intensity nor texture */
+    uint32_t tag;            /* its index in the frame's face list, << VP_TAG_LEVEL_BITS
+                                (vp_begin_face): what the samples it writes hold */
 } vp_face_setup;
+
+/* A sample's tag: the face that wrote it — its index among the faces the
+ * engine took this frame — and the level that decided it; VP_TAG_NONE where
+ * no face did.  The colour is computed from the tag when the frame is
+ * resolved (store.c), so a sample another face overwrites is never shaded. */
+#define VP_TAG_LEVEL_BITS 5          /* levels 0 .. ALB_VP_MAX_LEVELS - 1 < 32 */
+#define VP_TAG_LEVEL_MASK ((1u << VP_TAG_LEVEL_BITS) - 1)
+#define VP_TAG_NONE 0xFFFFFFFFu
+#define VP_MAX_FRAME_FACES ((1u << (32 - VP_TAG_LEVEL_BITS)) - 1)
+_Static_assert(ALB_VP_MAX_LEVELS <= VP_TAG_LEVEL_MASK + 1, "a tag's level field holds every level");
 
 struct alb_vp {
     alb_profile prof;
@@ -42,12 +62,25 @@ struct alb_vp {
     unsigned p;              /* evaluation scale: max(lw, lh) = levels */
     alb_ws_config cfg;
     bool configured;
-    uint32_t *s_depth;       /* sample store */
-    uint32_t *s_face;
-    uint8_t *s_level;
-    uint16_t *s_rgb;
+    /* the sample store (store.c): two planes, depth and tag, cleared tile by
+     * tile when a fill first touches a tile in the frame */
+    uint32_t *s_depth;
+    uint32_t *s_tag;
+    uint8_t *tile_clean;     /* per tile: 1 = no fill has touched it this frame */
+    unsigned tile_level;     /* tiles are the quadtree's cells of this level */
+    unsigned tile_wl, tile_hl;   /* their log2 width and height in samples */
+    unsigned tiles_lw;       /* log2 of tiles per row */
+    /* the faces the engine took this frame, for the output stage's shading */
+    vp_face_setup *faces;
+    uint32_t nfaces, cap_faces;
     uint32_t *tex[ALB_WS_MAX_TEXTURES];
     uint8_t tex_log2[ALB_WS_MAX_TEXTURES];
+    /* textures replaced while faces of the frame still refer to them: freed
+     * when the frame is resolved */
+    uint32_t **old_tex;
+    unsigned nold_tex, cap_old_tex;
+    bool plain_fill;         /* tests: the fill's plain loops only, no fast path */
+    vp_depth_row_fn depth_row;   /* the fast loop's row, the host's fastest form */
     alb_ws_frame frame;
     uint16_t bg[3];          /* background in frame-store units */
     uint16_t fog_rgb[3];
@@ -55,6 +88,7 @@ struct alb_vp {
     uint32_t *recip_rom;
     /* the threaded functional renderer (parallel.c) */
     unsigned threads;
+    unsigned char *scratch;  /* the output stage's rows, vp_store_scratch_bytes per thread */
     struct vp_loaded_face *batch;   /* faces loaded, waiting for the workers */
     unsigned nbatch;     /* floor(2^(2RB-1) / dm) for dm in [2^(RB-1), 2^RB) */
 };
@@ -72,6 +106,7 @@ typedef struct {
     uint32_t c0, r0;         /* top-left sample */
     uint8_t wl, hl;          /* log2 of width and height in samples */
     uint8_t level;
+    uint8_t edges;           /* how many: the bits of active */
     uint64_t active;         /* edges not yet known to hold the cell inside */
 } vp_cell;
 
@@ -108,26 +143,105 @@ void vp_walk_begin_tile(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f, c
 /* The next cell step in the engine's order; false when the face is done.
  * Counts the cell in vp->st. */
 bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step);
-/* Write the samples of a FILL or SAMPLE_IN cell (depth test, shading), with
- * only the shading units the face uses (fill.c). */
+/* The functional engine (vp.c): a face's whole walk with its fills, the
+ * same cells, counts and samples as vp_walk_next and vp_fill step by step;
+ * clipped to a tile as vp_walk_begin_tile. */
+void vp_draw_face(alb_vp *vp, const vp_loaded_face *f);
+void vp_draw_face_tile(alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile);
+/* What the timed model needs of a walk besides its fills: each step's
+ * cycles, and a call at each hand-over of a FILL or SAMPLE_IN cell to the
+ * fill unit, in the walk's order.  Steps between two hand-overs only add
+ * engine cycles, so the timer sums them; the hand-over gets the sum, its own
+ * step's included. */
+typedef struct vp_timer {
+    uint8_t step_cycles[ALB_WS_MAX_EDGES + 1];   /* a step's cycles by the edges it evaluates */
+    uint64_t pending;         /* engine cycles of the steps since the last hand-over */
+    void (*hand_over)(struct vp_timer *tm, const vp_cell *k, uint64_t cycles);
+    /* each step's cycles on its cell (the per-pixel cycle map), or NULL */
+    void (*charge)(struct vp_timer *tm, const vp_cell *k, uint64_t cycles);
+    void *ctx;
+} vp_timer;
+void vp_timer_init(vp_timer *tm, unsigned edge_units);
+/* vp_draw_face with a timer: the same fills and statistics, and the timer
+ * called as vp_walk_next's steps would have it. */
+void vp_draw_face_timed(alb_vp *vp, const vp_loaded_face *f, vp_timer *tm);
+/* The samples of a FILL or SAMPLE_IN cell through the depth test: each
+ * sample nearer than the store's gets the face's depth and tag (fill.c). */
 void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k);
+/* One row of the fill's fast loop (fill.c): n samples of depths z + i dz,
+ * all in the store's range, stored as z >> sr << sl with tag t where they
+ * win; counts what won and what tied.  vp_depth_rows lists the forms the
+ * host can run, the fastest first (the VP takes that one). */
+unsigned vp_depth_rows(vp_depth_row_fn fn[3], const char *name[3]);
+/* The samples `mask` (bit 4 y + x) of the 4 x 4 block at (c0, r0) through
+ * the depth test, decided at level l, or l - 1 where `coarse` has their
+ * bit (fill.c). */
+void vp_fill_block4(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r0, uint16_t mask,
+                    uint16_t coarse, uint8_t l);
+/* Clear the tiles of cell k that no fill has touched yet this frame
+ * (store.c); vp_touch is the same, quicker for a cell within one tile. */
+void vp_touch_tiles(alb_vp *vp, const vp_cell *k);
+void vp_clear_tile(alb_vp *vp, size_t tile);
+static inline void vp_touch(alb_vp *vp, const vp_cell *k)
+{
+    if (k->wl > vp->tile_wl || k->hl > vp->tile_hl) {
+        vp_touch_tiles(vp, k);
+        return;
+    }
+    size_t t = ((size_t)(k->r0 >> vp->tile_hl) << vp->tiles_lw) + (k->c0 >> vp->tile_wl);
+    if (vp->tile_clean[t])
+        vp_clear_tile(vp, t);
+}
 /* The units a face's flags ask for, and its colour with none of them. */
 unsigned vp_face_units(const vp_face_setup *fs);
 void vp_flat_colour(const alb_vp *vp, const vp_face_setup *fs, uint16_t rgb[3]);
+/* The colour the output stage gives sample (c, r) of face fs (shade.c):
+ * only the units the face uses, or every unit with all_units=1. */
+void vp_sample_colour(const alb_vp *vp, const vp_face_setup *fs, uint32_t c, uint32_t r,
+                      uint16_t rgb[3]);
+/* Colours of the samples [c0, c1) of row r, all of face fs, into rgb (3 per
+ * sample): the forms stepped along the row, the units the face uses. */
+void vp_shade_run(const alb_vp *vp, const vp_face_setup *fs, uint32_t r, uint32_t c0,
+                  uint32_t c1, uint16_t *rgb);
+/* The sample store (store.c): allocate it and its tiles; forget the frame's
+ * faces and clean every tile; resolve into a frame. */
+int vp_store_init(alb_vp *vp);
+void vp_store_free(alb_vp *vp);
+void vp_store_begin(alb_vp *vp);
+void vp_store_resolve(alb_vp *vp, alb_frame *out);
+/* n copies of one colour (3 per sample) (store.c). */
+void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3]);
+/* The frame's statistics that come from the store at its end (depth_nearest);
+ * alb_vp_frame_end calls it, a run that resolves no frame must. */
+void vp_store_finish(alb_vp *vp);
+/* The output stage's scratch for one thread (vp->scratch). */
+size_t vp_store_scratch_bytes(const alb_vp *vp);
+/* Scratch for n threads; -1 if out of memory (parallel.c). */
+int vp_scratch_for(alb_vp *vp, unsigned n);
+/* The set-up of the frame's face that a tag names. */
+static inline const vp_face_setup *vp_frame_face(const alb_vp *vp, uint32_t tag)
+{
+    return &vp->faces[tag >> VP_TAG_LEVEL_BITS];
+}
+/* Keep texture memory a face of this frame may still be shaded with. */
+int vp_store_retire_texture(alb_vp *vp, uint32_t *texels);
 /* Faces loaded before the threads draw them, and the most tiles a screen
  * is cut into (parallel.c). */
 #define VP_BATCH 1024
 #define VP_MAX_TILES 1024
 /* Draw the batched faces (parallel.c); nothing if the batch is empty. */
 void vp_flush_batch(alb_vp *vp);
-/* fn(vp, ctx, first, end) over rows [0, rows) in chunks, on the VP's
- * threads; the chunks must touch disjoint memory. */
-typedef void (*vp_row_fn)(alb_vp *vp, void *ctx, uint32_t first, uint32_t end);
+/* fn(vp, ctx, worker, first, end) over rows [0, rows) in chunks, on the
+ * VP's threads (worker < alb_vp_threads: which one); the chunks must touch
+ * disjoint memory. */
+typedef void (*vp_row_fn)(alb_vp *vp, void *ctx, unsigned worker, uint32_t first, uint32_t end);
 void vp_parallel_rows(alb_vp *vp, uint32_t rows, vp_row_fn fn, void *ctx);
 /* dst += src, field by field. */
 void vp_stats_add(alb_vp_stats *dst, const alb_vp_stats *src);
-/* Count a face the engine takes in the frame's statistics. */
-void vp_count_face(alb_vp *vp, const vp_loaded_face *f);
+/* A face the engine takes: counted in the frame's statistics and added to
+ * its face list, which gives it its tag.  ALB_ERR_NOMEM, or ALB_ERR_STREAM
+ * past VP_MAX_FRAME_FACES faces in a frame (d says which). */
+alb_err vp_begin_face(alb_vp *vp, vp_loaded_face *f, alb_diag *d);
 /* The edge store's set-up of a FACE packet; ALB_ERR_STREAM for a texture
  * never loaded. */
 alb_err vp_load_face(alb_vp *vp, const alb_ws_face *f, vp_loaded_face *out, alb_diag *d);

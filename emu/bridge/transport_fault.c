@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 typedef struct {
     alb_transport *inner;
@@ -105,8 +106,13 @@ static alb_tr_status f_read(alb_transport *t, uint8_t *buf, size_t cap, size_t *
         snprintf(t->error, sizeof t->error, "reading from the board: device disconnected");
         return ALB_TR_GONE;
     }
-    if (z->f.silence_after && z->bytes_in >= z->f.silence_after)
+    if (z->f.silence_after && z->bytes_in >= z->f.silence_after) {
+        /* a silent board answers nothing for as long as the host waits (a
+         * signal cuts the wait short, as it does a USB read's) */
+        struct timespec ts = {(time_t)(timeout_ms / 1000), (long)(timeout_ms % 1000) * 1000000L};
+        nanosleep(&ts, NULL);
         return ALB_TR_TIMEOUT;
+    }
     size_t room = cap;
     if (z->f.silence_after && z->bytes_in + room > z->f.silence_after)
         room = (size_t)(z->f.silence_after - z->bytes_in);

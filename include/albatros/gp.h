@@ -10,6 +10,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef struct alb_gp alb_gp;
 
@@ -31,6 +34,10 @@ typedef struct {
                                    table generates for, left out (docs/gp.md) */
     unsigned coef_saturated;    /* forms whose exponent had to be clamped */
     unsigned long long words;   /* words emitted */
+    /* the first face with a clamped form (0: none): its scene line, which
+     * form ("depth", "intensity", "texture") and the frame */
+    unsigned saturated_line, saturated_frame;
+    const char *saturated_form;
 } alb_gp_stats;
 
 /* Offline database preparation (eqs. 9-11, interpolation matrices, texture
@@ -56,6 +63,9 @@ void alb_gp_stats_add(alb_gp_stats *sum, const alb_gp_stats *s);
 alb_err alb_gp_compile_file(const char *scene, const char *profile, const char *const *sets,
                             uint32_t **w, size_t *n, alb_diag *d);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

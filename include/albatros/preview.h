@@ -9,6 +9,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef enum {
     ALB_PREVIEW_COLOUR,    /* frame store scaled to 8 bits, rounded */
@@ -20,9 +23,12 @@ typedef enum {
     ALB_PREVIEW_COVERAGE   /* grey = coverage / 4^aa */
 } alb_preview_view;
 
-/* Write an 8-bit RGB PNG of one view of the frame.  ALB_ERR_CONFIG if the
- * view needs a plane the frame lacks (cycles) or the frame's parameters are
- * unusable; ALB_ERR_IO (a partly written file is removed); ALB_ERR_NOMEM. */
+/* Write an 8-bit RGB PNG of one view of the frame.  The false-colour views
+ * (level, cycles, depth) add their colour key below the frame's H rows
+ * (docs/vp.md §7).  ALB_ERR_CONFIG if the view needs a plane the frame
+ * lacks (cycles) or the frame's parameters are unusable; ALB_ERR_IO (through
+ * alb_out, file.h: the old file stays until the new one is complete);
+ * ALB_ERR_NOMEM. */
 alb_err alb_preview_write(const char *path, const alb_frame *f, alb_preview_view view, alb_diag *d);
 
 /* Parse "colour|depth|face|level|cycles|coverage"; 0, or -1 if unknown. */
@@ -39,6 +45,9 @@ const char *alb_preview_view_name(alb_preview_view view);
 alb_err alb_preview_write_diff(const char *path, const alb_frame *a, const alb_frame *b,
                        unsigned *face_diff, unsigned *colour_diff, alb_diag *d);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

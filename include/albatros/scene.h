@@ -14,8 +14,16 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define ALB_SCENE_MAX_FACE_VERTICES 32
+/* The narrowest view (degrees, vertical) and the smallest aspect the GP's
+ * doubles carry: below, the screen scaling 1/tan(fov/2) overflows the
+ * observer transform's inverse (docs/limits.md). */
+#define ALB_SCENE_MIN_FOV 1e-6
+#define ALB_SCENE_MIN_ASPECT 1e-6
 #define ALB_SCENE_NAME_MAX 64
 
 enum { ALB_SV_INTENSITY = 1, ALB_SV_NORMAL = 2, ALB_SV_UV = 4 };
@@ -59,6 +67,12 @@ typedef struct {
     alb_scene_face *f;
     unsigned nf, cap_f;
     unsigned line;
+    /* its poses, each from a frame on: pose[k] holds from frame pose_from[k]
+     * (pose_from[0] = 0, increasing) until the next — one entry per change,
+     * not one per frame (alb_scene_pose_at) */
+    alb_scene_pose *pose;
+    unsigned *pose_from;
+    unsigned npose, cap_pose;
 } alb_scene_object;
 
 typedef struct {
@@ -80,8 +94,7 @@ typedef struct {
 typedef struct {
     alb_scene_observer obs;
     alb_scene_light light;
-    alb_scene_pose *poses;       /* one per object */
-} alb_scene_frame;
+} alb_scene_frame;             /* the objects' poses: alb_scene_pose_at */
 
 typedef struct {
     char name[ALB_SCENE_NAME_MAX];
@@ -108,6 +121,9 @@ typedef struct {
     unsigned nfaces;
     bool screenspace;        /* vertices are (pixel x, pixel y, depth): see
                                 alb_scene_resolve_screenspace */
+    char **files;            /* the other files read for it: textures, material
+                                libraries (paths as opened) */
+    unsigned nfiles;
 } alb_scene;
 
 /* Parse scene text; `name` is used in diagnostics and to resolve relative
@@ -146,7 +162,15 @@ const char *alb_scene_byte_hint(const char *text, size_t len, size_t at);
 alb_scene_object *alb_scene_add_object(alb_scene *s, const char *name);
 alb_scene_face *alb_scene_add_face(alb_scene *s, alb_scene_object *o, const unsigned *vidx, unsigned n);
 int alb_scene_add_vertex(alb_scene_object *o, const alb_scene_vertex *v);
-/* Finish: one frame of default state if none, poses for every object. */
+/* Object oi's pose in frame f (binary search of its changes). */
+const alb_scene_pose *alb_scene_pose_at(const alb_scene *s, unsigned f, unsigned oi);
+/* Object oi takes pose p from frame f on (f at or after its last change;
+ * the same frame replaces it); -1 if out of memory or out of order. */
+int alb_scene_set_pose(alb_scene *s, unsigned oi, unsigned f, const alb_scene_pose *p);
+/* Remember a file read for the scene (in s->files). */
+int alb_scene_note_file(alb_scene *s, const char *path);
+/* Finish: one frame of default state if none, a pose (at the origin) for
+ * every object without one. */
 alb_err alb_scene_finish(alb_scene *s, alb_diag *d);
 void alb_scene_init(alb_scene *s, const char *name);
 /* Observer at the origin looking along +Z, fov 60, default light. */
@@ -187,6 +211,9 @@ alb_err alb_scene_load_obj(const char *path, const alb_scene_camera *cam, alb_sc
  * line checks before any file is read.  The messages name the options. */
 alb_err alb_scene_camera_check(const alb_scene_camera *cam, alb_diag *d);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

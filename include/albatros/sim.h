@@ -5,6 +5,7 @@
 #define ALBATROS_SIM_H
 
 #include "diag.h"
+#include "json.h"
 #include "profile.h"
 #include "vp.h"
 
@@ -13,6 +14,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef enum { ALB_FIDELITY_FUNCTIONAL, ALB_FIDELITY_TIMED, ALB_FIDELITY_CYCLE } alb_fidelity;
 
@@ -103,6 +107,11 @@ typedef struct {
     uint32_t events;          /* cycle fidelity: the kinds to hand to on_events */
     alb_events_fn on_events;
     void *events_ctx;
+    bool counters_only;       /* timed and cycle fidelities: no frame is wanted, only
+                                 each frame's statistics and counters; the model makes
+                                 the depth tests (samples_written, depth_ties) and no
+                                 colour or per-pixel cycles, and the sink's frame has
+                                 no planes (rgb ... cycles NULL) */
 } alb_sim_options;
 
 /* sc is NULL in functional fidelity; f->cycles is filled in the others. */
@@ -135,9 +144,12 @@ typedef enum {
 
 /* The counters as a JSON object / a readable summary (with fps against
  * the profile's clock and the 50 Hz budget). */
-void alb_sim_counters_json(FILE *f, const alb_sim_counters *c, const alb_profile *p);
+void alb_sim_counters_json(alb_json *j, const alb_sim_counters *c, const alb_profile *p);
 void alb_sim_counters_text(FILE *f, const alb_sim_counters *c, const alb_profile *p);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

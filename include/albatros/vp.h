@@ -13,6 +13,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define ALB_VP_MAX_LEVELS 17   /* 8192 pixels x 8 samples = 2^16: levels 0..16 */
 
@@ -35,6 +38,8 @@ typedef struct {
     /* The tie at the lowest sample index (raster order), if depth_ties:
      * the sample, the face that kept it, the face that lost, the depth. */
     uint64_t tie_sample, tie_kept, tie_lost, tie_depth;
+    uint64_t depth_nearest;          /* the largest depth a covered sample had: the
+                                        frame's nearest surface (0: none) */
     uint64_t faces;                  /* FACE packets drawn */
     uint64_t edges;                  /* edges of those faces */
     uint64_t faces_shaded;           /* ... using the intensity unit (eq. 7) */
@@ -71,7 +76,19 @@ int alb_vp_frame_alloc(const alb_vp *vp, alb_frame *f, bool with_cycles);
 typedef int (*alb_vp_frame_sink)(void *ctx, const alb_frame *f, const alb_vp_stats *st);
 alb_err alb_vp_run_stream(alb_vp *vp, const uint32_t *w, size_t n, const char *name,
                       alb_vp_frame_sink sink, void *ctx, alb_diag *d);
+/* The same stream in pieces as it is made (render's functional fidelity
+ * takes the GP's frames one at a time, so its memory does not grow with
+ * the frames): each piece is whole packets; the frames go to sink as their
+ * FRAME_END arrives. */
+typedef struct alb_vp_feed alb_vp_feed;
+alb_err alb_vp_feed_open(alb_vp_feed **f, alb_vp *vp, const char *name, alb_vp_frame_sink sink,
+                         void *ctx, alb_diag *d);
+alb_err alb_vp_feed_words(alb_vp_feed *f, const uint32_t *w, size_t n, alb_diag *d);
+void alb_vp_feed_close(alb_vp_feed *f);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

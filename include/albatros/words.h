@@ -5,6 +5,7 @@
 #define ALBATROS_WORDS_H
 
 #include "diag.h"
+#include "file.h"
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -13,6 +14,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define ALB_WS_VERSION          1
 #define ALB_WS_MAX_EDGES        64    /* VP edge store per face */
@@ -147,6 +151,12 @@ void alb_ws_describe_at(const uint32_t *w, size_t n, size_t idx, char *buf, size
 /* Annotated hex dump: offset, word, field names and values; stops with a
  * message at the first malformed word. */
 alb_err alb_ws_dump(FILE *out, const uint32_t *w, size_t n, const char *name, alb_diag *d);
+/* The same for a stream in pieces (albatros gp dumps each frame as it is
+ * made): words w[0, n) are the next piece, word `base` of the whole stream
+ * onward, decoded with r (alb_ws_reader_init before the first piece), whose
+ * state carries over. */
+alb_err alb_ws_dump_piece(FILE *out, alb_ws_reader *r, const uint32_t *w, size_t n, size_t base,
+                          alb_diag *d);
 
 /* Read a stream file: binary (little-endian 32-bit words) or $readmemh
  * text (what alb_ws_write_memh writes; docs/word-format.md), told apart by the
@@ -154,10 +164,26 @@ alb_err alb_ws_dump(FILE *out, const uint32_t *w, size_t n, const char *name, al
 alb_err alb_ws_read_file(const char *path, uint32_t **w, size_t *n, alb_diag *d);
 alb_err alb_ws_write_file(const char *path, const uint32_t *w, size_t n, alb_diag *d);
 alb_err alb_ws_write_memh(const char *path, const uint32_t *w, size_t n, alb_diag *d);
+/* The same, written as the stream is made (a frame at a time): open, put
+ * words, close — nothing is under the name until close succeeds (file.h);
+ * abort instead leaves the old file as it was. */
+typedef struct {
+    alb_out out;
+    FILE *f;
+    bool memh;
+    size_t words;
+} alb_ws_writer;
+alb_err alb_ws_writer_open(alb_ws_writer *wr, const char *path, bool memh, alb_diag *d);
+void alb_ws_writer_put(alb_ws_writer *wr, const uint32_t *w, size_t n);
+alb_err alb_ws_writer_close(alb_ws_writer *wr, alb_diag *d);
+void alb_ws_writer_abort(alb_ws_writer *wr);
 
 /* Value of a form at screen point (x, y), in double: for tools and tests. */
 double alb_ws_form_eval(const alb_ws_form *f, double x, double y);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

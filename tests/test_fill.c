@@ -1,0 +1,387 @@
+/* test_fill.c — the fill unit's fast paths against the plain ones, and the
+ * sample store's deferred work against what it defers: the SIMD row loop
+ * against the depth unit sample by sample; whole frames with the fast paths
+ * against the plain loops alone (vp->plain_fill), where depths saturate and
+ * underflow too; a face shaded when its frame is resolved with the texture
+ * it was drawn with; a frame drawn after another as if on a cleared store. */
+#include "t.h"
+#include "gp_helpers.h"
+#include "../vp/vp_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* The fast loop's preconditions for a row (fill.c): every N > 0 and in the
+ * store's range, neither saturating nor underflowing. */
+static bool row_in_range(const alb_vp *vp, int64_t z, int64_t dz, uint32_t n, int exp)
+{
+    const uint32_t dmax = (uint32_t)(((uint64_t)1 << vp->prof.depth_bits) - 1);
+    int64_t last = z + (int64_t)(n - 1) * dz, lo = z < last ? z : last, hi = z < last ? last : z;
+    return lo > 0 && vp_depth_value(vp, lo, exp) > 0 && vp_depth_value(vp, hi, exp) < dmax;
+}
+
+/* Every form of the fill's fast row the host runs (AVX2, SSE2, plain C)
+ * against vp_depth_value and the strict depth test, on random rows: every
+ * length up to 37 (the SIMD bodies and their tails), shifts both ways, store
+ * depths up to 2^32 - 1 (an unsigned comparison), the samples written and
+ * the ties (equal depths: the earlier face keeps them), with the first. */
+TEST(fill_fast_row_equals_the_depth_unit)
+{
+    vp_depth_row_fn forms[3];
+    const char *names[3];
+    const unsigned nforms = vp_depth_rows(forms, names);
+    CHECK(nforms >= 1);
+    static const unsigned depth_bits[] = {8, 16, 24, 31, 32};
+    uint64_t seed = 42;
+    unsigned rows = 0, wins = 0, ties = 0, high = 0, straddle = 0, bad = 0;
+    for (unsigned b = 0; b < sizeof depth_bits / sizeof *depth_bits && !bad; b++) {
+        alb_profile p;
+        alb_profile_lookup("t32", &p);
+        p.depth_bits = depth_bits[b];
+        alb_vp *vp = NULL;
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        if (alb_vp_create(&vp, &p, &d)) {
+            CHECK_MSG(0, "alb_vp_create: %s", d.msg);
+            return;
+        }
+        for (unsigned trial = 0; trial < 6000 && !bad; trial++) {
+            uint32_t n = 1 + (uint32_t)(t_rand(&seed) % 37);
+            int exp = (int)(t_rand(&seed) % 48) - 36;
+            int sh = exp - (int)vp->p + (int)p.depth_bits;
+            /* N of up to 44 bits, steps either way */
+            int64_t z = (int64_t)(t_rand(&seed) >> (20 + t_rand(&seed) % 24)) + 1;
+            int64_t dz = (int64_t)(t_rand(&seed) % 4001) - 2000;
+            if (!row_in_range(vp, z, dz, n, exp))
+                continue;
+            uint32_t d0[40], t0[40], want_d[40], want_t[40], w = 0, tie = 0, first = 0;
+            for (uint32_t i = 0; i < n; i++) {
+                uint32_t dv = vp_depth_value(vp, z + (int64_t)i * dz, exp);
+                /* the old values: at, just below or just above the new, or
+                 * anywhere in the store's range (across 2^31 too) */
+                uint64_t r = t_rand(&seed) % 4;
+                uint32_t dmax = (uint32_t)(((uint64_t)1 << depth_bits[b]) - 1);
+                uint32_t old = r == 0   ? dv
+                               : r == 1 ? dv - 1
+                               : r == 2 ? dv + (dv < dmax)
+                                        : (uint32_t)(t_rand(&seed) % ((uint64_t)dmax + 1));
+                d0[i] = want_d[i] = old;
+                t0[i] = want_t[i] = i;
+                if (dv > old) {   /* strictly nearer wins (docs/vp.md §4) */
+                    want_d[i] = dv;
+                    want_t[i] = 0xABCDEF;
+                    w++;
+                } else if (dv == old && tie++ == 0) {
+                    first = i;
+                }
+                high += dv >= 0x80000000u;
+                straddle += (dv >= 0x80000000u) != (old >= 0x80000000u);
+            }
+            unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
+            rows++;
+            wins += w;
+            ties += tie;
+            for (unsigned k = 0; k < nforms; k++) {
+                uint32_t depth[40], tag[40];
+                memcpy(depth, d0, sizeof depth);
+                memcpy(tag, t0, sizeof tag);
+                vp_row_result got = forms[k](depth, tag, n, z, dz, sr, sl, 0xABCDEF);
+                if (got.written != w || got.ties != tie || (tie && got.first_tie != first) ||
+                    memcmp(depth, want_d, n * sizeof *depth) || memcmp(tag, want_t, n * sizeof *tag)) {
+                    CHECK_MSG(0, "%s, depth_bits %u, %u samples from N = %lld step %lld, shift "
+                              "%d: %u written, %u tied (first %u); %u, %u (%u) expected, or a "
+                              "sample differs", names[k], depth_bits[b], n, (long long)z,
+                              (long long)dz, sh, got.written, got.ties, got.first_tie, w, tie,
+                              first);
+                    bad++;
+                    break;
+                }
+            }
+        }
+        alb_vp_destroy(vp);
+    }
+    CHECK_EQ(bad, 0);
+    printf("# fast row forms:");
+    for (unsigned k = 0; k < nforms; k++)
+        printf(" %s", names[k]);
+    printf("\n");
+    /* not vacuous: rows of every kind ran, ties, stores above 2^31 */
+    CHECK_MSG(rows > 5000 && wins > rows && ties > rows / 2 && high > 100 && straddle > 100,
+              "%u rows, %u wins, %u ties, %u depths >= 2^31, %u tests across 2^31", rows, wins,
+              ties, high, straddle);
+}
+
+#define MAX_FRAMES 8
+
+typedef struct {
+    alb_frame f[MAX_FRAMES];
+    alb_vp_stats s[MAX_FRAMES];
+    unsigned n;
+} frames;
+
+static int keep(void *ctx, const alb_frame *f, const alb_vp_stats *st)
+{
+    frames *k = ctx;
+    if (k->n == MAX_FRAMES)
+        return 0;
+    k->s[k->n] = *st;
+    return alb_frame_copy(&k->f[k->n++], f);
+}
+
+static void frames_free(frames *k)
+{
+    for (unsigned i = 0; i < k->n; i++)
+        alb_frame_free(&k->f[i]);
+    k->n = 0;
+}
+
+/* A stream through a VP of profile p: plain, the fill's plain loops alone. */
+static alb_err run_vp(const alb_profile *p, const alb_ws_buf *b, bool plain, unsigned threads,
+                      frames *out)
+{
+    alb_vp *vp = NULL;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    memset(out, 0, sizeof *out);
+    alb_err e = alb_vp_create(&vp, p, &d);
+    if (!e && threads > 1 && alb_vp_set_threads(vp, threads))
+        e = ALB_ERR_NOMEM;
+    if (!e) {
+        vp->plain_fill = plain;
+        e = alb_vp_run_stream(vp, b->w, b->n, "test", keep, out, &d);
+    }
+    alb_vp_destroy(vp);
+    return e;
+}
+
+/* The fast paths against the plain loops on a scene: every plane of every
+ * frame and every statistic, on one thread and on three. */
+static void same_as_plain(const char *what, const char *text, const char *profile,
+                          const char *sets, alb_vp_stats *sum)
+{
+    alb_profile p;
+    alb_profile_lookup(profile, &p);
+    profile_set_all(&p, sets);
+    alb_ws_buf b;
+    if (stream_of(text, &p, &b)) {
+        CHECK_MSG(0, "%s: no stream", what);
+        return;
+    }
+    frames plain, fast, fast3;
+    if (run_vp(&p, &b, true, 1, &plain) || run_vp(&p, &b, false, 1, &fast) ||
+        run_vp(&p, &b, false, 3, &fast3)) {
+        CHECK_MSG(0, "%s: a run failed", what);
+    } else {
+        CHECK(plain.n == fast.n && plain.n == fast3.n && plain.n > 0);
+        for (unsigned i = 0; i < plain.n && i < fast.n && i < fast3.n; i++) {
+            CHECK_MSG(alb_frame_count_differences(&plain.f[i], &fast.f[i]) == 0 &&
+                          alb_frame_count_differences(&plain.f[i], &fast3.f[i]) == 0,
+                      "%s frame %u: %zu pixels differ from the plain loops'", what, i,
+                      alb_frame_count_differences(&plain.f[i], &fast.f[i]));
+            CHECK_MSG(!memcmp(&plain.s[i], &fast.s[i], sizeof plain.s[i]) &&
+                          !memcmp(&plain.s[i], &fast3.s[i], sizeof plain.s[i]),
+                      "%s frame %u: statistics differ from the plain loops'", what, i);
+            sum->samples_written += plain.s[i].samples_written;
+            sum->depth_saturated += plain.s[i].depth_saturated;
+            sum->depth_underflow += plain.s[i].depth_underflow;
+        }
+    }
+    frames_free(&plain);
+    frames_free(&fast);
+    frames_free(&fast3);
+    alb_ws_buf_free(&b);
+}
+
+/* Random scenes whose nearest faces saturate the depth store (near 6: the
+ * faces lie from Z = 2 on) or whose farthest underflow it (near 0.01 with
+ * 8 to 10 bits: Z beyond 2.56 to 10.24), the built-in scene, odd profiles:
+ * the fast loops decide nothing differently. */
+TEST(fast_fill_equals_plain_fill)
+{
+    alb_vp_stats sum;
+    memset(&sum, 0, sizeof sum);
+    scenegen_params gp = scenegen_defaults();
+    for (uint64_t seed = 1; seed <= 12; seed++) {
+        gp.faces = 6 + (unsigned)(seed * 7 % 40);
+        gp.flat = seed & 1;
+        char *text = scenegen_random(seed, &gp);
+        char *near = text ? strstr(text, "near 0.5\n") : NULL;
+        CHECK(near != NULL);
+        if (!near) {
+            free(text);
+            return;
+        }
+        /* "near 0.5" becomes "near 6.0" or "near .01" */
+        memcpy(near, seed & 2 ? "near 6.0" : "near .01", 8);
+        char what[64];
+        snprintf(what, sizeof what, "seed %llu", (unsigned long long)seed);
+        static const char *const sets[] = {"depth_bits=8", "depth_bits=9", "aa=1 depth_bits=10",
+                                           "width=128 depth_bits=9", "depth_bits=32"};
+        same_as_plain(what, text, "a256", sets[seed % 5], &sum);
+        free(text);
+    }
+    char *builtin = builtin_scene_copy();
+    same_as_plain("built-in", builtin, "a256", "", &sum);
+    same_as_plain("built-in, aa=2", builtin, "a256", "aa=2", &sum);
+    free(builtin);
+    CHECK_MSG(sum.depth_saturated > 1000 && sum.depth_underflow > 1000 &&
+                  sum.samples_written > 100000,
+              "not every case met: %llu saturated, %llu underflowed, %llu written",
+              (unsigned long long)sum.depth_saturated, (unsigned long long)sum.depth_underflow,
+              (unsigned long long)sum.samples_written);
+}
+
+/* The frame a stream of one textured face gives. */
+static int face_alone(const alb_profile *p, const alb_ws_texture *tex, const alb_ws_frame *fr,
+                      const alb_ws_face *face, alb_frame *out, alb_diag *d)
+{
+    alb_vp *vp = NULL;
+    alb_err e = alb_vp_create(&vp, p, d);
+    if (!e)
+        e = alb_vp_config(vp, &(alb_ws_config){p->edge_frac_bits, p->coef_bits, 1.0f}, d);
+    if (!e)
+        e = alb_vp_texture(vp, tex, d);
+    if (!e && alb_vp_frame_alloc(vp, out, false))
+        e = ALB_ERR_NOMEM;
+    if (!e) {
+        alb_vp_frame_begin(vp, fr);
+        e = alb_vp_face(vp, face, d);
+    }
+    if (!e)
+        alb_vp_frame_end(vp, out);
+    alb_vp_destroy(vp);
+    return e ? -1 : 0;
+}
+
+/* Colour is the output stage's: a face drawn, then its texture replaced
+ * before the frame is resolved, is shaded with the texels it was drawn
+ * with, as the fill unit would have; a face drawn after the replacement
+ * with the new ones.  On one thread and on two (the faces wait in a batch). */
+TEST(deferred_shading_keeps_the_texture_a_face_was_drawn_with)
+{
+    char *text = builtin_scene_copy();
+    alb_profile p;
+    alb_profile_lookup("a256", &p);
+    gp_run_result r;
+    memset(&r, 0, sizeof r);
+    CHECK(text && gp_run_text(text, "width=256 height=256 edge_frac_bits=13", &r) == 0);
+    /* the stream's first textured face and its texture */
+    alb_ws_reader rd;
+    alb_ws_event *ev = malloc(sizeof *ev);
+    alb_ws_texture tex = {0};
+    uint32_t *texels = NULL, *inverse = NULL;
+    const alb_ws_face *face = NULL;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    alb_ws_reader_init(&rd, r.buf.w, r.buf.n, "t");
+    while (ev && !rd.ended && alb_ws_next(&rd, ev, &d) == ALB_OK && !texels)
+        if (ev->kind == ALB_WS_EV_TEXTURE) {
+            size_t n = (size_t)1 << (2 * ev->u.texture.log2size);
+            tex = ev->u.texture;
+            texels = malloc(n * sizeof *texels);
+            inverse = malloc(n * sizeof *inverse);
+            for (size_t i = 0; texels && inverse && i < n; i++) {
+                texels[i] = ev->u.texture.texels[i];
+                inverse[i] = ~texels[i] & 0xFFFFFF;
+            }
+            tex.texels = texels;
+        }
+    for (unsigned i = 0; i < r.nfaces && !face; i++)
+        if (r.faces[i].flags & ALB_WS_FACE_TEXTURE && r.faces[i].texture == tex.id)
+            face = &r.faces[i];
+    CHECK_MSG(texels && inverse && face, "the built-in scene's stream has a textured face");
+    if (texels && inverse && face) {
+        alb_ws_texture other = tex;
+        other.texels = inverse;
+        alb_ws_frame fr = r.frame;
+        fr.fog = false;   /* the texels' colours themselves */
+        alb_frame want, want_other;
+        memset(&want, 0, sizeof want);
+        memset(&want_other, 0, sizeof want_other);
+        CHECK(face_alone(&p, &tex, &fr, face, &want, &d) == 0);
+        CHECK(face_alone(&p, &other, &fr, face, &want_other, &d) == 0);
+        /* the two differ where the face is seen, or the test shows nothing */
+        CHECK(want.rgb && want_other.rgb &&
+              alb_frame_count_differences(&want, &want_other) > 1000);
+        for (unsigned threads = 1; threads <= 2; threads++) {
+            alb_vp *vp = NULL;
+            alb_frame got;
+            memset(&got, 0, sizeof got);
+            bool ok = !alb_vp_create(&vp, &p, &d) && !alb_vp_set_threads(vp, threads) &&
+                      !alb_vp_config(vp, &(alb_ws_config){p.edge_frac_bits, p.coef_bits, 1.0f}, &d) &&
+                      !alb_vp_texture(vp, &tex, &d) && !alb_vp_frame_alloc(vp, &got, false);
+            if (ok) {
+                alb_vp_frame_begin(vp, &fr);
+                ok = !alb_vp_face(vp, face, &d) && !alb_vp_texture(vp, &other, &d);
+            }
+            if (ok)
+                alb_vp_frame_end(vp, &got);
+            CHECK_MSG(ok && want.rgb && alb_frame_count_differences(&got, &want) == 0,
+                      "%u thread(s): the face drawn before its texture was replaced: %zu pixels "
+                      "differ from its render with the old texels", threads,
+                      ok && want.rgb ? alb_frame_count_differences(&got, &want) : 0);
+            /* the next frame draws with the new texels */
+            if (ok) {
+                alb_vp_frame_begin(vp, &fr);
+                ok = !alb_vp_face(vp, face, &d);
+                alb_vp_frame_end(vp, &got);
+            }
+            CHECK_MSG(ok && want_other.rgb && alb_frame_count_differences(&got, &want_other) == 0,
+                      "%u thread(s): the face drawn after the replacement", threads);
+            alb_frame_free(&got);
+            alb_vp_destroy(vp);
+        }
+        alb_frame_free(&want);
+        alb_frame_free(&want_other);
+    }
+    free(texels);
+    free(inverse);
+    free(ev);
+    gp_run_free(&r);
+    free(text);
+}
+
+/* The store is cleared only where a frame's fills reach: a frame after one
+ * that covered the whole screen must be what it is on a new VP — the
+ * background and no face wherever its own faces do not reach. */
+TEST(a_frame_after_another_is_drawn_on_a_clear_store)
+{
+    alb_profile p;
+    alb_profile_lookup("a256", &p);
+    static const char big[] =
+        "albatros-scene 1\nbackground 10 20 30\nobject wall\n v -9 -9 5\n v 9 -9 5\n v 9 9 5\n"
+        " v -9 9 5\n f 1 2 3 4 colour 200 100 50\nend\n";
+    static const char small[] =
+        "albatros-scene 1\nbackground 10 20 30\nobject tile\n v -0.2 -0.3 3\n v 0.4 -0.2 3\n"
+        " v 0.1 0.5 3\n f 1 2 3 colour 40 220 90\nend\n";
+    alb_ws_buf a, b;
+    CHECK(stream_of(big, &p, &a) == 0);
+    CHECK(stream_of(small, &p, &b) == 0);
+    for (unsigned threads = 1; threads <= 3; threads += 2) {
+        frames alone, after;
+        memset(&alone, 0, sizeof alone);
+        memset(&after, 0, sizeof after);
+        CHECK(run_vp(&p, &b, false, threads, &alone) == 0 && alone.n == 1);
+        /* one VP: the big frame's stream, then the small one's */
+        alb_vp *vp = NULL;
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        bool ok = !alb_vp_create(&vp, &p, &d) && !alb_vp_set_threads(vp, threads) &&
+                  !alb_vp_run_stream(vp, a.w, a.n, "big", keep, &after, &d) &&
+                  !alb_vp_run_stream(vp, b.w, b.n, "small", keep, &after, &d);
+        CHECK(ok && after.n == 2 && alone.n == 1);
+        if (ok && after.n == 2 && alone.n == 1) {
+            /* the first covered the screen; the second is the small face alone */
+            CHECK(after.f[0].face[0] != ALB_FRAME_NO_FACE);
+            CHECK(after.f[1].face[0] == ALB_FRAME_NO_FACE);
+            CHECK_MSG(alb_frame_count_differences(&after.f[1], &alone.f[0]) == 0,
+                      "%u thread(s): %zu pixels of the second frame differ from it on a new VP",
+                      threads, alb_frame_count_differences(&after.f[1], &alone.f[0]));
+        }
+        alb_vp_destroy(vp);
+        frames_free(&alone);
+        frames_free(&after);
+    }
+    alb_ws_buf_free(&a);
+    alb_ws_buf_free(&b);
+}

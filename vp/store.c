@@ -1,0 +1,403 @@
+/* store.c — the sample store and the output stage (docs/vp.md §6, §8).
+ *
+ * The store holds two planes a sample: its depth and a tag naming the face
+ * that wrote it and the level that decided it.  A frame starts with every
+ * tile clean — a tile is a cell of one level of the subdivision quadtree —
+ * and a tile is cleared only when a fill first touches it, so a frame pays
+ * for the part of the screen its faces reach.  Colour is the output stage's
+ * work: when the frame is resolved, each sample's colour comes from the face
+ * its tag names (the frame keeps the faces it drew), with the same units and
+ * the same arithmetic the fill would have used — so a sample that a nearer
+ * face overwrites is never shaded. */
+#include "vp_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "simd.h"
+
+/* Tiles of at most 16 x 16 samples: the cells of level max(levels - 4, 0). */
+#define TILE_LOG2 4
+
+int vp_store_init(alb_vp *vp)
+{
+    vp->tile_level = vp->p > TILE_LOG2 ? vp->p - TILE_LOG2 : 0;
+    vp->tile_wl = vp->lw > vp->tile_level ? vp->lw - vp->tile_level : 0;
+    vp->tile_hl = vp->lh > vp->tile_level ? vp->lh - vp->tile_level : 0;
+    vp->tiles_lw = vp->lw - vp->tile_wl;
+    size_t n = (size_t)vp->sw * vp->sh, tiles = (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl);
+    vp->s_depth = malloc(n * sizeof *vp->s_depth);
+    vp->s_tag = malloc(n * sizeof *vp->s_tag);
+    vp->tile_clean = malloc(tiles);
+    if (!vp->s_depth || !vp->s_tag || !vp->tile_clean)
+        return -1;
+    memset(vp->tile_clean, 1, tiles);
+    return 0;
+}
+
+static void free_old_textures(alb_vp *vp)
+{
+    for (unsigned i = 0; i < vp->nold_tex; i++)
+        free(vp->old_tex[i]);
+    vp->nold_tex = 0;
+}
+
+void vp_store_free(alb_vp *vp)
+{
+    free_old_textures(vp);
+    free(vp->old_tex);
+    free(vp->faces);
+    free(vp->s_depth);
+    free(vp->s_tag);
+    free(vp->tile_clean);
+}
+
+void vp_store_begin(alb_vp *vp)
+{
+    memset(vp->tile_clean, 1, (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl));
+    vp->nfaces = 0;
+    free_old_textures(vp);
+}
+
+int vp_store_retire_texture(alb_vp *vp, uint32_t *texels)
+{
+    if (!vp->nfaces) {        /* no face of the frame can refer to it */
+        free(texels);
+        return 0;
+    }
+    if (vp->nold_tex == vp->cap_old_tex) {
+        unsigned cap = vp->cap_old_tex ? 2 * vp->cap_old_tex : 4;
+        uint32_t **n = realloc(vp->old_tex, cap * sizeof *n);
+        if (!n)
+            return -1;
+        vp->old_tex = n;
+        vp->cap_old_tex = cap;
+    }
+    vp->old_tex[vp->nold_tex++] = texels;
+    return 0;
+}
+
+alb_err vp_begin_face(alb_vp *vp, vp_loaded_face *f, alb_diag *d)
+{
+    if (vp->nfaces == VP_MAX_FRAME_FACES)
+        return alb_diag_at(d, ALB_ERR_STREAM, "", 0, 0,
+                           "more than %u faces in frame %u: the sample store's tags name at most "
+                           "that many", VP_MAX_FRAME_FACES, vp->frame.number);
+    if (vp->nfaces == vp->cap_faces) {
+        uint32_t cap = vp->cap_faces ? 2 * vp->cap_faces : 256;
+        if (cap > VP_MAX_FRAME_FACES)
+            cap = VP_MAX_FRAME_FACES;
+        vp_face_setup *n = realloc(vp->faces, (size_t)cap * sizeof *n);
+        if (!n)
+            return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the frame's faces");
+        vp->faces = n;
+        vp->cap_faces = cap;
+    }
+    f->fs.tag = vp->nfaces << VP_TAG_LEVEL_BITS;
+    vp->faces[vp->nfaces++] = f->fs;
+    vp->st.faces++;
+    vp->st.edges += f->n;
+    vp->st.faces_shaded += (f->fs.flags & ALB_WS_FACE_SHADE) != 0;
+    vp->st.faces_textured += (f->fs.flags & ALB_WS_FACE_TEXTURE) != 0;
+    vp->st.faces_fogged += vp->frame.fog && (f->fs.flags & ALB_WS_FACE_FOG);
+    return ALB_OK;
+}
+
+/* ---- clearing ---- */
+
+void vp_clear_tile(alb_vp *vp, size_t t)
+{
+    uint32_t tc = (uint32_t)(t & (((size_t)1 << vp->tiles_lw) - 1)), tr = (uint32_t)(t >> vp->tiles_lw);
+    uint32_t w = 1u << vp->tile_wl, h = 1u << vp->tile_hl;
+    size_t idx = ((size_t)tr << vp->tile_hl) * vp->sw + ((size_t)tc << vp->tile_wl);
+    for (uint32_t r = 0; r < h; r++, idx += vp->sw) {
+        memset(vp->s_depth + idx, 0, w * sizeof *vp->s_depth);   /* 0: no surface */
+        memset(vp->s_tag + idx, 0xFF, w * sizeof *vp->s_tag);    /* VP_TAG_NONE */
+    }
+    vp->tile_clean[t] = 0;
+}
+
+void vp_touch_tiles(alb_vp *vp, const vp_cell *k)
+{
+    uint32_t tc0 = k->c0 >> vp->tile_wl, tc1 = (k->c0 + (1u << k->wl) - 1) >> vp->tile_wl;
+    uint32_t tr0 = k->r0 >> vp->tile_hl, tr1 = (k->r0 + (1u << k->hl) - 1) >> vp->tile_hl;
+    for (uint32_t tr = tr0; tr <= tr1; tr++)
+        for (uint32_t tc = tc0; tc <= tc1; tc++) {
+            size_t t = ((size_t)tr << vp->tiles_lw) + tc;
+            if (vp->tile_clean[t])
+                vp_clear_tile(vp, t);
+        }
+}
+
+/* The frame's nearest surface (depth_nearest): the largest depth in the
+ * store, over the tiles its fills reached — the largest depth of any
+ * covered sample, since a stored depth only rises and each covered sample's
+ * ends at least at its own. */
+void vp_store_finish(alb_vp *vp)
+{
+    const uint32_t tw = 1u << vp->tile_wl, th = 1u << vp->tile_hl;
+    const size_t tiles = (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl);
+    uint32_t nearest = 0;
+#if VP_SSE2
+    /* four lanes, compared unsigned by flipping the sign bits */
+    const __m128i sign = _mm_set1_epi32(INT32_MIN);
+    __m128i best = sign;   /* 0, flipped */
+#endif
+    for (size_t t = 0; t < tiles; t++) {
+        if (vp->tile_clean[t])
+            continue;
+        size_t tc = t & (((size_t)1 << vp->tiles_lw) - 1), tr = t >> vp->tiles_lw;
+        const uint32_t *row = vp->s_depth + (tr << vp->tile_hl) * vp->sw + (tc << vp->tile_wl);
+        for (uint32_t r = 0; r < th; r++, row += vp->sw) {
+            uint32_t c = 0;
+#if VP_SSE2
+            for (; c + 4 <= tw; c += 4) {
+                __m128i x = _mm_xor_si128(_mm_loadu_si128((const __m128i *)(const void *)(row + c)), sign);
+                __m128i gt = _mm_cmpgt_epi32(x, best);
+                best = _mm_or_si128(_mm_and_si128(gt, x), _mm_andnot_si128(gt, best));
+            }
+#endif
+            for (; c < tw; c++)
+                nearest = row[c] > nearest ? row[c] : nearest;
+        }
+    }
+#if VP_SSE2
+    uint32_t lanes[4];
+    _mm_storeu_si128((__m128i *)(void *)lanes, _mm_xor_si128(best, sign));
+    for (int k = 0; k < 4; k++)
+        nearest = lanes[k] > nearest ? lanes[k] : nearest;
+#endif
+    vp->st.depth_nearest = nearest;
+}
+
+/* ---- the output stage ---- */
+
+/* n copies of one sample's colour: the first written, then doubled. */
+void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3])
+{
+    if (!n)
+        return;
+    memcpy(out, rgb, 3 * sizeof *out);
+    for (size_t have = 1; have < n;) {
+        size_t k = have < n - have ? have : n - have;
+        memcpy(out + 3 * have, out, 3 * k * sizeof *out);
+        have += k;
+    }
+}
+
+/* The plane fills below by 16 bytes where the host has SSE2; the same
+ * stores either way. */
+static void fill_u32(uint32_t *out, size_t n, uint32_t v)
+{
+    size_t i = 0;
+#if VP_SSE2
+    const __m128i x = _mm_set1_epi32((int)v);
+    for (; i + 4 <= n; i += 4)
+        _mm_storeu_si128((__m128i *)(void *)(out + i), x);
+#endif
+    for (; i < n; i++)
+        out[i] = v;
+}
+
+static void fill_u16(uint16_t *out, size_t n, uint16_t v)
+{
+    size_t i = 0;
+#if VP_SSE2
+    const __m128i x = _mm_set1_epi16((short)v);
+    for (; i + 8 <= n; i += 8)
+        _mm_storeu_si128((__m128i *)(void *)(out + i), x);
+#endif
+    for (; i < n; i++)
+        out[i] = v;
+}
+
+/* The level field of n tags. */
+static void levels_of(uint8_t *out, const uint32_t *tag, size_t n)
+{
+    size_t i = 0;
+#if VP_SSE2
+    const __m128i m = _mm_set1_epi32((int)VP_TAG_LEVEL_MASK);
+    for (; i + 16 <= n; i += 16) {
+        const __m128i *t = (const __m128i *)(const void *)(tag + i);
+        /* levels < 32: the signed saturating packs keep them */
+        __m128i a = _mm_packs_epi32(_mm_and_si128(_mm_loadu_si128(t), m),
+                                    _mm_and_si128(_mm_loadu_si128(t + 1), m));
+        __m128i b = _mm_packs_epi32(_mm_and_si128(_mm_loadu_si128(t + 2), m),
+                                    _mm_and_si128(_mm_loadu_si128(t + 3), m));
+        _mm_storeu_si128((__m128i *)(void *)(out + i), _mm_packus_epi16(a, b));
+    }
+#endif
+    for (; i < n; i++)
+        out[i] = (uint8_t)(tag[i] & VP_TAG_LEVEL_MASK);
+}
+
+/* Where a row's samples go: with aa = 0 straight into the frame's pixel
+ * planes (face, level, coverage), else into tag rows the pixels are
+ * resolved from. */
+typedef struct {
+    uint16_t *rgb;
+    uint32_t *depth;
+    uint32_t *tag;            /* aa > 0 */
+    uint32_t *face;           /* aa = 0 */
+    uint8_t *level;
+    uint16_t *coverage;
+} row_out;
+
+/* Samples [c, e) with no surface: the background. */
+static inline void emit_none(const alb_vp *vp, const row_out *o, uint32_t c, uint32_t e,
+                             const bool pixels)
+{
+    vp_fill_rgb(o->rgb + 3 * (size_t)c, e - c, vp->bg);
+    if (pixels) {
+        fill_u32(o->face + c, e - c, ALB_FRAME_NO_FACE);
+        memset(o->level + c, ALB_FRAME_NO_LEVEL, e - c);
+        fill_u16(o->coverage + c, e - c, 0);
+    } else {
+        fill_u32(o->tag + c, e - c, VP_TAG_NONE);
+    }
+}
+
+/* Samples [c, e) of row r, all written by one face. */
+static inline void emit_face(const alb_vp *vp, const row_out *o, const uint32_t *tag, uint32_t r,
+                             uint32_t c, uint32_t e, const bool pixels)
+{
+    const vp_face_setup *fs = &vp->faces[tag[c] >> VP_TAG_LEVEL_BITS];
+    vp_shade_run(vp, fs, r, c, e, o->rgb + 3 * (size_t)c);
+    if (pixels) {
+        fill_u32(o->face + c, e - c, fs->id);
+        levels_of(o->level + c, tag + c, e - c);
+        fill_u16(o->coverage + c, e - c, 1);
+    } else {
+        memcpy(o->tag + c, tag + c, (e - c) * sizeof *tag);
+    }
+}
+
+/* The end of the run of samples from e on (before d) whose tags name the
+ * face of tag t, at whatever level. */
+static inline uint32_t run_end(const uint32_t *tag, uint32_t e, uint32_t d, uint32_t t)
+{
+#if VP_SSE2
+    const __m128i face = _mm_set1_epi32((int)(t & ~VP_TAG_LEVEL_MASK)),
+                  m = _mm_set1_epi32((int)~VP_TAG_LEVEL_MASK);
+    for (; e + 4 <= d; e += 4) {
+        __m128i x = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)(tag + e)), m);
+        if (_mm_movemask_epi8(_mm_cmpeq_epi32(x, face)) != 0xFFFF)
+            break;
+    }
+#endif
+    while (e < d && (tag[e] ^ t) <= VP_TAG_LEVEL_MASK)
+        e++;
+    return e;
+}
+
+/* One sample row as the output stage sees it: clean tiles are no surface
+ * in the background; in the others, runs of samples of one face share
+ * their shading set-up and step its forms along the row. */
+static inline void sample_row(const alb_vp *vp, uint32_t r, const row_out *o, const bool pixels)
+{
+    const uint32_t sw = vp->sw, twl = vp->tile_wl;
+    const uint8_t *clean = vp->tile_clean + ((size_t)(r >> vp->tile_hl) << vp->tiles_lw);
+    const uint32_t *tag = vp->s_tag + (size_t)r * sw;
+    for (uint32_t c = 0; c < sw;) {
+        /* the span of tiles as clean, or as touched, as the first */
+        uint8_t cl = clean[c >> twl];
+        uint32_t d = c + (1u << twl);
+        while (d < sw && clean[d >> twl] == cl)
+            d += 1u << twl;
+        if (cl) {
+            memset(o->depth + c, 0, (d - c) * sizeof *o->depth);
+            emit_none(vp, o, c, d, pixels);
+            c = d;
+            continue;
+        }
+        memcpy(o->depth + c, vp->s_depth + (size_t)r * sw + c, (d - c) * sizeof *o->depth);
+        while (c < d) {
+            uint32_t t = tag[c], e = c + 1;
+            if (t == VP_TAG_NONE) {
+                while (e < d && tag[e] == VP_TAG_NONE)
+                    e++;
+                emit_none(vp, o, c, e, pixels);
+            } else {
+                e = run_end(tag, e, d, t);
+                emit_face(vp, o, tag, r, c, e, pixels);
+            }
+            c = e;
+        }
+    }
+}
+
+static uint32_t face_of(const alb_vp *vp, uint32_t tag)
+{
+    return tag == VP_TAG_NONE ? ALB_FRAME_NO_FACE : vp->faces[tag >> VP_TAG_LEVEL_BITS].id;
+}
+
+static uint8_t level_of(uint32_t tag)
+{
+    return tag == VP_TAG_NONE ? ALB_FRAME_NO_LEVEL : (uint8_t)(tag & VP_TAG_LEVEL_MASK);
+}
+
+/* Scratch for one worker of the output stage: 2^aa sample rows of colour,
+ * depth and tag (none with aa = 0, whose rows go straight to the frame). */
+size_t vp_store_scratch_bytes(const alb_vp *vp)
+{
+    size_t n = vp->prof.aa_levels ? (size_t)vp->sw << vp->prof.aa_levels : 0;
+    return n * (3 * sizeof(uint16_t) + 2 * sizeof(uint32_t));
+}
+
+/* Pixel rows [y0, y1) of the frame from their 4^aa samples each. */
+static void resolve_rows(alb_vp *vp, void *ctx, unsigned worker, uint32_t y0, uint32_t y1)
+{
+    alb_frame *out = ctx;
+    const unsigned aa = vp->prof.aa_levels, n = 1u << aa, w = vp->prof.width;
+    const size_t sw = vp->sw;
+    if (aa == 0) {
+        /* one sample per pixel: the rows are the frame's */
+        for (uint32_t y = y0; y < y1; y++) {
+            size_t p = (size_t)y * w;
+            row_out o = {out->rgb + 3 * p, out->depth + p, NULL, out->face + p, out->level + p,
+                         out->coverage + p};
+            sample_row(vp, y, &o, true);
+        }
+        return;
+    }
+    unsigned char *scratch = vp->scratch + worker * vp_store_scratch_bytes(vp);
+    uint32_t *depth = (uint32_t *)(void *)scratch, *tag = depth + n * sw;
+    uint16_t *rgb = (uint16_t *)(void *)(tag + n * sw);
+    for (uint32_t y = y0; y < y1; y++) {
+        size_t p = (size_t)y * w;
+        for (unsigned sy = 0; sy < n; sy++) {
+            row_out o = {rgb + 3 * sy * sw, depth + sy * sw, tag + sy * sw, NULL, NULL, NULL};
+            sample_row(vp, (y << aa) + sy, &o, false);
+        }
+        for (uint32_t x = 0; x < w; x++, p++) {
+            /* the pixel's nearest sample gives depth, face and level (ties:
+             * the first in raster order); colour is the mean of its samples,
+             * rounded half up */
+            uint32_t sum[3] = {0, 0, 0}, best = 0;
+            size_t best_i = (size_t)x << aa;
+            unsigned covered = 0;
+            for (unsigned sy = 0; sy < n; sy++)
+                for (unsigned sx = 0; sx < n; sx++) {
+                    size_t i = sy * sw + ((size_t)x << aa) + sx;
+                    for (int ch = 0; ch < 3; ch++)
+                        sum[ch] += rgb[3 * i + ch];
+                    covered += tag[i] != VP_TAG_NONE;
+                    if (depth[i] > best) {
+                        best = depth[i];
+                        best_i = i;
+                    }
+                }
+            for (int ch = 0; ch < 3; ch++)
+                out->rgb[3 * p + ch] = (uint16_t)((sum[ch] + (n * n / 2)) >> (2 * aa));
+            out->depth[p] = depth[best_i];
+            out->face[p] = face_of(vp, tag[best_i]);
+            out->level[p] = level_of(tag[best_i]);
+            out->coverage[p] = (uint16_t)covered;
+        }
+    }
+}
+
+void vp_store_resolve(alb_vp *vp, alb_frame *out)
+{
+    vp_parallel_rows(vp, vp->prof.height, resolve_rows, out);
+}
