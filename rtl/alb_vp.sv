@@ -101,6 +101,9 @@ module alb_vp #(
     // a frame retired while the previous one was still being scanned out:
     // that frame's CRC is lost (the scan-out is untimed in the model)
     output logic                            ev_scan_overrun,
+    // a FRAME_END taken this cycle (not a cosim event): its face count is
+    // ev_pop_word[23:0] (a board's RESULT record, rtl/fpga/)
+    output logic                            ev_frame_end,
     // a malformed stream or an exceeded size: sticky, the first error's code
     // (rtl/alb_defs.svh) and the word it was found at
     output logic                            error,
@@ -245,6 +248,7 @@ module alb_vp #(
 
     // ---- events ----
     assign ev_pop = pop;
+    assign ev_frame_end = end_taken;
     assign ev_pop_index = pop_index;
     assign ev_pop_word = fifo_head;
     assign ev_load = fc_en;

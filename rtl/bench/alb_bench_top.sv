@@ -124,7 +124,7 @@ module alb_bench_top #(
         .ev_end, .ev_engine_face, .ev_engine_slot, .ev_fill, .ev_fill_face, .ev_fill_cell,
         .ev_write, .ev_write_x, .ev_write_y, .ev_write_depth, .ev_write_rgb, .ev_write_face,
         .ev_write_level, .ev_frame, .ev_frame_number, .ev_frame_cycles, .ev_crc, .ev_crc_number,
-        .ev_crc_value, .ev_scan_overrun, .error, .error_code, .error_word);
+        .ev_crc_value, .ev_scan_overrun, .ev_frame_end(), .error, .error_code, .error_word);
 
     alb_frame_mem #(.RATE(FILL_RATE), .LW(LW), .LH(LH), .AA(AA), .DB(DEPTH_BITS),
                     .COLB(COLOUR_BITS), .SCAN_PIXELS(SCAN_PIXELS), .TAG_BITS(TAG_BITS),
