@@ -21,17 +21,17 @@ static const alb_profile builtin[] = {
     {"a1024x512", 1024, 512, 0, 15, 24, 24, 8, 16, 12, ALB_BOUND_ALBATROS, true, CLOCKED(60000, 8)},
     {"a256", 256, 256, 0, 13, 24, 24, 8, 16, 12, ALB_BOUND_ALBATROS, true, CLOCKED(20000, 4)},
     {"t32", 32, 32, 0, 10, 24, 24, 8, 16, 12, ALB_BOUND_ALBATROS, true, CLOCKED(10000, 4)},
-    /* The member that fits an iCE40 HX8K (docs/fpga.md): the narrowest widths
-     * the fields allow (but 16-bit depth, which the built-in scene needs, and
-     * edge intercepts four bits below the pixel), a
-     * 16x16 screen, one edge unit, one sample a clock, a one-cell fill queue,
+    /* The member built for an iCE40 UP5K, the iCEBreaker (docs/fpga.md): the
+     * narrowest widths the fields allow (but 16-bit depth, which the built-in
+     * scene needs, and edge intercepts four bits below the pixel), a 16x16
+     * screen, one edge unit, one sample a clock, a one-cell fill queue,
      * a 16-word FIFO, one face slot, two FRAME register sets, the board's
-     * 12 MHz clock.  The next size up, 32x32, does not fit the part. */
-    {"hx8k", 16, 16, 0, 7, 8, 16, 4, 8, 8, ALB_BOUND_ALBATROS, true,
+     * 12 MHz clock.  Even so the RTL is 1.7 times the part (docs/fpga.md). */
+    {"up5k", 16, 16, 0, 7, 8, 16, 4, 8, 8, ALB_BOUND_ALBATROS, true,
      12000, 16, 1, 1, 1, 1, 2, 4, 4, 24, 6, 16, 4095, 0},
 };
 
-static const char *const names[] = {"a512", "a1024", "a1024x512", "a256", "t32", "hx8k", NULL};
+static const char *const names[] = {"a512", "a1024", "a1024x512", "a256", "t32", "up5k", NULL};
 
 const char *const *alb_profile_names(void) { return names; }
 

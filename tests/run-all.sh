@@ -53,5 +53,6 @@ run python bash tests/python.sh "$build"
 run install bash tests/install.sh "$build"
 run usb-umockdev bash tests/usb-umockdev.sh "$build" "$bin"
 run cosim bash tests/cosim.sh "$build"
+run fpga-report bash tests/fpga-report.sh
 echo "$total_pass passed, $total_fail failed"
 [[ $status -eq 0 && $total_fail -eq 0 ]]

@@ -56,7 +56,8 @@ module alb_fpga_top #(
     output logic        pktend_n,
     input  logic        vp_restart,    // PA0
     input  logic        vp_new_stream, // PA1
-    output logic [3:0]  led            // error, memory conflict, record lost, VP clock alive
+    output logic [1:0]  led_n          // active low: [0] error, memory conflict or a record lost;
+                                       // [1] the VP's clock, blinking
 );
     localparam int LW = $clog2(WIDTH) + AA;
     localparam int LH = $clog2(HEIGHT) + AA;
@@ -234,7 +235,7 @@ module alb_fpga_top #(
     logic [23:0] alive;
     always_ff @(posedge clk_vp)
         alive <= alive + 24'd1;
-    assign led = {alive[23], lost, mem_conflict, error};
+    assign led_n = ~{alive[23], lost || mem_conflict || error};
     // this board's frame store is one lane (alb_fpga_mem)
     wire unused = ^{ev_pop, error_code, ev_pop_word[31:24], FILL_RATE == 1};
 endmodule

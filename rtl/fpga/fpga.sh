@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # fpga.sh [--build DIR] [--profile NAME] — alb_fpga_top (rtl/fpga/) for the
-# iCE40 HX8K breakout board (docs/fpga.md): yosys synth_ice40, nextpnr-ice40
+# iCEBreaker board, an iCE40 UP5K (docs/fpga.md): yosys synth_ice40, nextpnr-ice40
 # (its --report JSON), icepack.  Outputs in DIR/fpga/: alb_fpga.bin (the
 # bitstream), report.json (nextpnr's utilisation and Fmax), yosys.log and
-# stat.txt (the cells yosys mapped, SB_RAM40_4K among them), nextpnr.log.
+# stat.txt (the cells yosys mapped, SB_RAM40_4K among them), pack-report.json (packed, utilisation only),
+# nextpnr.log.
 set -euo pipefail
-build=build profile=hx8k
+build=build profile=up5k
 while [[ $# -gt 0 ]]; do
     case $1 in
         --build) build=$2; shift 2 ;;
@@ -34,14 +35,23 @@ rtl=(rtl/alb_fifo.sv rtl/alb_parser.sv rtl/alb_edge_store.sv rtl/alb_engine.sv
 echo "fpga.sh: yosys synth_ice40 ($profile)"
 yosys -q -l "$out/yosys.log" -p "read_verilog -sv -defer -Irtl ${rtl[*]};
     hierarchy -top alb_fpga_top $chp;
-    synth_ice40 -top alb_fpga_top -json $out/alb_fpga.json;
+    synth_ice40 -dsp -top alb_fpga_top -json $out/alb_fpga.json;
     tee -q -o $out/stat.txt stat" > /dev/null
-echo "fpga.sh: nextpnr-ice40 --hx8k --package ct256 (the VP's clock at $clock_khz kHz)"
+echo "$clock_khz" > "$out/clock_khz"
+pnr=(nextpnr-ice40 --up5k --package sg48 --pcf rtl/fpga/icebreaker.pcf --json "$out/alb_fpga.json")
+rm -f "$out/report.json" "$out/alb_fpga.asc" "$out/alb_fpga.bin"
+# packed only: the utilisation, whether or not it fits (no Fmax)
+echo "fpga.sh: nextpnr-ice40 --up5k --package sg48 --pack-only"
+"${pnr[@]}" --pack-only --report "$out/pack-report.json" -q -l "$out/pack.log"
+if ! python3 rtl/fpga/fpga_report.py "$out/pack-report.json" > "$out/pack-verdict.txt" 2>&1; then
+    cat "$out/pack-verdict.txt"
+    echo "fpga.sh: $profile does not fit the UP5K (docs/fpga.md); no bitstream" >&2
+    exit 1
+fi
+echo "fpga.sh: nextpnr-ice40 place and route (the VP's clock at $clock_khz kHz)"
 # --timing-allow-fail: a missed clock is for fpga_report.py to judge and
 # report, with the figure, not a bare failure here
-nextpnr-ice40 --hx8k --package ct256 --pcf rtl/fpga/hx8k-breakout.pcf \
-    --json "$out/alb_fpga.json" --asc "$out/alb_fpga.asc" --report "$out/report.json" \
+"${pnr[@]}" --asc "$out/alb_fpga.asc" --report "$out/report.json" \
     --seed 1 --timing-allow-fail -q -l "$out/nextpnr.log"
 icepack "$out/alb_fpga.asc" "$out/alb_fpga.bin"
-echo "$clock_khz" > "$out/clock_khz"
 echo "fpga.sh: $out/alb_fpga.bin, $out/report.json"
