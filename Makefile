@@ -36,7 +36,8 @@ BRIDGE_SRC := emu/bridge/link.c emu/bridge/stream.c emu/bridge/transport_fault.c
               emu/bridge/transport_usb.c
 TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools/methods.c tools/sweep.c \
               $(wildcard tools/methods/*.c)
-FW_SRC     := firmware/core.c firmware/crc32.c firmware/sim/board.c firmware/sim/transport.c
+FW_SRC     := firmware/core.c firmware/crc32.c firmware/sim/board.c firmware/sim/transport.c \
+              firmware/sim/rtl_load.c
 EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cmd_render.c emu/cmd_compare.c emu/cmd_scene.c emu/cmd_stream.c emu/cmd_stability.c \
               emu/cli.c
 TEST_SRC   := $(wildcard tests/test_*.c) tests/t.c tests/gp_helpers.c tests/refpacket.c
