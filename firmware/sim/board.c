@@ -214,7 +214,7 @@ static void add_speed(sim_board *b)
 static void restart_rtl(sim_board *b, uint8_t full)
 {
     const alb_rtl_vp_api *api = b->rtl.api;
-    b->n = full || !b->rtl_vp ? 0 : api->frame_start(b->rtl_vp);
+    b->n = full || !b->rtl_vp ? 0 : api->frame_start(b->rtl_vp, b->core.resume_frame);
     add_speed(b);
     api->close(b->rtl_vp);
     alb_rtl_vp_config c = {b->prof.gp_face_cycles, b->prof.gp_edge_cycles,

@@ -17,7 +17,7 @@ extern "C" {
 
 /* Raised on any change of the structures below; a board refuses an object
  * of another ABI. */
-#define ALB_RTL_VP_ABI 1
+#define ALB_RTL_VP_ABI 2
 /* The one symbol the object exports: a function returning its table. */
 #define ALB_RTL_VP_SYMBOL "alb_rtl_vp_get_api"
 /* The object's file in a build directory (rtl/board/build.sh DIR ...). */
@@ -60,11 +60,15 @@ typedef struct {
      * stream's END is pushed, until every frame is scanned out.  Returns 0,
      * or -1 on an RTL error (error()) or an RTL that stopped (err says). */
     int (*run)(alb_rtl_vp *v, const uint32_t *w, size_t n, char *err, size_t errlen);
-    /* FRAME packets in the words given so far; the first word of the frame
-     * being received, or between frames of the next packet (where a RESUME
-     * takes the stream up again, as alb_sim_feed_frame_start). */
+    /* FRAME packets in the words given so far.  Where a RESUME of frame
+     * `number` takes the stream up again: the first word of the last FRAME
+     * packet of that number given, else (as alb_sim_feed_frame_start) of the
+     * frame being received, or between frames of the next packet.  The RTL
+     * reports a frame later than the C model (after its scan-out, and only
+     * once the words after it came), so the host may resume a frame the
+     * board has whole. */
     uint32_t (*frames_given)(const alb_rtl_vp *v);
-    size_t (*frame_start)(const alb_rtl_vp *v);
+    size_t (*frame_start)(const alb_rtl_vp *v, uint32_t number);
     /* The next finished frame into *f: 1, or 0 if none is finished. */
     int (*next_frame)(alb_rtl_vp *v, alb_rtl_vp_frame *f);
     /* The RTL's sticky error: its code (rtl/README.md) and the word's index,

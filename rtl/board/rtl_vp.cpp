@@ -82,6 +82,7 @@ struct alb_rtl_vp {
     // the stream's layout, scanned as words arrive
     std::vector<uint32_t> gap;       // GP computing time before word i
     std::vector<size_t> frame_words; // index of each FRAME header
+    std::vector<uint32_t> frame_headers; // and the header itself (its number)
     size_t scanned = 0, pkt_start = 0, pkt_left = 0;
     size_t in_frame = SIZE_MAX;      // the open frame's FRAME header
     size_t end_word = SIZE_MAX;      // the END header
@@ -117,6 +118,7 @@ void scan_layout(alb_rtl_vp *v, const uint32_t *w, size_t n)
             v->gap[i] = (uint32_t)gp_cycles(v->cfg, w[i]);
             if (w[i] >> 24 == ALB_WS_OP_FRAME) {
                 v->frame_words.push_back(i);
+                v->frame_headers.push_back(w[i]);
                 v->in_frame = i;
             }
             if (w[i] >> 24 == ALB_WS_OP_END && v->end_word == SIZE_MAX)
@@ -353,8 +355,11 @@ int vp_run(alb_rtl_vp *v, const uint32_t *w, size_t n, char *err, size_t errlen)
 
 uint32_t vp_frames_given(const alb_rtl_vp *v) { return (uint32_t)v->frame_words.size(); }
 
-size_t vp_frame_start(const alb_rtl_vp *v)
+size_t vp_frame_start(const alb_rtl_vp *v, uint32_t number)
 {
+    for (size_t k = v->frame_words.size(); k-- > 0;)
+        if ((v->frame_headers[k] & 0xFFFFFF) == (number & 0xFFFFFF))
+            return v->frame_words[k];
     if (v->in_frame != SIZE_MAX)
         return v->in_frame;
     return v->pkt_left ? v->pkt_start : v->scanned;
