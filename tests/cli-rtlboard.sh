@@ -49,6 +49,7 @@ for f in json.load(open(sys.argv[1]))["frames"]:
     print(f["board_cycles"], f["board_crc"])' "$tmp/b.json")
 if [[ -n $want && $want == "$got" ]]; then ok
 else bad "RTL board's cycles and CRCs (got: $got) differ from the cycle model's events ($want)"; fi
+c0=$(head -n 1 <<<"$want" | cut -d' ' -f1)   # frame 0's cycles, for the planted mismatch below
 
 # golden vectors at a256: the RTL board's cycles equal expected.cycles
 for v in shared-edges textured-far-plane sliver-box moving-lit; do
@@ -100,7 +101,6 @@ expect 1 '"result": "differs"' "$bin" stream --sim=rtl --profile t32 --fault fli
 expect 1 "warning: --rtl-board .*EDGE_UNITS=8, the profile has EDGE_UNITS=3" \
     "$bin" stream --sim=rtl --profile t32 --set edge_units=3 --rtl-board "$build/rtl-board/t32"
 # the same pixels; the RTL's cycles those of the cycle model at EDGE_UNITS 8
-c0=$(head -n 1 <<<"$want" | cut -d' ' -f1)
 expect 1 "frame 0: DIFFERS: CRC ([0-9a-f]+) \(emulator \1\), $c0 cycles \(emulator [0-9]+\)" \
     "$bin" stream --sim=rtl --profile t32 --set edge_units=3 --rtl-board "$build/rtl-board/t32"
 
