@@ -138,11 +138,21 @@ deps:
 	else echo "all build dependencies present"; fi
 
 # ---- build ----
-$(BUILD)/%.o: %.c
+# The compiler and its flags as last used in $(BUILD): rewritten when they
+# change, and every object depends on it, so a build with other flags
+# (EXTRA_CFLAGS=-Werror, CC=clang, OPT=-O0) never links objects of the last.
+FLAGS_STAMP := $(BUILD)/.flags
+FLAGS_NOW    = $(CC) $(ALL_CFLAGS) | $(LIB_CFLAGS)
+ifeq ($(filter clean help,$(MAKECMDGOALS)),)
+$(shell mkdir -p $(BUILD) && printf '%s\n' '$(subst ','\'',$(FLAGS_NOW))' > $(FLAGS_STAMP).new && \
+  { cmp -s $(FLAGS_STAMP).new $(FLAGS_STAMP) && rm -f $(FLAGS_STAMP).new || mv -f $(FLAGS_STAMP).new $(FLAGS_STAMP); })
+endif
+
+$(BUILD)/%.o: %.c $(FLAGS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $(OBJ_CFLAGS) -MMD -MP -c $< -o $@
 
-$(BUILD)/gen/%.o: $(BUILD)/gen/%.c
+$(BUILD)/gen/%.o: $(BUILD)/gen/%.c $(FLAGS_STAMP)
 	$(CC) $(ALL_CFLAGS) $(OBJ_CFLAGS) -I. -c $< -o $@
 
 $(BUILD)/tools/embed: tools/embed.c
