@@ -69,8 +69,9 @@ uint64_t gp_cycles(const alb_rtl_vp_config &c, uint32_t header)
     return 0;
 }
 
-// An RTL that neither pops, writes, retires nor scans for this long after
-// the stream's END has stopped (no frame takes 2^24 cycles at these sizes).
+// An RTL that takes no word, pops, decides a cell, writes, retires nor scans
+// for this long while the GP waits on it (FIFO full) or the stream has ended
+// has stopped: no unit of a working VP is idle that long with work in hand.
 constexpr uint64_t IDLE_LIMIT = 1ull << 24;
 
 }  // namespace
@@ -224,7 +225,7 @@ bool clock(alb_rtl_vp *v, const uint32_t *w, bool push, char *err, size_t errlen
             v->end_pushed = true;
         v->next++;
     }
-    bool progress = top.ev_pop || top.ev_write || top.ev_frame || top.ev_crc;
+    bool progress = push || top.ev_pop || top.ev_cell || top.ev_write || top.ev_frame || top.ev_crc;
     if (top.ev_pop && v->frames_popped < v->frame_words.size() &&
         top.ev_pop_index == v->frame_words[v->frames_popped]) {
         v->frames_popped++;
@@ -312,11 +313,13 @@ int vp_run(alb_rtl_vp *v, const uint32_t *w, size_t n, char *err, size_t errlen)
         scan_layout(v, w, n);
         for (;;) {
             Valb_bench_top &top = *v->top;
-            bool push = false;
+            bool push = false, blocked = false;
             if (v->next < n) {
                 // the GP pushes a word once it has computed its packet, when
                 // the FIFO held fewer than fifo_depth words at the cycle's start
-                push = (int64_t)v->t >= v->last_push + 1 + (int64_t)v->gap[v->next] && !top.in_full;
+                bool ready = (int64_t)v->t >= v->last_push + 1 + (int64_t)v->gap[v->next];
+                push = ready && !top.in_full;
+                blocked = ready && top.in_full;
             } else if (!v->end_pushed) {
                 if ((int64_t)v->t >= v->last_push + 1)
                     break;   // the GP would need a word the board has not received
@@ -327,14 +330,17 @@ int vp_run(alb_rtl_vp *v, const uint32_t *w, size_t n, char *err, size_t errlen)
                     all = all && r.have_crc;
                 if (all)
                     break;
-                if (v->t - v->last_progress > IDLE_LIMIT) {
-                    std::snprintf(err, errlen, "the RTL did nothing for %llu cycles after the "
-                                  "stream's END (cycle %llu; %llu of %zu frames retired)",
-                                  (unsigned long long)IDLE_LIMIT, (unsigned long long)v->t,
-                                  (unsigned long long)v->retirements, v->frame_words.size());
-                    rc = -1;
-                    break;
-                }
+                blocked = true;
+            }
+            // waiting on the RTL alone (the GP stalled, or the stream ended)
+            // with nothing popped, written, retired or scanned: it has stopped
+            if (blocked && v->t - v->last_progress > IDLE_LIMIT) {
+                std::snprintf(err, errlen, "the RTL did nothing for %llu cycles (cycle %llu, "
+                              "word %zu of %zu pushed, %llu of %zu frames retired)",
+                              (unsigned long long)IDLE_LIMIT, (unsigned long long)v->t, v->next,
+                              n, (unsigned long long)v->retirements, v->frame_words.size());
+                rc = -1;
+                break;
             }
             if (!clock(v, w, push, err, errlen)) {
                 rc = -1;
