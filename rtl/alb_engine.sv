@@ -64,14 +64,18 @@ module alb_engine #(
 
     // ---- state ----
     logic              stalled;
-    logic [15:0]       cur_c0, cur_r0;
+    // positions: below 2^LW, 2^LH (a cell's corner in the sample grid), held
+    // at LW + 1, LH + 1 bits, 16 at the ports
+    localparam int XB = LW + 1, YB = LH + 1;
+    logic [XB-1:0]     cur_c0;
+    logic [YB-1:0]     cur_r0;
     logic [4:0]        cur_lvl;
     logic [6:0]        cur_n;                // active edges when the step began
     logic [ME-1:0]     rem;                  // edges of the step not evaluated yet
     logic              acc_out, acc_in;
     logic [ME-1:0]     acc_act;
-    logic [15:0]       stk_c0 [0:DEPTH-1];
-    logic [15:0]       stk_r0 [0:DEPTH-1];
+    logic [XB-1:0]     stk_c0 [0:DEPTH-1];
+    logic [YB-1:0]     stk_r0 [0:DEPTH-1];
     logic [4:0]        stk_lvl [0:DEPTH-1];
     logic [ME-1:0]     stk_act [0:DEPTH-1];
     logic [SPW-1:0]    sp;
@@ -90,8 +94,8 @@ module alb_engine #(
     wire working = start || (busy && !stalled);
     wire [ME-1:0] face_mask = head_edges >= 7'(ME) ? {ME{1'b1}}
                                                    : (ME'(1) << head_edges) - ME'(1);
-    wire [15:0]   c0 = start ? 16'd0 : cur_c0;
-    wire [15:0]   r0 = start ? 16'd0 : cur_r0;
+    wire [XB-1:0] c0 = start ? '0 : cur_c0;
+    wire [YB-1:0] r0 = start ? '0 : cur_r0;
     wire [4:0]    lvl = start ? 5'd0 : cur_lvl;
     wire [ME-1:0] rem_in = start ? face_mask : rem;
     wire          out_in = start ? 1'b0 : acc_out;
@@ -103,8 +107,8 @@ module alb_engine #(
     wire [4:0]    hl = lvl < 5'(LH) ? 5'(LH) - lvl : 5'd0;
     wire          single = wl == 5'd0 && hl == 5'd0;
     // the cell's offset in its parent: the bit of its position at its own size
-    wire          dx = lvl != 5'd0 && lvl <= 5'(LW) && c0[wl[3:0]];
-    wire          dy = lvl != 5'd0 && lvl <= 5'(LH) && r0[hl[3:0]];
+    wire          dx = lvl != 5'd0 && lvl <= 5'(LW) && (c0 & (XB'(1) << wl)) != '0;
+    wire          dy = lvl != 5'd0 && lvl <= 5'(LH) && (r0 & (YB'(1) << hl)) != '0;
     wire [4:0]    sha = lvl < 5'(LW) ? lvl : 5'(LW);   // halvings of dA to this cell's width
     wire [4:0]    shb = lvl < 5'(LH) ? lvl : 5'(LH);
 
@@ -185,13 +189,13 @@ module alb_engine #(
     // children
     wire [3:0]  cwl = wl != 5'd0 ? 4'(wl - 5'd1) : 4'd0;
     wire [3:0]  chl = hl != 5'd0 ? 4'(hl - 5'd1) : 4'd0;
-    wire [15:0] c_right = c0 + (16'd1 << cwl);
-    wire [15:0] r_below = r0 + (16'd1 << chl);
+    wire [XB-1:0] c_right = c0 + (XB'(1) << cwl);
+    wire [YB-1:0] r_below = r0 + (YB'(1) << chl);
     wire [SPW-1:0] sp_top = sp - SPW'(1);
     wire [AW-1:0]  at0 = AW'(sp), at1 = AW'(sp + SPW'(1)), at2 = AW'(sp + SPW'(2)), attop = AW'(sp_top);
 
     assign enq = (decided && fills && !q_full) || (busy && stalled && !q_full);
-    assign enq_cell = {lvl, hl, wl, r0, c0};
+    assign enq_cell = {lvl, hl, wl, 16'(r0), 16'(c0)};
     assign face_done = advance && !split && sp == '0;
     assign busy_next = (start || busy) && !face_done;
 
@@ -199,7 +203,7 @@ module alb_engine #(
     assign ev_cell = decided;
     assign ev_cell_result = verdict;
     assign ev_cell_edges = n_in;
-    assign ev_cell_cell = {lvl, hl, wl, r0, c0};
+    assign ev_cell_cell = {lvl, hl, wl, 16'(r0), 16'(c0)};
     assign ev_end = face_done;
     assign ev_face = head_id;
     assign ev_slot = head_slot;

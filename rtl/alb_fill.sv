@@ -7,7 +7,9 @@
 `include "alb_defs.svh"
 
 module alb_fill #(
-    parameter int RATE = 4              // fill_rate
+    parameter int RATE = 4,             // fill_rate
+    parameter int LW = 5,               // log2 of the sample grid's width
+    parameter int LH = 5                // ... height
 ) (
     input  logic                 clk,
     input  logic                 rst,
@@ -28,18 +30,21 @@ module alb_fill #(
 );
     logic [`CELL_W-1:0]  cell_r;
     logic [`SETUP_W-1:0] setup_r;
-    logic [33:0]         next_r;        // index of the next sample, raster order
+    // a sample's index within its cell, raster order: below 2^(LW+LH) + RATE
+    localparam int NW = LW + LH + 2 + $clog2(RATE + 1);
+    logic [NW-1:0]       next_r;        // index of the next sample
+    localparam int IW = NW > 16 ? NW : 16;
 
     wire take = !busy && !q_empty;
     wire issuing = take || busy;
     wire [`CELL_W-1:0] cur_cell = take ? q_cell : cell_r;
-    wire [33:0] nx = take ? 34'd0 : next_r;
+    wire [NW-1:0] nx = take ? '0 : next_r;
     wire [15:0] c0 = cur_cell[`CELL_C0 +: 16];
     wire [15:0] r0 = cur_cell[`CELL_R0 +: 16];
     wire [4:0]  wl = cur_cell[`CELL_WL +: 5];
     wire [4:0]  hl = cur_cell[`CELL_HL +: 5];
-    wire [33:0] n = 34'd1 << (wl + hl);
-    wire [33:0] nx_after = nx + 34'(RATE);
+    wire [NW-1:0] n = NW'(1) << (wl + hl);
+    wire [NW-1:0] nx_after = nx + NW'(RATE);
 
     assign deq = take;
     assign setup = take ? q_setup : setup_r;
@@ -50,11 +55,13 @@ module alb_fill #(
 
     always @* begin
         for (int j = 0; j < RATE; j++) begin
-            logic [33:0] i;
-            i = nx + 34'(j);
+            logic [NW-1:0] i;
+            logic [IW-1:0] iw;
+            i = nx + NW'(j);
+            iw = IW'(i);
             lane_v[j] = issuing && i < n;
-            lane_x[j*16 +: 16] = c0 + (i[15:0] & ((16'd1 << wl) - 16'd1));
-            lane_y[j*16 +: 16] = r0 + 16'(i >> wl);
+            lane_x[j*16 +: 16] = c0 + (16'(i) & ((16'd1 << wl) - 16'd1));
+            lane_y[j*16 +: 16] = r0 + 16'(iw >> wl);
         end
     end
 

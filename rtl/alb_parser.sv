@@ -69,7 +69,6 @@ module alb_parser #(
     localparam int IW = TEX_IDS > 1 ? $clog2(TEX_IDS) : 1;
     localparam logic [31:0] ILIM = 32'd1 << (3 + F);           // intercepts below 2^(3+F)
     localparam logic signed [31:0] MLIM = (32'sd1 <<< (CB - 1)) - 32'sd1;
-    localparam logic [15:0] TOP = 16'((1 << COLB) - 1);
 
     // ---- packet state ----
     logic        in_pkt;            // inside a packet: its header was taken
@@ -144,11 +143,22 @@ module alb_parser #(
     assign pop = !ended && !err && !fifo_empty && room;
     assign pop_index = nwords;
 
-    // 0..255 to frame-store units, round half up (vp_scale_colour8)
+    // 0..255 to frame-store units, round half up (vp_scale_colour8):
+    // floor((2 c TOP + 255) / 510), TOP = 2^COLB - 1, the quotient below 2^COLB, by COLB steps
+    // of restoring division at the numerator's width (a `/` would be a
+    // 32-bit array divider)
+    localparam int SNW = COLB + 10;     // 2 c TOP + 255 < 510 2^COLB <= 2^(COLB+9)
     function automatic [COLB-1:0] scale8(input [7:0] c);
-        logic [31:0] num;
-        num = 32'd2 * {24'd0, c} * {16'd0, TOP} + 32'd255;
-        scale8 = COLB'(num / 32'd510);
+        logic [SNW-1:0] r;
+        logic [COLB-1:0] q;
+        r = ((SNW'(c) << (COLB + 1)) - (SNW'(c) << 1)) + SNW'(255);   // 2 c TOP + 255
+        q = '0;
+        for (int i = COLB - 1; i >= 0; i--)
+            if (r >= (SNW'(510) << i)) begin
+                r = r - (SNW'(510) << i);
+                q[i] = 1'b1;
+            end
+        scale8 = q;
     endfunction
 
     function automatic [3*COLB-1:0] scale_rgb(input [23:0] c);

@@ -188,7 +188,7 @@ module alb_vp #(
     logic [`SETUP_W-1:0]     fill_setup;
     logic [4:0]              fill_level;
     logic                    fill_busy, fill_busy_next;
-    alb_fill #(.RATE(FILL_RATE)) u_fill (
+    alb_fill #(.RATE(FILL_RATE), .LW(LW), .LH(LH)) u_fill (
         .clk, .rst, .q_empty, .q_cell, .q_setup, .deq, .lane_v, .lane_x, .lane_y,
         .setup(fill_setup), .level(fill_level), .busy(fill_busy), .busy_next(fill_busy_next),
         .ev_fill, .ev_cell(ev_fill_cell));
