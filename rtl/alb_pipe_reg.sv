@@ -11,8 +11,14 @@ module alb_pipe_reg #(
 );
     generate
         if (ON) begin : g_reg
-            always_ff @(posedge clk)
-                q <= d;
+            // a flip-flop a bit: yosys 0.23's ice40_dsp takes a register
+            // at a multiplier's input or output into the SB_MAC16 whole,
+            // leaving the register's other bits undriven (the boundary
+            // carries more than the product); one register a bit it cannot
+            for (genvar i = 0; i < W; i++) begin : g_bit
+                always_ff @(posedge clk)
+                    q[i] <= d[i];
+            end
         end else begin : g_wire
             assign q = d;
             wire unused_clk = clk;
