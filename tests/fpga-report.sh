@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # fpga-report.sh — make test's fast check of the FPGA report judge
 # (rtl/fpga/fpga_report.py, docs/fpga.md).  The committed report of the real
-# flow (docs/fpga/report.json, nextpnr --pack-only: the design is 1.7 times
-# the UP5K's logic cells, so it was never placed) must be judged not to fit;
+# flow (docs/fpga/report.json, nextpnr --pack-only: the design is 2.4 times
+# the UP5K's logic cells and 2.5 times its DSPs, so it was never placed) must
+# be judged not to fit;
 # the same report planted to fit, with Fmax above both clocks, must pass;
-# planted one cell over or below the VP's clock it must fail; without its
+# planted one logic cell or one DSP over, or below the VP's clock, it must fail; without its
 # fmax section or cut off it is an input error (exit 2).  The real flow is
 # make fpga-check.
 set -u
@@ -38,6 +39,9 @@ json.dump(fits, open(sys.argv[2] + "/fits.json", "w"))
 over = json.loads(json.dumps(fits))
 over["utilization"]["ICESTORM_LC"]["used"] = over["utilization"]["ICESTORM_LC"]["available"] + 1
 json.dump(over, open(sys.argv[2] + "/over.json", "w"))
+dsp = json.loads(json.dumps(fits))
+dsp["utilization"]["ICESTORM_DSP"]["used"] = dsp["utilization"]["ICESTORM_DSP"]["available"] + 1
+json.dump(dsp, open(sys.argv[2] + "/dsp.json", "w"))
 slow = json.loads(json.dumps(fits))
 slow["fmax"]["clk_vp$SB_IO_IN_$glb_clk"]["achieved"] = 11.9
 json.dump(slow, open(sys.argv[2] + "/slow.json", "w"))
@@ -47,6 +51,7 @@ json.dump(nofmax, open(sys.argv[2] + "/nofmax.json", "w"))
 PY
 expect "the report planted to fit, Fmax above both clocks, passes" 0 "$tmp/fits.json"
 expect "planted one logic cell over the part, rejected" 1 "$tmp/over.json"
+expect "planted one DSP over the part, rejected" 1 "$tmp/dsp.json"
 expect "planted with the VP's clock at 11.9 MHz, rejected" 1 "$tmp/slow.json"
 expect "planted without its fmax section, an input error" 2 "$tmp/nofmax.json"
 echo '{"utilization": ' > "$tmp/cut.json"
