@@ -100,7 +100,7 @@ module alb_pipe #(
     localparam int XW = 17 + COLB;                  // the colour before / 65025
     localparam int ROM_N = 1 << (RB - 1);
     localparam logic [FI:0] ONE = (FI + 1)'(1) << FI;          // intensity 1.0
-    localparam logic [DB-1:0] DMAX = '1;                        // the largest depth
+    localparam logic [DB-1:0] DMAX = {DB{1'b1}};   // the largest depth (yosys 0.23 reads '1 here as 1)
     localparam logic [XW-1:0] D65025 = XW'(65025);
     // a sample's record from the depth test to the write
     localparam int WR = 1 + LW + LH + DB;
