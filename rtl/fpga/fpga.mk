@@ -23,10 +23,11 @@ fpga-check: $(ALBATROS)
 # generic synth of that unit at the point's parameters) and one per point
 # (the cycle model), cached per unit and parameters; make -j2 fpga-sweep, or
 # make fpga-sweep-jobs | parallel, then make fpga-sweep to collect.
-FPGA_SWEEP_POINTS := a256:a256 a512:a512 a1024:a1024 \
+FPGA_SWEEP_POINTS := a512:a512 \
     a512-eu1:a512:edge_units=1 a512-eu2:a512:edge_units=2 a512-eu4:a512:edge_units=4 \
     a512-eu16:a512:edge_units=16 a512-fr1:a512:fill_rate=1 a512-fr2:a512:fill_rate=2 \
-    a512-fr8:a512:fill_rate=8 a512-fs1:a512:face_slots=1 a512-fs4:a512:face_slots=4
+    a512-fr8:a512:fill_rate=8 a512-fs1:a512:face_slots=1 a512-fs4:a512:face_slots=4 \
+    a1024:a1024
 FPGA_SWEEP_UNITS := alb_fifo alb_parser alb_edge_store alb_engine alb_fill_queue alb_fill \
     alb_pipe alb_frame_store alb_frame_crc
 FPGA_SWEEP_FAMILIES := interpenetrating deep

@@ -5,7 +5,7 @@ The design-space view's CSV (docs/fpga.md, make fpga-sweep) from its jobs'
 outputs in DIR: per point DIR/NAME/params (rtl/profile-params.sh --format
 shell), DIR/NAME/UNIT.unit (rtl/fpga/sweep-unit.sh) and DIR/NAME/cycles
 (rtl/fpga/sweep-cycles.sh).  One row a point: its parameters, cells per unit,
-their total, memory bits, cycles per frame per scene.  A missing or
+their total, memory bits, the synthesis's CPU seconds (all units), cycles per frame per scene.  A missing or
 malformed job output is an error naming the file and line; no CSV then.
 """
 import sys
@@ -62,12 +62,12 @@ def point_row(d, spec, units, families):
         lines = read_lines(path)
         if len(lines) != 1:
             raise Bad("%s: %d lines, expected one" % (path, len(lines)))
-        f = fields(path, lines[0], 1, ["cells", "memory_bits", "memories", "seconds"])
+        f = fields(path, lines[0], 1, ["cells", "memory_bits", "memories", "cpu_seconds"])
         if f.get("unit") != u:
             raise Bad("%s:1: unit=%r, expected %s" % (path, f.get("unit"), u))
         cells.append(int(f["cells"]))
         mem += int(f["memory_bits"])
-        secs = max(secs, int(f["seconds"]))
+        secs += int(f["cpu_seconds"])
     path = base + "/cycles"
     lines = read_lines(path)
     if len(lines) != 1:
@@ -90,7 +90,7 @@ def main(argv):
         return 1
     head = (["point", "profile", "sets"] + [k.lower() for k in PARAMS] +
             ["cells_" + u.replace("alb_", "") for u in units] +
-            ["cells_total", "memory_bits", "synth_seconds_max", "cycles_builtin"] +
+            ["cells_total", "memory_bits", "synth_cpu_seconds", "cycles_builtin"] +
             ["cycles_" + f for f in families])
     print(",".join(head))
     for r in rows:

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""sweep_stat.py STAT.json MEM.json UNIT SECONDS ABC — one line of the
+"""sweep_stat.py STAT.json MEM.json UNIT SECONDS CPU_SECONDS ABC — one line of the
 design-space view (rtl/fpga/sweep-unit.sh): the flattened unit's cells from
 yosys `stat -json`, its memories ($mem_v2 cells, from `write_json -selected`)
 as bits (WIDTH x SIZE), not as cells."""
@@ -13,9 +13,9 @@ def fail(msg):
 
 
 def main(argv):
-    if len(argv) != 6:
-        fail("usage: sweep_stat.py STAT.json MEM.json UNIT SECONDS ABC")
-    stat_path, mem_path, unit, secs, abc = argv[1:]
+    if len(argv) != 7:
+        fail("usage: sweep_stat.py STAT.json MEM.json UNIT SECONDS CPU_SECONDS ABC")
+    stat_path, mem_path, unit, secs, cpu, abc = argv[1:]
     try:
         text = open(stat_path).read()
         # tee keeps yosys's own lines around the JSON object
@@ -41,8 +41,8 @@ def main(argv):
             count += 1
     if count != nmem:
         fail("%s: %d memories in the stat, %d in %s" % (stat_path, nmem, count, mem_path))
-    print("unit=%s cells=%d memory_bits=%d memories=%d seconds=%s abc=%s"
-          % (unit, cells, bits, count, secs, abc))
+    print("unit=%s cells=%d memory_bits=%d memories=%d seconds=%s cpu_seconds=%s abc=%s"
+          % (unit, cells, bits, count, secs, cpu, abc))
 
 
 if __name__ == "__main__":
