@@ -17,8 +17,8 @@ bad() { fail=$((fail + 1)); echo "FAIL $1"; }
 csv=docs/fpga/sweep.csv
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-units=$(sed -n 's/^FPGA_SWEEP_UNITS := *//p; /^FPGA_SWEEP_UNITS/,/[^\\]$/{ /^ /p }' rtl/fpga/fpga.mk |
-        tr -d '\\' | tr -s ' \n' ' ')
+units=$(make -s --no-print-directory -f - <<< 'include rtl/fpga/fpga.mk
+show: ; @echo $(FPGA_SWEEP_UNITS)' show)
 families=$(sed -n 's/^FPGA_SWEEP_FAMILIES := *//p' rtl/fpga/fpga.mk)
 severity=$(sed -n 's/^FPGA_SWEEP_SEVERITY := *//p' rtl/fpga/fpga.mk)
 points=$(sed -n '/^FPGA_SWEEP_POINTS :=/,/[^\\]$/p' rtl/fpga/fpga.mk | sed 's/^FPGA_SWEEP_POINTS :=//' |

@@ -13,8 +13,10 @@ set grid
 set logscale xy
 set format x "%.0s%c"
 set format y "%.0s%c"
-# 20: cells_total, 23: built-in scene, 24: interpenetrating, 25: deep
-plot "sweep.csv" using 20:23 skip 1 with points pt 7 ps 1.2 title "built-in scene", \
-     "" using 20:24 skip 1 with points pt 5 ps 1.0 title "interpenetrating, severity 0.5", \
-     "" using 20:25 skip 1 with points pt 9 ps 1.0 title "deep, severity 0.5", \
-     "" using 20:23:1 skip 1 with labels offset 0.6,0.5 left font ",9" notitle
+set datafile columnheaders
+plot "sweep.csv" using "cells_total":"cycles_builtin" with points pt 7 ps 1.2 title "built-in scene", \
+     "" using "cells_total":"cycles_interpenetrating" with points pt 5 ps 1.0 \
+        title "interpenetrating, severity 0.5", \
+     "" using "cells_total":"cycles_deep" with points pt 9 ps 1.0 title "deep, severity 0.5", \
+     "" using "cells_total":"cycles_builtin":"point" with labels offset 0.6,0.5 left \
+        font ",9" notitle
