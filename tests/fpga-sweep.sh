@@ -44,7 +44,7 @@ else bad "$csv: a cells_total that is not the sum of its units"; fi
 # ---- the a512 row's cycles against the model ----
 mean() {   # SCENE... : the model's cycles per frame, mean of the frames, rounded
     "$bin" render "$@" --profile a512 --fidelity cycle --json 2> /dev/null |
-        grep -o '"timing": {"cycles": [0-9]*' | awk '{ s += $NF; n++ } END { if (n) printf "%d\n", s / n + 0.5 }'
+        grep -o '"timing": {"cycles": [0-9]*' | awk '{ s += $NF; n++ } END { if (n) printf "%d\n", int(s / n + 0.5) }'
 }
 model="$(mean)"
 for f in $families; do
@@ -60,7 +60,7 @@ if [[ $(cyc "$tmp/planted.csv") != "$model" ]]; then ok "a planted cycle count (
 else bad "a planted cycle count passed"; fi
 
 # ---- the units' parameter names are alb_vp's ----
-for u in $units; do
+for u in $(python3 rtl/fpga/sweep_units.py --list); do
     from_vp=$(awk -v u="$u" '$1 == u && $2 ~ /^#/ { on = 1 } on { print } on && /\) *u_/ { exit }' rtl/alb_vp.sv |
               grep -o '\.[A-Z_]*(' | tr -d '.(' | sort | tr '\n' ' ')
     ours=$(python3 rtl/fpga/sweep_units.py "$u" $(rtl/profile-params.sh --albatros "$bin" --format shell t32) |

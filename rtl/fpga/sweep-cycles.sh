@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # sweep-cycles.sh ALBATROS OUT SCENE_DIR PROFILE [--set k=v ...] — the cycle
 # side of one point of the design-space view (docs/fpga.md, make fpga-sweep):
-# the cycle model's cycles per frame (the mean over a run's frames, rounded)
+# the cycle model's cycles per frame (the mean over a run's frames, a half rounded up)
 # for the built-in scene and the stress scenes in SCENE_DIR (NAME.scene).
 # Writes OUT (one line): builtin=N NAME=N ...
 set -euo pipefail
@@ -16,7 +16,8 @@ cycles() {   # [SCENE]
     python3 -c 'import json,sys
 f = json.loads(sys.stdin.read())["frames"]
 assert f, "no frames"
-print(round(sum(x["timing"]["cycles"] for x in f) / len(f)))' <<< "$json"
+s, n = sum(x["timing"]["cycles"] for x in f), len(f)
+print((2 * s + n) // (2 * n))   # the mean, a half rounded up' <<< "$json"
 }
 sets=("$@")
 line="builtin=$(cycles)"
