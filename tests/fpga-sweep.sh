@@ -59,6 +59,18 @@ awk -F, -v n="$ncol" 'BEGIN { OFS = "," } $1 == "a512" { $n = $n + 1 } { print }
 if [[ $(cyc "$tmp/planted.csv") != "$model" ]]; then ok "a planted cycle count (one more) is caught"
 else bad "a planted cycle count passed"; fi
 
+# ---- docs/fpga.md's headline figures are the CSV's ----
+col() { awk -F, -v p="$1" -v c="$2" 'NR == 1 { for (i = 1; i <= NF; i++) k[$i] = i; next }
+                                    $1 == p { print $(k[c]) }' "$csv"; }
+eu="$(col a512-eu1 cycles_builtin), $(col a512-eu2 cycles_builtin), $(col a512-eu4 cycles_builtin), $(col a512 cycles_builtin), $(col a512-eu16 cycles_builtin)"
+fr="$(col a512-fr1 cycles_builtin) to $(col a512-fr8 cycles_builtin) cycles, $(col a512-fr1 cells_total) to $(col a512-fr8 cells_total) cells"
+text=$(sed -n '/^## The design-space view/,/^## /p' docs/fpga.md | tr '\n' ' ' | tr -s ' ')
+for want in "1, 2, 4, 8, 16 take $eu cycles" "1 to 8: $fr" \
+            "$(col a1024 cycles_builtin) cycles on the built-in scene with $(col a1024 cells_total) cells"; do
+    if [[ $text == *"$want"* ]]; then ok "docs/fpga.md says '$want'"
+    else bad "docs/fpga.md's design-space view lacks '$want' (the CSV's figures)"; fi
+done
+
 # ---- the units' parameter names are alb_vp's ----
 for u in $(python3 rtl/fpga/sweep_units.py --list); do
     from_vp=$(awk -v u="$u" '$1 == u && $2 ~ /^#/ { on = 1 } on { print } on && /\) *u_/ { exit }' rtl/alb_vp.sv |

@@ -10,13 +10,14 @@ set xlabel "logic, yosys generic synth (cells: gates, muxes, flip-flops; memorie
 set ylabel "time per frame (cycles, mean over the scene's frames)"
 set key outside bottom center horizontal
 set grid
-set logscale xy
-set format x "%.0s%c"
+set logscale y
+set offsets graph 0.05, graph 0.15, 0, 0
+set format x "%.1s%c"
 set format y "%.0s%c"
 set datafile columnheaders
 plot "sweep.csv" using "cells_total":"cycles_builtin" with points pt 7 ps 1.2 title "built-in scene", \
      "" using "cells_total":"cycles_interpenetrating" with points pt 5 ps 1.0 \
         title "interpenetrating, severity 0.5", \
      "" using "cells_total":"cycles_deep" with points pt 9 ps 1.0 title "deep, severity 0.5", \
-     "" using "cells_total":"cycles_builtin":"point" with labels offset 0.6,0.5 left \
+     "" using "cells_total":"cycles_builtin":"point" with labels offset 0.6,0.3 left \
         font ",9" notitle

@@ -81,6 +81,9 @@ fpga-sweep: $(FPGA_SWEEP_OUTS)
 fpga-sweep-prep: $(FPGA_SWEEP_SCENES) \
     $(foreach n,$(FPGA_SWEEP_NAMES),$(FPGA_SWEEP_DIR)/$(n)/params)
 fpga-sweep-jobs: fpga-sweep-prep
+	@$(foreach p,$(FPGA_SWEEP_POINTS),echo 'bash rtl/fpga/sweep-cycles.sh $(ALBATROS) \
+	    $(FPGA_SWEEP_DIR)/$(call fpga_sweep_name,$(p))/cycles $(FPGA_SWEEP_DIR)/scenes \
+	    $(call fpga_sweep_prof,$(p)) $(call fpga_sweep_sets,$(p))';)
 	@$(foreach n,$(FPGA_SWEEP_NAMES),$(foreach u,$(FPGA_SWEEP_UNITS),\
 	    echo 'bash rtl/fpga/sweep-unit.sh $(FPGA_SWEEP_DIR)/$(n)/$(u).unit $(u) $(FPGA_SWEEP_ABC) '"$$(echo $$(cat $(FPGA_SWEEP_DIR)/$(n)/params))";))
 
