@@ -202,7 +202,6 @@ static alb_err frame_end(timed *t, int64_t popped, alb_diag *d)
         alb_vp_frame_end(t->vp, &t->frame);
         cycle_map_resolve(&t->map, t->vp, &t->frame);
     } else {
-        vp_store_finish(t->vp);
         t->frame.number = t->vp->frame.number;
     }
     t->prev_retire = r;

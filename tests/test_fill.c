@@ -20,20 +20,55 @@ static bool row_in_range(const alb_vp *vp, int64_t z, int64_t dz, uint32_t n, in
     return lo > 0 && vp_depth_value(vp, lo, exp) > 0 && vp_depth_value(vp, hi, exp) < dmax;
 }
 
-/* Every form of the fill's fast row the host runs (AVX2, SSE2, plain C)
- * against vp_depth_value and the strict depth test, on random rows: every
- * length up to 37 (the SIMD bodies and their tails), shifts both ways, store
- * depths up to 2^32 - 1 (an unsigned comparison), the samples written and
- * the ties (equal depths: the earlier face keeps them), with the first. */
-TEST(fill_fast_row_equals_the_depth_unit)
+/* One sample of the reference: the depth unit and the strict depth test. */
+typedef struct {
+    uint32_t written, ties, nearest;
+    size_t first_tie;
+} ref_counts;
+
+static void ref_sample(const alb_vp *vp, uint32_t *depth, uint32_t *tag, size_t i, int64_t z,
+                       int exp, uint32_t t, ref_counts *r)
 {
-    vp_depth_row_fn forms[3];
+    uint32_t dv = vp_depth_value(vp, z, exp);
+    if (dv > depth[i]) {   /* strictly nearer wins (docs/vp.md §4) */
+        depth[i] = dv;
+        tag[i] = t;
+        r->written++;
+        r->nearest = dv > r->nearest ? dv : r->nearest;
+    } else if (dv == depth[i] && r->ties++ == 0) {
+        r->first_tie = i;
+    }
+}
+
+/* Old store values for a sample of depth dv: at, just below or just above
+ * it, or anywhere in the store's range (across 2^31 too). */
+static uint32_t old_depth(uint64_t *seed, uint32_t dv, unsigned depth_bits)
+{
+    uint64_t r = t_rand(seed) % 4;
+    uint32_t dmax = (uint32_t)(((uint64_t)1 << depth_bits) - 1);
+    return r == 0 ? dv : r == 1 ? dv - 1 : r == 2 ? dv + (dv < dmax)
+                                         : (uint32_t)(t_rand(seed) % ((uint64_t)dmax + 1));
+}
+
+#define STRIDE 40
+
+/* Every form of the fill's fast loop the host runs (AVX2, SSE2, plain C),
+ * both shapes — whole rectangles and masked 8 x 8 blocks — against
+ * vp_depth_value and the strict depth test on random samples: widths up to
+ * 37 (the SIMD bodies and their tails) and heights up to 5, shifts both
+ * ways, store depths up to 2^32 - 1 (an unsigned comparison), random masks
+ * and level masks; the samples and tags written, the counts written and
+ * tied, the first tie in raster order and the largest depth written. */
+TEST(fill_fast_forms_equal_the_depth_unit)
+{
+    vp_depth_rect_fn rects[3];
+    vp_depth_block8_fn blocks[3];
     const char *names[3];
-    const unsigned nforms = vp_depth_rows(forms, names);
+    const unsigned nforms = vp_depth_forms(rects, blocks, names);
     CHECK(nforms >= 1);
     static const unsigned depth_bits[] = {8, 16, 24, 31, 32};
     uint64_t seed = 42;
-    unsigned rows = 0, wins = 0, ties = 0, high = 0, straddle = 0, bad = 0;
+    unsigned shapes = 0, wins = 0, ties = 0, high = 0, straddle = 0, bad = 0, blocks_run = 0;
     for (unsigned b = 0; b < sizeof depth_bits / sizeof *depth_bits && !bad; b++) {
         alb_profile p;
         alb_profile_lookup("t32", &p);
@@ -46,53 +81,65 @@ TEST(fill_fast_row_equals_the_depth_unit)
             return;
         }
         for (unsigned trial = 0; trial < 6000 && !bad; trial++) {
-            uint32_t n = 1 + (uint32_t)(t_rand(&seed) % 37);
+            const bool block = trial & 1;
+            uint32_t w = block ? 8 : 1 + (uint32_t)(t_rand(&seed) % 37);
+            uint32_t h = block ? 8 : 1 + (uint32_t)(t_rand(&seed) % 5);
             int exp = (int)(t_rand(&seed) % 48) - 36;
             int sh = exp - (int)vp->p + (int)p.depth_bits;
             /* N of up to 44 bits, steps either way */
             int64_t z = (int64_t)(t_rand(&seed) >> (20 + t_rand(&seed) % 24)) + 1;
             int64_t dz = (int64_t)(t_rand(&seed) % 4001) - 2000;
-            if (!row_in_range(vp, z, dz, n, exp))
+            int64_t dr = (int64_t)(t_rand(&seed) % 4001) - 2000;
+            uint64_t mask = t_rand(&seed), mid = t_rand(&seed) & ~mask, fine = t_rand(&seed);
+            mask |= mid;   /* some mid samples in the mask */
+            mid &= ~fine;
+            if (!row_in_range(vp, z, dz, w, exp) || !row_in_range(vp, z + (int64_t)(h - 1) * dr, dz, w, exp))
                 continue;
-            uint32_t d0[40], t0[40], want_d[40], want_t[40], w = 0, tie = 0, first = 0;
-            for (uint32_t i = 0; i < n; i++) {
-                uint32_t dv = vp_depth_value(vp, z + (int64_t)i * dz, exp);
-                /* the old values: at, just below or just above the new, or
-                 * anywhere in the store's range (across 2^31 too) */
-                uint64_t r = t_rand(&seed) % 4;
-                uint32_t dmax = (uint32_t)(((uint64_t)1 << depth_bits[b]) - 1);
-                uint32_t old = r == 0   ? dv
-                               : r == 1 ? dv - 1
-                               : r == 2 ? dv + (dv < dmax)
-                                        : (uint32_t)(t_rand(&seed) % ((uint64_t)dmax + 1));
-                d0[i] = want_d[i] = old;
-                t0[i] = want_t[i] = i;
-                if (dv > old) {   /* strictly nearer wins (docs/vp.md §4) */
-                    want_d[i] = dv;
-                    want_t[i] = 0xABCDEF;
-                    w++;
-                } else if (dv == old && tie++ == 0) {
-                    first = i;
+            static uint32_t d0[8 * STRIDE], t0[8 * STRIDE], want_d[8 * STRIDE], want_t[8 * STRIDE];
+            ref_counts want = {0, 0, 0, 0};
+            const uint32_t tags[3] = {0xABCDE0, 0xABCDE1, 0xABCDE2};
+            for (uint32_t y = 0; y < h; y++)
+                for (uint32_t x = 0; x < STRIDE; x++) {
+                    size_t i = y * STRIDE + x;
+                    uint32_t dv = vp_depth_value(vp, z + (int64_t)x * dz + (int64_t)y * dr, exp);
+                    d0[i] = want_d[i] = x < w ? old_depth(&seed, dv, depth_bits[b]) : 0x5A5A5A5A;
+                    t0[i] = want_t[i] = (uint32_t)i;
+                    high += x < w && dv >= 0x80000000u;
+                    straddle += x < w && (dv >= 0x80000000u) != (d0[i] >= 0x80000000u);
                 }
-                high += dv >= 0x80000000u;
-                straddle += (dv >= 0x80000000u) != (old >= 0x80000000u);
-            }
+            for (uint32_t y = 0; y < h; y++)
+                for (uint32_t x = 0; x < w; x++) {
+                    unsigned bit = 8 * y + x;
+                    if (block && !(mask >> bit & 1))
+                        continue;
+                    uint32_t t = !block ? tags[0] : fine >> bit & 1 ? tags[2]
+                                                  : mid >> bit & 1  ? tags[1] : tags[0];
+                    ref_sample(vp, want_d, want_t, y * STRIDE + x,
+                               z + (int64_t)x * dz + (int64_t)y * dr, exp, t, &want);
+                }
             unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
-            rows++;
-            wins += w;
-            ties += tie;
+            shapes++;
+            blocks_run += block;
+            wins += want.written;
+            ties += want.ties;
             for (unsigned k = 0; k < nforms; k++) {
-                uint32_t depth[40], tag[40];
+                static uint32_t depth[8 * STRIDE], tag[8 * STRIDE];
                 memcpy(depth, d0, sizeof depth);
                 memcpy(tag, t0, sizeof tag);
-                vp_row_result got = forms[k](depth, tag, n, z, dz, sr, sl, 0xABCDEF);
-                if (got.written != w || got.ties != tie || (tie && got.first_tie != first) ||
-                    memcmp(depth, want_d, n * sizeof *depth) || memcmp(tag, want_t, n * sizeof *tag)) {
-                    CHECK_MSG(0, "%s, depth_bits %u, %u samples from N = %lld step %lld, shift "
-                              "%d: %u written, %u tied (first %u); %u, %u (%u) expected, or a "
-                              "sample differs", names[k], depth_bits[b], n, (long long)z,
-                              (long long)dz, sh, got.written, got.ties, got.first_tie, w, tie,
-                              first);
+                vp_rect_result got =
+                    block ? blocks[k](depth, tag, STRIDE, z, dz, dr, sr, sl, mask, mid, fine, tags)
+                          : rects[k](depth, tag, STRIDE, w, h, z, dz, dr, sr, sl, tags[0]);
+                if (got.written != want.written || got.ties != want.ties ||
+                    (want.ties && got.first_tie != want.first_tie) || got.nearest != want.nearest ||
+                    memcmp(depth, want_d, h * STRIDE * sizeof *depth) ||
+                    memcmp(tag, want_t, h * STRIDE * sizeof *tag)) {
+                    CHECK_MSG(0, "%s %s, depth_bits %u, %ux%u samples from N = %lld steps %lld, "
+                              "%lld, shift %d: %u written, %u tied (first %zu), nearest %u; %u, %u "
+                              "(%zu), %u expected, or a sample differs", names[k],
+                              block ? "block" : "rectangle", depth_bits[b], w, h, (long long)z,
+                              (long long)dz, (long long)dr, sh, got.written, got.ties,
+                              got.first_tie, got.nearest, want.written, want.ties,
+                              want.first_tie, want.nearest);
                     bad++;
                     break;
                 }
@@ -101,14 +148,15 @@ TEST(fill_fast_row_equals_the_depth_unit)
         alb_vp_destroy(vp);
     }
     CHECK_EQ(bad, 0);
-    printf("# fast row forms:");
+    printf("# fast fill forms:");
     for (unsigned k = 0; k < nforms; k++)
         printf(" %s", names[k]);
     printf("\n");
-    /* not vacuous: rows of every kind ran, ties, stores above 2^31 */
-    CHECK_MSG(rows > 5000 && wins > rows && ties > rows / 2 && high > 100 && straddle > 100,
-              "%u rows, %u wins, %u ties, %u depths >= 2^31, %u tests across 2^31", rows, wins,
-              ties, high, straddle);
+    /* not vacuous: shapes of every kind ran, ties, stores above 2^31 */
+    CHECK_MSG(shapes > 5000 && blocks_run > 2000 && wins > shapes && ties > shapes / 2 &&
+                  high > 100 && straddle > 100,
+              "%u shapes (%u blocks), %u wins, %u ties, %u depths >= 2^31, %u tests across 2^31",
+              shapes, blocks_run, wins, ties, high, straddle);
 }
 
 #define MAX_FRAMES 8

@@ -79,7 +79,9 @@ void vp_stats_add(alb_vp_stats *dst, const alb_vp_stats *src)
         dst->tie_depth = src->tie_depth;
     }
     dst->depth_ties += src->depth_ties;
-
+    /* the nearest surface of the frame: the largest of the tiles' */
+    if (src->depth_nearest > dst->depth_nearest)
+        dst->depth_nearest = src->depth_nearest;
 }
 
 typedef struct {

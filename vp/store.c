@@ -129,47 +129,6 @@ void vp_touch_tiles(alb_vp *vp, const vp_cell *k)
         }
 }
 
-/* The frame's nearest surface (depth_nearest): the largest depth in the
- * store, over the tiles its fills reached — the largest depth of any
- * covered sample, since a stored depth only rises and each covered sample's
- * ends at least at its own. */
-void vp_store_finish(alb_vp *vp)
-{
-    const uint32_t tw = 1u << vp->tile_wl, th = 1u << vp->tile_hl;
-    const size_t tiles = (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl);
-    uint32_t nearest = 0;
-#if VP_SSE2
-    /* four lanes, compared unsigned by flipping the sign bits */
-    const __m128i sign = _mm_set1_epi32(INT32_MIN);
-    __m128i best = sign;   /* 0, flipped */
-#endif
-    for (size_t t = 0; t < tiles; t++) {
-        if (vp->tile_clean[t])
-            continue;
-        size_t tc = t & (((size_t)1 << vp->tiles_lw) - 1), tr = t >> vp->tiles_lw;
-        const uint32_t *row = vp->s_depth + (tr << vp->tile_hl) * vp->sw + (tc << vp->tile_wl);
-        for (uint32_t r = 0; r < th; r++, row += vp->sw) {
-            uint32_t c = 0;
-#if VP_SSE2
-            for (; c + 4 <= tw; c += 4) {
-                __m128i x = _mm_xor_si128(_mm_loadu_si128((const __m128i *)(const void *)(row + c)), sign);
-                __m128i gt = _mm_cmpgt_epi32(x, best);
-                best = _mm_or_si128(_mm_and_si128(gt, x), _mm_andnot_si128(gt, best));
-            }
-#endif
-            for (; c < tw; c++)
-                nearest = row[c] > nearest ? row[c] : nearest;
-        }
-    }
-#if VP_SSE2
-    uint32_t lanes[4];
-    _mm_storeu_si128((__m128i *)(void *)lanes, _mm_xor_si128(best, sign));
-    for (int k = 0; k < 4; k++)
-        nearest = lanes[k] > nearest ? lanes[k] : nearest;
-#endif
-    vp->st.depth_nearest = nearest;
-}
-
 /* ---- the output stage ---- */
 
 /* n copies of one sample's colour: the first written, then doubled. */

@@ -69,6 +69,8 @@ static inline void units_fill_sample(alb_vp *vp, const vp_face_setup *fs, uint32
         vp->s_depth[idx] = dv;
         vp->s_tag[idx] = fs->tag | level;
         vp->st.samples_written++;
+        if (dv > vp->st.depth_nearest)
+            vp->st.depth_nearest = dv;
     } else if (dv != 0 && dv == vp->s_depth[idx] && dv != (uint32_t)dmax) {
         units_note_ties(vp, fs, 1, idx);
     }

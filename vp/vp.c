@@ -24,10 +24,12 @@ alb_err alb_vp_create(alb_vp **out, const alb_profile *prof, alb_diag *d)
     vp->sw = 1u << vp->lw;
     vp->sh = 1u << vp->lh;
     vp->p = vp->lw > vp->lh ? vp->lw : vp->lh;
-    vp_depth_row_fn rows[3];
+    vp_depth_rect_fn rects[3];
+    vp_depth_block8_fn blocks[3];
     const char *names[3];
-    vp_depth_rows(rows, names);
-    vp->depth_row = rows[0];
+    vp_depth_forms(rects, blocks, names);
+    vp->depth_rect = rects[0];
+    vp->depth_block8 = blocks[0];
     if (vp_store_init(vp) || vp_scratch_for(vp, 1) || vp_recip_rom_init(vp)) {
         alb_vp_destroy(vp);
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for a %ux%u sample store",
@@ -392,91 +394,155 @@ static void draw_fill(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, con
     }
 }
 
-/* The cells below a 4 x 4 cell k that splits: its four 2 x 2 children and
- * the samples of those that split, decided in one pass.  Per active edge,
- * the children's extremes as in draw_split and the sixteen sample centres,
- * a column (2a) or a row (2b) apart, as sign masks; a sample of a child
- * that splits is tested against the child's active edges, and an edge that
- * holds the child is >= 0 at its samples too, so the parent's edges give
- * the same verdicts.  Then the counts, one fill of the block's samples, each
- * with the level that decided it, and for a timer the steps in the walk's
- * order. */
+/* The cells below an 8 x 8 cell k that splits — its four 4 x 4 children,
+ * their 2 x 2 children and the samples of those that split — decided in one
+ * pass.  Every active edge of k crosses it (else k would be out or would
+ * not split).  Per edge, its values at the children's and grandchildren's
+ * corners give their extremes as in draw_split, and its values at the 64
+ * sample centres, a column (2a) or a row (2b) apart, the samples outside:
+ * sign masks, two 64-bit lanes at a time (vp/simd.h).  A cell's verdict
+ * against k's active edges is its verdict against its own: an edge that
+ * holds a cell holds every cell and sample in it and rejects none. */
+typedef struct {
+    unsigned out4, held4;    /* children (bit 2 cy + cx): rejected, held by every edge */
+    unsigned out2, held2;    /* grandchildren (bit 4 gy + gx) likewise */
+    uint64_t outside;        /* samples outside some edge (bit 8 sy + sx) */
+    uint32_t loose4;         /* byte j: edges not holding child j (the timer's) */
+    uint32_t loose2[4];      /* byte gx of word gy: edges not holding grandchild (gx, gy) */
+} block8_verdicts;
+
+/* 4 bits to 4 bytes: counts of the edges that do not hold each cell */
+static const uint32_t spread4[16] = {
+    0x00000000, 0x00000001, 0x00000100, 0x00000101, 0x00010000, 0x00010001, 0x00010100,
+    0x00010101, 0x01000000, 0x01000001, 0x01000100, 0x01000101, 0x01010000, 0x01010001,
+    0x01010100, 0x01010101};
+
 static inline __attribute__((always_inline)) void
-draw_split4(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
+edge_block8(const vp_edge_fn *f, int64_t c0, int64_t r0, block8_verdicts *v, const bool timed)
+{
+    const int64_t a = f->a, b = f->b, h = a * c0 + b * r0 + f->c;
+    /* children: sides 8 in doubled coordinates */
+    const int64_t a8 = 8 * a, b8 = 8 * b;
+    const v2 up4 = v2_splat((a8 > 0 ? a8 : 0) + (b8 > 0 ? b8 : 0));
+    const v2 down4 = v2_splat((a8 < 0 ? a8 : 0) + (b8 < 0 ? b8 : 0));
+    const v2 top = v2_set(h, h + a8), bottom = v2_set(h + b8, h + a8 + b8);
+    v->out4 |= v2_neg(v2_add(top, up4)) | v2_neg(v2_add(bottom, up4)) << 2;
+    const unsigned loose4 = v2_neg(v2_add(top, down4)) | v2_neg(v2_add(bottom, down4)) << 2;
+    v->held4 &= ~loose4;
+    if (timed)
+        v->loose4 += spread4[loose4];
+    /* grandchildren: sides 4, a row of four a step */
+    const int64_t a4 = 4 * a, b4 = 4 * b;
+    const v2 up2 = v2_splat((a4 > 0 ? a4 : 0) + (b4 > 0 ? b4 : 0));
+    const v2 down2 = v2_splat((a4 < 0 ? a4 : 0) + (b4 < 0 ? b4 : 0));
+    const v2 row4 = v2_splat(b4);
+    v2 left = v2_set(h, h + a4), right = v2_set(h + 2 * a4, h + 3 * a4);
+    unsigned out2 = 0, loose2 = 0;
+    for (unsigned gy = 0; gy < 4; gy++, left = v2_add(left, row4), right = v2_add(right, row4)) {
+        out2 |= (v2_neg(v2_add(left, up2)) | v2_neg(v2_add(right, up2)) << 2) << 4 * gy;
+        const unsigned loose = v2_neg(v2_add(left, down2)) | v2_neg(v2_add(right, down2)) << 2;
+        loose2 |= loose << 4 * gy;
+        if (timed)
+            v->loose2[gy] += spread4[loose];
+    }
+    v->out2 |= out2;
+    v->held2 &= ~loose2;
+    /* samples: the top-left one's centre, then columns and rows on */
+    const int64_t s = h + a + b, a2 = 2 * a;
+    v2 x0 = v2_set(s, s + a2), x1 = v2_set(s + 2 * a2, s + 3 * a2);
+    v2 x2 = v2_set(s + 4 * a2, s + 5 * a2), x3 = v2_set(s + 6 * a2, s + 7 * a2);
+    const v2 row = v2_splat(2 * b);
+    uint64_t outside = 0;
+    for (unsigned sy = 0; sy < 8; sy++) {
+        outside |= (uint64_t)(v2_neg(x0) | v2_neg(x1) << 2 | v2_neg(x2) << 4 | v2_neg(x3) << 6)
+                   << 8 * sy;
+        x0 = v2_add(x0, row), x1 = v2_add(x1, row), x2 = v2_add(x2, row), x3 = v2_add(x3, row);
+    }
+    v->outside |= outside;
+}
+
+/* A 16-bit mask of grandchildren (bit 4 gy + gx) as their samples (bit 8 sy
+ * + sx), and a 4-bit mask of children likewise. */
+static inline uint64_t samples_of_grandchildren(unsigned g)
+{
+    /* bit i of a nibble to bits 2i, 2i + 1 */
+    static const uint8_t twice[16] = {0x00, 0x03, 0x0C, 0x0F, 0x30, 0x33, 0x3C, 0x3F,
+                                      0xC0, 0xC3, 0xCC, 0xCF, 0xF0, 0xF3, 0xFC, 0xFF};
+    uint64_t m = 0;
+    for (unsigned gy = 0; gy < 4; gy++)
+        m |= (uint64_t)(twice[g >> 4 * gy & 0xF] * 0x0101u) << 16 * gy;
+    return m;
+}
+
+static inline uint64_t samples_of_children(unsigned c)
+{
+    return (c & 1 ? 0x0F0F0F0Full : 0) | (c & 2 ? 0xF0F0F0F0ull : 0) |
+           (c & 4 ? 0x0F0F0F0F00000000ull : 0) | (c & 8 ? 0xF0F0F0F000000000ull : 0);
+}
+
+/* Then the counts, one masked fill of the block's samples, each with the
+ * level that decided it, and for a timer the steps in the walk's order.  A
+ * walk clipped to a tile calls this only for cells no larger than the tile,
+ * which lie in it (a tile is a cell of the same quadtree): every child is
+ * present and counted. */
+static inline __attribute__((always_inline)) void
+draw_split8(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
             const bool timed)
 {
-    /* 4 bits to 4 bytes: counts of the edges that do not hold each child */
-    static const uint32_t spread[16] = {
-        0x00000000, 0x00000001, 0x00000100, 0x00000101, 0x00010000, 0x00010001, 0x00010100,
-        0x00010101, 0x01000000, 0x01000001, 0x01000100, 0x01000101, 0x01010000, 0x01010001,
-        0x01010100, 0x01010101};
-    const uint8_t l = k->level + 1;
-    const unsigned present = children_present(w, k, 2, 2, 1, 1);
-    const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
-    /* children rejected by an edge, held wholly by every edge; samples
-     * outside some edge (bit 4y + x): sign bits, two lanes at a time */
-    unsigned out = 0, held = 0xF, outside = 0;
-    uint32_t loose = 0;   /* byte j: edges not holding child j */
-    for (uint64_t act = k->active; act; act &= act - 1) {
-        const vp_edge_fn *f = &w->e[__builtin_ctzll(act)];
-        const int64_t h = f->a * c0 + f->b * r0 + f->c, ax = 4 * f->a, by = 4 * f->b;
-        const v2 up = v2_splat((ax > 0 ? ax : 0) + (by > 0 ? by : 0));
-        const v2 down = v2_splat((ax < 0 ? ax : 0) + (by < 0 ? by : 0));
-        const v2 top = v2_set(h, h + ax), bottom = v2_set(h + by, h + ax + by);
-        out |= v2_neg(v2_add(top, up)) | v2_neg(v2_add(bottom, up)) << 2;
-        const unsigned not_held = v2_neg(v2_add(top, down)) | v2_neg(v2_add(bottom, down)) << 2;
-        held &= ~not_held;
-        if (timed)
-            loose += spread[not_held];
-        const int64_t s = h + f->a + f->b;   /* the top-left sample's centre */
-        v2 left = v2_set(s, s + 2 * f->a), right = v2_set(s + 4 * f->a, s + 6 * f->a);
-        const v2 row = v2_splat(2 * f->b);
-        for (unsigned y = 0; y < 16; y += 4, left = v2_add(left, row), right = v2_add(right, row))
-            outside |= (v2_neg(left) | v2_neg(right) << 2) << y;
-    }
-    /* the children's quadrants of the block's samples */
+    /* the children's quadrants of the grandchildren */
     static const uint16_t quadrant[4] = {0x0033, 0x00CC, 0x3300, 0xCC00};
-    const unsigned kept = present & ~out, inside = kept & held, split = kept & ~held;
-    unsigned fill = 0, coarse = 0;
-    for (unsigned j = 0; j < 4; j++) {
-        if (inside >> j & 1)
-            coarse |= quadrant[j];   /* decided at the child's level */
-        if (split >> j & 1)
-            fill |= quadrant[j] & ~outside;
-    }
-    fill |= coarse;
-    unsigned owned = present;
-    if (w->clipped)
-        for (unsigned j = 0; j < 4; j++) {
-            vp_cell c = {k->c0 + (j & 1) * 2, k->r0 + (j >> 1) * 2, 1, 1, l, 0, 0};
-            if (!owns(w, &c))
-                owned &= ~(1u << j);
-        }
-    vp->st.cells[l] += bits4(owned);
-    vp->st.cells_outside += bits4(owned & out);
-    vp->st.cells_inside += bits4(owned & inside);
-    vp->st.cells_split += bits4(owned & split);
-    /* the samples of split children: each a step, counted by the tile it is in */
-    vp->st.cells[l + 1] += 4 * bits4(split);
-    vp->st.samples_tested += 4 * bits4(split);
+    block8_verdicts v = {0, 0xF, 0, 0xFFFF, 0, 0, {0, 0, 0, 0}};
+    const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
+    for (uint64_t act = k->active; act; act &= act - 1)
+        edge_block8(&w->e[__builtin_ctzll(act)], c0, r0, &v, timed);
+    const uint8_t l = k->level + 1;
+    const unsigned in4 = ~v.out4 & v.held4 & 0xF, split4 = ~v.out4 & ~v.held4 & 0xF;
+    unsigned seen2 = 0;   /* the grandchildren visited: those of split children */
+    for (unsigned j = 0; j < 4; j++)
+        seen2 |= split4 >> j & 1 ? quadrant[j] : 0;
+    const unsigned in2 = seen2 & ~v.out2 & v.held2, split2 = seen2 & ~v.out2 & ~v.held2;
+    const uint64_t tested = samples_of_grandchildren(split2);
+    const uint64_t fine = tested & ~v.outside, mid = samples_of_grandchildren(in2);
+    const uint64_t fill = samples_of_children(in4) | mid | fine;
+    vp->st.cells[l] += 4;
+    vp->st.cells[l + 1] += (unsigned)__builtin_popcount(seen2);
+    vp->st.cells[l + 2] += (unsigned)__builtin_popcountll(tested);
+    vp->st.samples_tested += (unsigned)__builtin_popcountll(tested);
+    vp->st.cells_outside += (unsigned)__builtin_popcount(v.out4) +
+                            (unsigned)__builtin_popcount(seen2 & v.out2);
+    vp->st.cells_inside += (unsigned)__builtin_popcount(in4) + (unsigned)__builtin_popcount(in2);
+    vp->st.cells_split += (unsigned)__builtin_popcount(split4) + (unsigned)__builtin_popcount(split2);
     if (fill)
-        vp_fill_block4(vp, fs, k->c0, k->r0, (uint16_t)fill, (uint16_t)coarse, (uint8_t)(l + 1));
+        vp_fill_block8(vp, fs, k->c0, k->r0, fill, mid, fine, l);
     if (!timed)
         return;
     for (unsigned j = 0; j < 4; j++) {
-        if (!(present >> j & 1))
-            continue;
-        vp_cell c = {k->c0 + (j & 1) * 2, k->r0 + (j >> 1) * 2, 1, 1, l, 0, 0};
+        const uint32_t cx = 4 * (j & 1), cy = 4 * (j >> 1);
+        const vp_cell c = {k->c0 + cx, k->r0 + cy, 2, 2, l, 0, 0};
         timer_step(tm, &c, k->edges, timed);
-        if (inside >> j & 1)
-            timer_hand_over(tm, &c, timed);
-        if (!(split >> j & 1))
+        if (v.out4 >> j & 1)
             continue;
+        if (in4 >> j & 1) {
+            timer_hand_over(tm, &c, timed);
+            continue;
+        }
         for (unsigned i = 0; i < 4; i++) {
-            vp_cell sc = {c.c0 + (i & 1), c.r0 + (i >> 1), 0, 0, (uint8_t)(l + 1), 0, 0};
-            timer_step(tm, &sc, loose >> 8 * j & 0xFF, timed);
-            if (fill >> (4 * (sc.r0 - k->r0) + sc.c0 - k->c0) & 1)
-                timer_hand_over(tm, &sc, timed);
+            const uint32_t gx = cx / 2 + (i & 1), gy = cy / 2 + (i >> 1), g = 4 * gy + gx;
+            const vp_cell gc = {k->c0 + 2 * gx, k->r0 + 2 * gy, 1, 1, (uint8_t)(l + 1), 0, 0};
+            timer_step(tm, &gc, v.loose4 >> 8 * j & 0xFF, timed);
+            if (v.out2 >> g & 1)
+                continue;
+            if (in2 >> g & 1) {
+                timer_hand_over(tm, &gc, timed);
+                continue;
+            }
+            for (unsigned q = 0; q < 4; q++) {
+                const uint32_t sx = 2 * gx + (q & 1), sy = 2 * gy + (q >> 1);
+                const vp_cell sc = {k->c0 + sx, k->r0 + sy, 0, 0, (uint8_t)(l + 2), 0, 0};
+                timer_step(tm, &sc, v.loose2[gy] >> 8 * gx & 0xFF, timed);
+                if (fine >> (8 * sy + sx) & 1)
+                    timer_hand_over(tm, &sc, timed);
+            }
         }
     }
 }
@@ -498,8 +564,8 @@ draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell 
 {
     const uint8_t wl = k->wl ? k->wl - 1 : 0, hl = k->hl ? k->hl - 1 : 0, l = k->level + 1;
     const uint32_t dx = k->wl ? 1u << wl : 0, dy = k->hl ? 1u << hl : 0;
-    if (k->wl == 2 && k->hl == 2) {
-        draw_split4(vp, w, fs, k, tm, timed);
+    if (k->wl == 3 && k->hl == 3 && (!w->clipped || (w->tile.wl >= 3 && w->tile.hl >= 3))) {
+        draw_split8(vp, w, fs, k, tm, timed);
         return;
     }
     const unsigned present = children_present(w, k, dx, dy, wl, hl);
@@ -669,7 +735,6 @@ alb_err alb_vp_face(alb_vp *vp, const alb_ws_face *f, alb_diag *d)
 void alb_vp_frame_end(alb_vp *vp, alb_frame *out)
 {
     vp_flush_batch(vp);
-    vp_store_finish(vp);
     out->number = vp->frame.number;
     out->near = vp->cfg.near;
     vp_store_resolve(vp, out);

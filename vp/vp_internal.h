@@ -23,13 +23,21 @@ typedef struct {
     int exp;             /* value = N * 2^(exp - P) */
 } vp_form_fn;
 
-/* A row of the fill's fast loop (fill.c, vp_depth_rows): samples written,
- * samples tied, and the first tied one's index in the row (if any). */
+/* A rectangle of the fill's fast loop (fill.c, vp_depth_forms): samples
+ * written, samples tied, the first tied one (its offset from the first
+ * sample, rows `stride` apart, if any) and the largest depth written. */
 typedef struct {
-    uint32_t written, ties, first_tie;
-} vp_row_result;
-typedef vp_row_result (*vp_depth_row_fn)(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z,
-                                         int64_t dz, unsigned sr, unsigned sl, uint32_t t);
+    uint32_t written, ties;
+    size_t first_tie;
+    uint32_t nearest;
+} vp_rect_result;
+typedef vp_rect_result (*vp_depth_rect_fn)(uint32_t *depth, uint32_t *tag, size_t stride,
+                                           uint32_t w, uint32_t h, int64_t z, int64_t dc,
+                                           int64_t dr, unsigned sr, unsigned sl, uint32_t t);
+typedef vp_rect_result (*vp_depth_block8_fn)(uint32_t *depth, uint32_t *tag, size_t stride,
+                                             int64_t z, int64_t dc, int64_t dr, unsigned sr,
+                                             unsigned sl, uint64_t mask, uint64_t mid,
+                                             uint64_t fine, const uint32_t t[3]);
 
 /* Per-face shading set-up. */
 typedef struct {
@@ -80,7 +88,8 @@ struct alb_vp {
     uint32_t **old_tex;
     unsigned nold_tex, cap_old_tex;
     bool plain_fill;         /* tests: the fill's plain loops only, no fast path */
-    vp_depth_row_fn depth_row;   /* the fast loop's row, the host's fastest form */
+    vp_depth_rect_fn depth_rect;       /* the fast loop's forms, the host's fastest */
+    vp_depth_block8_fn depth_block8;
     alb_ws_frame frame;
     uint16_t bg[3];          /* background in frame-store units */
     uint16_t fog_rgb[3];
@@ -168,16 +177,19 @@ void vp_draw_face_timed(alb_vp *vp, const vp_loaded_face *f, vp_timer *tm);
 /* The samples of a FILL or SAMPLE_IN cell through the depth test: each
  * sample nearer than the store's gets the face's depth and tag (fill.c). */
 void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k);
-/* One row of the fill's fast loop (fill.c): n samples of depths z + i dz,
- * all in the store's range, stored as z >> sr << sl with tag t where they
- * win; counts what won and what tied.  vp_depth_rows lists the forms the
- * host can run, the fastest first (the VP takes that one). */
-unsigned vp_depth_rows(vp_depth_row_fn fn[3], const char *name[3]);
-/* The samples `mask` (bit 4 y + x) of the 4 x 4 block at (c0, r0) through
- * the depth test, decided at level l, or l - 1 where `coarse` has their
- * bit (fill.c). */
-void vp_fill_block4(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r0, uint16_t mask,
-                    uint16_t coarse, uint8_t l);
+/* The fill's fast loop (fill.c) on the samples of a rectangle of w x h, or
+ * on those of an 8 x 8 block that `mask` has (bit 8 y + x), of depths z +
+ * x dc + y dr, all in the store's range: stored as z >> sr << sl with tag t
+ * (the block: t[0], or t[1] where `mid` has the sample, t[2] where `fine`
+ * has it) where they win; counts what won and what tied.  vp_depth_forms
+ * lists the forms the host can run, the fastest first (the VP takes that
+ * one). */
+unsigned vp_depth_forms(vp_depth_rect_fn rect[3], vp_depth_block8_fn block8[3], const char *name[3]);
+/* The samples `mask` (bit 8 y + x) of the 8 x 8 block at (c0, r0) through
+ * the depth test, decided at level l, or l + 1 where `mid` has them, l + 2
+ * where `fine` has them (fill.c). */
+void vp_fill_block8(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r0, uint64_t mask,
+                    uint64_t mid, uint64_t fine, uint8_t l);
 /* Clear the tiles of cell k that no fill has touched yet this frame
  * (store.c); vp_touch is the same, quicker for a cell within one tile. */
 void vp_touch_tiles(alb_vp *vp, const vp_cell *k);
@@ -211,9 +223,6 @@ void vp_store_begin(alb_vp *vp);
 void vp_store_resolve(alb_vp *vp, alb_frame *out);
 /* n copies of one colour (3 per sample) (store.c). */
 void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3]);
-/* The frame's statistics that come from the store at its end (depth_nearest);
- * alb_vp_frame_end calls it, a run that resolves no frame must. */
-void vp_store_finish(alb_vp *vp);
 /* The output stage's scratch for one thread (vp->scratch). */
 size_t vp_store_scratch_bytes(const alb_vp *vp);
 /* Scratch for n threads; -1 if out of memory (parallel.c). */
