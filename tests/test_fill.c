@@ -191,7 +191,9 @@ static alb_err run_vp(const alb_profile *p, const alb_ws_buf *b, bool plain, uns
     alb_diag d;
     alb_diag_init(&d, NULL);
     memset(out, 0, sizeof *out);
-    alb_err e = alb_vp_create(&vp, p, &d);
+    alb_profile q = *p;
+    q.simd = !plain;   /* plain: the fill's plain C forms and the engine's baseline too */
+    alb_err e = alb_vp_create(&vp, &q, &d);
     if (!e && threads > 1 && alb_vp_set_threads(vp, threads))
         e = ALB_ERR_NOMEM;
     if (!e) {

@@ -160,11 +160,11 @@ static vp_rect_result rect_sse2(uint32_t *depth, uint32_t *tag, size_t stride, u
             best = _mm_or_si128(_mm_and_si128(gt, cand), _mm_andnot_si128(gt, best));
             unsigned wm = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(win));
             unsigned tie = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(dv, old)));
-            res.written += (unsigned)__builtin_popcount(wm);
+            res.written += vp_bits4(wm);
             if (tie) {
                 if (!res.ties)
                     res.first_tie = y * stride + i + (unsigned)__builtin_ctz(tie);
-                res.ties += (unsigned)__builtin_popcount(tie);
+                res.ties += vp_bits4(tie);
             }
             lo = _mm_add_epi64(lo, step);
             hi = _mm_add_epi64(hi, step);
@@ -186,7 +186,7 @@ static vp_rect_result rect_sse2(uint32_t *depth, uint32_t *tag, size_t stride, u
 /* eight samples a step: four 64-bit lanes in each of two registers, the low
  * halves gathered into eight 32-bit lanes; the new depth is the unsigned
  * maximum, and a sample wins where that is not the old depth */
-__attribute__((target("avx2"))) static inline __m256i narrow8(__m256i lo, __m256i hi, __m128i vsr,
+__attribute__((target("avx2,popcnt"))) static inline __m256i narrow8(__m256i lo, __m256i hi, __m128i vsr,
                                                               __m128i vsl)
 {
     __m256i a = _mm256_sll_epi64(_mm256_srl_epi64(lo, vsr), vsl);
@@ -197,7 +197,7 @@ __attribute__((target("avx2"))) static inline __m256i narrow8(__m256i lo, __m256
     return _mm256_permute4x64_epi64(dv, _MM_SHUFFLE(3, 1, 2, 0));
 }
 
-__attribute__((target("avx2"))) static inline unsigned hmax8(__m256i v)
+__attribute__((target("avx2,popcnt"))) static inline unsigned hmax8(__m256i v)
 {
     __m128i m = _mm_max_epu32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
     m = _mm_max_epu32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
@@ -208,7 +208,7 @@ __attribute__((target("avx2"))) static inline unsigned hmax8(__m256i v)
 /* Eight samples of one row: `in` the lanes that take part (all ones in a
  * whole cell), tv their tags; `at` the row offset of lane 0 for the first
  * tie. */
-__attribute__((target("avx2"))) static inline void
+__attribute__((target("avx2,popcnt"))) static inline void
 row8_avx2(uint32_t *dp, uint32_t *tp, __m256i dv, __m256i in, __m256i tv, size_t at, __m256i *best,
           vp_rect_result *res)
 {
@@ -229,7 +229,7 @@ row8_avx2(uint32_t *dp, uint32_t *tp, __m256i dv, __m256i in, __m256i tv, size_t
     }
 }
 
-__attribute__((target("avx2"))) static vp_rect_result
+__attribute__((target("avx2,popcnt"))) static vp_rect_result
 rect_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
           int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
 {
@@ -279,12 +279,12 @@ rect_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h,
 
 /* The masked 8 x 8 block: a row a step, its byte of the mask spread over
  * the lanes, the tags chosen by the level masks. */
-__attribute__((target("avx2"))) static inline __m256i lanes_of(unsigned byte, __m256i bit)
+__attribute__((target("avx2,popcnt"))) static inline __m256i lanes_of(unsigned byte, __m256i bit)
 {
     return _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32((int)byte), bit), bit);
 }
 
-__attribute__((target("avx2"))) static vp_rect_result
+__attribute__((target("avx2,popcnt"))) static vp_rect_result
 block8_avx2(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z, int64_t dc, int64_t dr,
             unsigned sr, unsigned sl, uint64_t mask, uint64_t mid, uint64_t fine, const uint32_t t[3])
 {
@@ -315,7 +315,7 @@ unsigned vp_depth_forms(vp_depth_rect_fn rect[3], vp_depth_block8_fn block8[3], 
     unsigned k = 0;
 #if VP_AVX2
     __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx2"))
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt"))
         rect[k] = rect_avx2, block8[k] = block8_avx2, name[k++] = "AVX2";
 #endif
 #if VP_SSE2
@@ -403,5 +403,5 @@ void vp_fill_block8(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r
                          &n);
         }
     }
-    add_counts(vp, fs, (uint64_t)__builtin_popcountll(mask), &n);
+    add_counts(vp, fs, vp_popcount(mask), &n);
 }

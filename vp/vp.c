@@ -27,9 +27,11 @@ alb_err alb_vp_create(alb_vp **out, const alb_profile *prof, alb_diag *d)
     vp_depth_rect_fn rects[3];
     vp_depth_block8_fn blocks[3];
     const char *names[3];
-    vp_depth_forms(rects, blocks, names);
-    vp->depth_rect = rects[0];
-    vp->depth_block8 = blocks[0];
+    /* the host's fastest forms, or with simd=0 the baseline's (the last) */
+    unsigned nforms = vp_depth_forms(rects, blocks, names), form = prof->simd ? 0 : nforms - 1;
+    vp->depth_rect = rects[form];
+    vp->depth_block8 = blocks[form];
+    vp->walk_avx2 = prof->simd && vp_walk_avx2_host();
     if (vp_store_init(vp) || vp_scratch_for(vp, 1) || vp_recip_rom_init(vp)) {
         alb_vp_destroy(vp);
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for a %ux%u sample store",
@@ -196,6 +198,7 @@ static inline bool sample_inside(const vp_edge_fn *e, uint64_t active, uint32_t 
 void vp_walk_begin(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f)
 {
     w->e = f->e;
+    w->narrow = f->narrow;
     w->top = 0;
     w->clipped = false;
     w->stack[w->top++] = (vp_cell){.wl = (uint8_t)vp->lw, .hl = (uint8_t)vp->lh,
@@ -289,10 +292,42 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
  * functional renderer only its outcome.  This is the same walk — the same
  * cells in the same order, classified alike, counted alike, each sample
  * decided at the same level — as a recursion that fills as it goes and
- * decides the last level's single samples where their parent splits,
+ * decides the last levels' cells and samples where their parent splits,
  * without a step apiece.  Equal to vp_walk_next with vp_fill on every
  * statistic and every sample (tests/test_timing.c compares the functional
- * fidelity with the clocked ones). */
+ * fidelity with the clocked ones).
+ *
+ * The engine is one body compiled for two instruction sets: the baseline
+ * (SSE2 lanes on x86-64, plain C elsewhere and with -DALB_NO_SIMD) and, where
+ * the compiler can target it, AVX2 with POPCNT, which the VP takes when the
+ * host has them and the profile's `simd` allows (alb_vp_create).  `isa` is a
+ * constant at every call; it chooses the lanes of the edge arithmetic and
+ * how bits are counted, never what is computed. */
+
+enum { ISA_BASE, ISA_AVX2 };
+#if VP_AVX2
+#include <immintrin.h>
+#define ISA_AVX2_TARGET __attribute__((target("avx2,popcnt")))
+#endif
+
+bool vp_walk_avx2_host(void)
+{
+#if VP_AVX2
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
+#else
+    return false;
+#endif
+}
+
+/* Set bits of a mask: the POPCNT instruction where the instruction set has
+ * it, else plain C. */
+static inline unsigned popcount_isa(uint64_t m, const int isa)
+{
+    if (VP_AVX2 && isa == ISA_AVX2)
+        return (unsigned)__builtin_popcountll(m);
+    return vp_popcount(m);
+}
 
 /* The children of a cell k that splits, in the walk's order: bit 0 the
  * top-left, 1 top-right, 2 bottom-left, 3 bottom-right.  A side one sample
@@ -309,18 +344,6 @@ static inline unsigned children_present(const vp_walk *w, const vp_cell *k, uint
                 present &= ~(1u << j);
         }
     return present;
-}
-
-/* Bits of a 4-bit mask. */
-static inline unsigned bits4(unsigned m) { return (0x4332322132212110ull >> (4 * m)) & 0xF; }
-
-/* Edges in a mask (the timer's step cycles need the count of a child's). */
-static inline unsigned mask_edges(uint64_t m)
-{
-    m -= (m >> 1) & 0x5555555555555555ull;
-    m = (m & 0x3333333333333333ull) + ((m >> 2) & 0x3333333333333333ull);
-    m = (m + (m >> 4)) & 0x0F0F0F0F0F0F0F0Full;
-    return (unsigned)((m * 0x0101010101010101ull) >> 56);
 }
 
 void vp_timer_init(vp_timer *tm, unsigned edge_units)
@@ -368,8 +391,8 @@ draw_samples(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cel
               (h + 2 * (f->a + f->b) >= 0) << 3;
     }
     const uint8_t l = k->level + 1;
-    vp->st.cells[l] += bits4(present);
-    vp->st.samples_tested += bits4(present);
+    vp->st.cells[l] += vp_bits4(present);
+    vp->st.samples_tested += vp_bits4(present);
     for (unsigned j = 0; j < 4; j++) {
         vp_cell c = {k->c0 + (j & 1), k->r0 + (j >> 1), 0, 0, l, 0, 0};
         if (present >> j & 1)
@@ -394,15 +417,16 @@ static void draw_fill(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, con
     }
 }
 
-/* The cells below an 8 x 8 cell k that splits — its four 4 x 4 children,
- * their 2 x 2 children and the samples of those that split — decided in one
- * pass.  Every active edge of k crosses it (else k would be out or would
- * not split).  Per edge, its values at the children's and grandchildren's
- * corners give their extremes as in draw_split, and its values at the 64
- * sample centres, a column (2a) or a row (2b) apart, the samples outside:
- * sign masks, two 64-bit lanes at a time (vp/simd.h).  A cell's verdict
- * against k's active edges is its verdict against its own: an edge that
- * holds a cell holds every cell and sample in it and rejects none. */
+/* ---- an 8 x 8 cell that splits, decided in one pass ----
+ *
+ * Its four 4 x 4 children, their 2 x 2 children and the samples of those
+ * that split.  Every active edge of the cell crosses it (else the cell would
+ * be out or would not split).  Per edge, its values at the children's and
+ * grandchildren's corners give their extremes as in draw_split, and its
+ * values at the 64 sample centres, a column (2a) or a row (2b) apart, the
+ * samples outside: sign masks.  A cell's verdict against the parent's active
+ * edges is its verdict against its own: an edge that holds a cell holds
+ * every cell and sample in it and rejects none. */
 typedef struct {
     unsigned out4, held4;    /* children (bit 2 cy + cx): rejected, held by every edge */
     unsigned out2, held2;    /* grandchildren (bit 4 gy + gx) likewise */
@@ -417,8 +441,9 @@ static const uint32_t spread4[16] = {
     0x00010101, 0x01000000, 0x01000001, 0x01000100, 0x01000101, 0x01010000, 0x01010001,
     0x01010100, 0x01010101};
 
+/* One edge's verdicts in 64-bit lanes, two at a time (vp/simd.h): any edge. */
 static inline __attribute__((always_inline)) void
-edge_block8(const vp_edge_fn *f, int64_t c0, int64_t r0, block8_verdicts *v, const bool timed)
+edge_block8(const vp_edge_fn *f, int64_t c0, int64_t r0, block8_verdicts *v)
 {
     const int64_t a = f->a, b = f->b, h = a * c0 + b * r0 + f->c;
     /* children: sides 8 in doubled coordinates */
@@ -429,8 +454,7 @@ edge_block8(const vp_edge_fn *f, int64_t c0, int64_t r0, block8_verdicts *v, con
     v->out4 |= v2_neg(v2_add(top, up4)) | v2_neg(v2_add(bottom, up4)) << 2;
     const unsigned loose4 = v2_neg(v2_add(top, down4)) | v2_neg(v2_add(bottom, down4)) << 2;
     v->held4 &= ~loose4;
-    if (timed)
-        v->loose4 += spread4[loose4];
+    v->loose4 += spread4[loose4];
     /* grandchildren: sides 4, a row of four a step */
     const int64_t a4 = 4 * a, b4 = 4 * b;
     const v2 up2 = v2_splat((a4 > 0 ? a4 : 0) + (b4 > 0 ? b4 : 0));
@@ -442,8 +466,7 @@ edge_block8(const vp_edge_fn *f, int64_t c0, int64_t r0, block8_verdicts *v, con
         out2 |= (v2_neg(v2_add(left, up2)) | v2_neg(v2_add(right, up2)) << 2) << 4 * gy;
         const unsigned loose = v2_neg(v2_add(left, down2)) | v2_neg(v2_add(right, down2)) << 2;
         loose2 |= loose << 4 * gy;
-        if (timed)
-            v->loose2[gy] += spread4[loose];
+        v->loose2[gy] += spread4[loose];
     }
     v->out2 |= out2;
     v->held2 &= ~loose2;
@@ -460,6 +483,62 @@ edge_block8(const vp_edge_fn *f, int64_t c0, int64_t r0, block8_verdicts *v, con
     }
     v->outside |= outside;
 }
+
+#if VP_AVX2
+/* The same in 32-bit lanes, eight at a time, for an edge of a narrow face
+ * (vp_loaded_face.narrow: |a| + |b| < 2^27).  The edge crosses the cell, so
+ * at every point of it |h| <= hmax - hmin = 16 (|a| + |b|) < 2^31: each
+ * value below is exact in 32 bits.  The samples' signs survive the signed
+ * saturating packs to bytes, four rows to a register. */
+ISA_AVX2_TARGET static inline void edge_block8_narrow(const vp_edge_fn *f, int64_t c0, int64_t r0,
+                                                      block8_verdicts *v)
+{
+    const int32_t a = (int32_t)f->a, b = (int32_t)f->b, h = (int32_t)(f->a * c0 + f->b * r0 + f->c);
+    const __m256i vh = _mm256_set1_epi32(h);
+    /* children: their top-left corners in lanes 0..3 */
+    const int32_t a8 = 8 * a, b8 = 8 * b;
+    const __m128i t4 = _mm_add_epi32(_mm256_castsi256_si128(vh), _mm_setr_epi32(0, a8, b8, a8 + b8));
+    const int32_t up4 = (a8 > 0 ? a8 : 0) + (b8 > 0 ? b8 : 0);
+    const int32_t down4 = (a8 < 0 ? a8 : 0) + (b8 < 0 ? b8 : 0);
+    v->out4 |= (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_add_epi32(t4, _mm_set1_epi32(up4))));
+    const unsigned loose4 =
+        (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_add_epi32(t4, _mm_set1_epi32(down4))));
+    v->held4 &= ~loose4;
+    v->loose4 += spread4[loose4];
+    /* grandchildren: rows 0 and 1 of their corners in one register, 2 and 3
+     * in the other */
+    const int32_t a4 = 4 * a, b4 = 4 * b;
+    const __m256i g01 = _mm256_add_epi32(vh, _mm256_setr_epi32(0, a4, 2 * a4, 3 * a4, b4, a4 + b4,
+                                                               2 * a4 + b4, 3 * a4 + b4));
+    const __m256i g23 = _mm256_add_epi32(g01, _mm256_set1_epi32(2 * b4));
+    const __m256i up2 = _mm256_set1_epi32((a4 > 0 ? a4 : 0) + (b4 > 0 ? b4 : 0));
+    const __m256i down2 = _mm256_set1_epi32((a4 < 0 ? a4 : 0) + (b4 < 0 ? b4 : 0));
+    v->out2 |= (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_add_epi32(g01, up2))) |
+               (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_add_epi32(g23, up2))) << 8;
+    const unsigned loose2 =
+        (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_add_epi32(g01, down2))) |
+        (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_add_epi32(g23, down2))) << 8;
+    v->held2 &= ~loose2;
+    for (unsigned gy = 0; gy < 4; gy++)
+        v->loose2[gy] += spread4[loose2 >> 4 * gy & 0xF];
+    /* samples: row sy in a register, 2b apart */
+    const __m256i step = _mm256_set1_epi32(2 * b);
+    __m256i r[8];
+    r[0] = _mm256_add_epi32(_mm256_set1_epi32(h + a + b),
+                            _mm256_setr_epi32(0, 2 * a, 4 * a, 6 * a, 8 * a, 10 * a, 12 * a, 14 * a));
+    for (unsigned sy = 1; sy < 8; sy++)
+        r[sy] = _mm256_add_epi32(r[sy - 1], step);
+    /* per 128-bit half the packs give bytes of rows 0..3 (or 4..7), columns
+     * 0..3 in the low half and 4..7 in the high: the permutation puts each
+     * row's eight bytes together, so byte 8 y + x is sample (x, y) */
+    const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+    const __m256i q0 = _mm256_packs_epi16(_mm256_packs_epi32(r[0], r[1]), _mm256_packs_epi32(r[2], r[3]));
+    const __m256i q1 = _mm256_packs_epi16(_mm256_packs_epi32(r[4], r[5]), _mm256_packs_epi32(r[6], r[7]));
+    const uint32_t m0 = (uint32_t)_mm256_movemask_epi8(_mm256_permutevar8x32_epi32(q0, order));
+    const uint32_t m1 = (uint32_t)_mm256_movemask_epi8(_mm256_permutevar8x32_epi32(q1, order));
+    v->outside |= (uint64_t)m0 | (uint64_t)m1 << 32;
+}
+#endif
 
 /* A 16-bit mask of grandchildren (bit 4 gy + gx) as their samples (bit 8 sy
  * + sx), and a 4-bit mask of children likewise. */
@@ -487,14 +566,22 @@ static inline uint64_t samples_of_children(unsigned c)
  * present and counted. */
 static inline __attribute__((always_inline)) void
 draw_split8(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
-            const bool timed)
+            const bool timed, const int isa)
 {
     /* the children's quadrants of the grandchildren */
     static const uint16_t quadrant[4] = {0x0033, 0x00CC, 0x3300, 0xCC00};
     block8_verdicts v = {0, 0xF, 0, 0xFFFF, 0, 0, {0, 0, 0, 0}};
     const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
-    for (uint64_t act = k->active; act; act &= act - 1)
-        edge_block8(&w->e[__builtin_ctzll(act)], c0, r0, &v, timed);
+#if VP_AVX2
+    if (isa == ISA_AVX2 && w->narrow) {
+        for (uint64_t act = k->active; act; act &= act - 1)
+            edge_block8_narrow(&w->e[__builtin_ctzll(act)], c0, r0, &v);
+    } else
+#endif
+    {
+        for (uint64_t act = k->active; act; act &= act - 1)
+            edge_block8(&w->e[__builtin_ctzll(act)], c0, r0, &v);
+    }
     const uint8_t l = k->level + 1;
     const unsigned in4 = ~v.out4 & v.held4 & 0xF, split4 = ~v.out4 & ~v.held4 & 0xF;
     unsigned seen2 = 0;   /* the grandchildren visited: those of split children */
@@ -504,14 +591,14 @@ draw_split8(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell
     const uint64_t tested = samples_of_grandchildren(split2);
     const uint64_t fine = tested & ~v.outside, mid = samples_of_grandchildren(in2);
     const uint64_t fill = samples_of_children(in4) | mid | fine;
+    const unsigned nsplit2 = popcount_isa(split2, isa);
     vp->st.cells[l] += 4;
-    vp->st.cells[l + 1] += (unsigned)__builtin_popcount(seen2);
-    vp->st.cells[l + 2] += (unsigned)__builtin_popcountll(tested);
-    vp->st.samples_tested += (unsigned)__builtin_popcountll(tested);
-    vp->st.cells_outside += (unsigned)__builtin_popcount(v.out4) +
-                            (unsigned)__builtin_popcount(seen2 & v.out2);
-    vp->st.cells_inside += (unsigned)__builtin_popcount(in4) + (unsigned)__builtin_popcount(in2);
-    vp->st.cells_split += (unsigned)__builtin_popcount(split4) + (unsigned)__builtin_popcount(split2);
+    vp->st.cells[l + 1] += 4 * vp_bits4(split4);
+    vp->st.cells[l + 2] += 4 * nsplit2;
+    vp->st.samples_tested += 4 * nsplit2;
+    vp->st.cells_outside += vp_bits4(v.out4) + popcount_isa(seen2 & v.out2, isa);
+    vp->st.cells_inside += vp_bits4(in4) + popcount_isa(in2, isa);
+    vp->st.cells_split += vp_bits4(split4) + nsplit2;
     if (fill)
         vp_fill_block8(vp, fs, k->c0, k->r0, fill, mid, fine, l);
     if (!timed)
@@ -547,37 +634,84 @@ draw_split8(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell
     }
 }
 
-static void draw_split_plain(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
-                             const vp_cell *k, vp_timer *tm);
-static void draw_split_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
-                             const vp_cell *k, vp_timer *tm);
+/* ---- any other cell that splits ---- */
 
-/* The cells below cell k, which splits.  Its children are classified
- * together: an edge's value at a child's top-left corner is the parent's
- * corner value plus a child's side or not, and its extremes over the child
- * add the positive or the negative parts of the child's sides (h is linear)
- * — the walk's classify, four cells at a time.  Then each child in turn is
- * a step: counted, rejected, filled, or split further. */
+/* The walk below cell c, which splits, in the instantiation of (timed, isa). */
+static void split_base(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
+                       vp_timer *tm);
+static void split_base_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+                             const vp_cell *k, vp_timer *tm);
+#if VP_AVX2
+ISA_AVX2_TARGET static void split_avx2(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+                                       const vp_cell *k, vp_timer *tm);
+ISA_AVX2_TARGET static void split_avx2_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+                                             const vp_cell *k, vp_timer *tm);
+#endif
 static inline __attribute__((always_inline)) void
-draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
-           const bool timed)
+split_below(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *c, vp_timer *tm,
+            const bool timed, const int isa)
 {
-    const uint8_t wl = k->wl ? k->wl - 1 : 0, hl = k->hl ? k->hl - 1 : 0, l = k->level + 1;
-    const uint32_t dx = k->wl ? 1u << wl : 0, dy = k->hl ? 1u << hl : 0;
-    if (k->wl == 3 && k->hl == 3 && (!w->clipped || (w->tile.wl >= 3 && w->tile.hl >= 3))) {
-        draw_split8(vp, w, fs, k, tm, timed);
+#if VP_AVX2
+    if (isa == ISA_AVX2) {
+        if (timed)
+            split_avx2_timed(vp, w, fs, c, tm);
+        else
+            split_avx2(vp, w, fs, c, tm);
         return;
     }
-    const unsigned present = children_present(w, k, dx, dy, wl, hl);
-    if (!(wl | hl)) {
-        draw_samples(vp, w, fs, k, present, tm, timed);
-        return;
-    }
+#endif
+    if (timed)
+        split_base_timed(vp, w, fs, c, tm);
+    else
+        split_base(vp, w, fs, c, tm);
+}
+
+#if VP_AVX2
+/* children_verdicts with the four children in four 64-bit lanes */
+ISA_AVX2_TARGET static inline unsigned
+children_verdicts_avx2(const vp_walk *w, const vp_cell *k, int64_t cw, int64_t ch, int64_t ox,
+                       int64_t oy, uint64_t held[4])
+{
     const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
-    const int64_t cw = (int64_t)2 << wl, ch = (int64_t)2 << hl;    /* a child's sides */
-    const int64_t ox = dx ? cw : 0, oy = dy ? ch : 0;                /* the children's offsets */
+    const __m256i zero = _mm256_setzero_si256();
+    __m256i any = zero, hv = zero;
+    for (uint64_t act = k->active; act; act &= act - 1) {
+        const unsigned i = (unsigned)__builtin_ctzll(act);
+        const vp_edge_fn *f = &w->e[i];
+        const int64_t h = f->a * c0 + f->b * r0 + f->c, ax = f->a * cw, by = f->b * ch;
+        const int64_t up = (ax > 0 ? ax : 0) + (by > 0 ? by : 0);
+        const int64_t down = (ax < 0 ? ax : 0) + (by < 0 ? by : 0);
+        const int64_t hx = f->a * ox, hy = f->b * oy;
+        const __m256i t = _mm256_add_epi64(_mm256_set1_epi64x(h), _mm256_setr_epi64x(0, hx, hy, hx + hy));
+        /* a lane's maximum is negative in some edge: the sign bit of their OR */
+        any = _mm256_or_si256(any, _mm256_add_epi64(t, _mm256_set1_epi64x(up)));
+        const __m256i loose = _mm256_cmpgt_epi64(zero, _mm256_add_epi64(t, _mm256_set1_epi64x(down)));
+        hv = _mm256_or_si256(hv, _mm256_andnot_si256(loose, _mm256_set1_epi64x((int64_t)1 << i)));
+    }
+    _mm256_storeu_si256((__m256i *)(void *)held, hv);
+    return (unsigned)_mm256_movemask_pd(_mm256_castsi256_pd(any));
+}
+#endif
+
+/* Edge by edge, the children's verdicts: out (bit j: some edge rejects
+ * child j) and held[j] (the edges holding child j wholly).  An edge's value
+ * at a child's top-left corner is the parent's corner value plus a child's
+ * side or not (`ox`, `oy`: 0 where the side is not split), and its extremes
+ * over the child add the positive or the negative parts of the child's
+ * sides `cw`, `ch` (h is linear) — the walk's classify, four cells at a
+ * time: scalar in the baseline, the four children in four 64-bit lanes with
+ * AVX2. */
+static inline __attribute__((always_inline)) unsigned
+children_verdicts(const vp_walk *w, const vp_cell *k, int64_t cw, int64_t ch, int64_t ox, int64_t oy,
+                  uint64_t held[4], const int isa)
+{
+    const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
     unsigned out = 0;
-    uint64_t held[4] = {0, 0, 0, 0};   /* edges holding each child wholly */
+#if VP_AVX2
+    if (isa == ISA_AVX2)
+        return children_verdicts_avx2(w, k, cw, ch, ox, oy, held);
+#endif
+    (void)isa;
     for (uint64_t act = k->active; act; act &= act - 1) {
         const unsigned i = (unsigned)__builtin_ctzll(act);
         const vp_edge_fn *f = &w->e[i];
@@ -591,6 +725,29 @@ draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell 
             held[j] |= (uint64_t)(t[j] + down >= 0) << i;
         }
     }
+    return out;
+}
+
+/* The cells below cell k, which splits: its children classified together,
+ * then each in turn a step — counted, rejected, filled, or split further. */
+static inline __attribute__((always_inline)) void
+draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
+           const bool timed, const int isa)
+{
+    const uint8_t wl = k->wl ? k->wl - 1 : 0, hl = k->hl ? k->hl - 1 : 0, l = k->level + 1;
+    const uint32_t dx = k->wl ? 1u << wl : 0, dy = k->hl ? 1u << hl : 0;
+    if (k->wl == 3 && k->hl == 3 && (!w->clipped || (w->tile.wl >= 3 && w->tile.hl >= 3))) {
+        draw_split8(vp, w, fs, k, tm, timed, isa);
+        return;
+    }
+    const unsigned present = children_present(w, k, dx, dy, wl, hl);
+    if (!(wl | hl)) {
+        draw_samples(vp, w, fs, k, present, tm, timed);
+        return;
+    }
+    const int64_t cw = (int64_t)2 << wl, ch = (int64_t)2 << hl;    /* a child's sides */
+    uint64_t held[4] = {0, 0, 0, 0};
+    const unsigned out = children_verdicts(w, k, cw, ch, dx ? cw : 0, dy ? ch : 0, held, isa);
     vp_cell c = {0, 0, wl, hl, l, 0, 0};
     for (unsigned j = 0; j < 4; j++) {
         if (!(present >> j & 1))
@@ -611,31 +768,42 @@ draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell 
             continue;
         }
         vp->st.cells_split += own;
-        if (timed) {
-            c.edges = (uint8_t)mask_edges(c.active);
-            draw_split_timed(vp, w, fs, &c, tm);
-        } else {
-            draw_split_plain(vp, w, fs, &c, tm);
-        }
+        if (timed)
+            c.edges = (uint8_t)popcount_isa(c.active, isa);
+        split_below(vp, w, fs, &c, tm, timed, isa);
     }
 }
 
-static void draw_split_plain(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
-                             const vp_cell *k, vp_timer *tm)
+static void split_base(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
+                       vp_timer *tm)
 {
-    draw_split(vp, w, fs, k, tm, false);
+    draw_split(vp, w, fs, k, tm, false, ISA_BASE);
 }
 
-static void draw_split_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+static void split_base_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
                              const vp_cell *k, vp_timer *tm)
 {
-    draw_split(vp, w, fs, k, tm, true);
+    draw_split(vp, w, fs, k, tm, true, ISA_BASE);
 }
+
+#if VP_AVX2
+ISA_AVX2_TARGET static void split_avx2(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+                                       const vp_cell *k, vp_timer *tm)
+{
+    draw_split(vp, w, fs, k, tm, false, ISA_AVX2);
+}
+
+ISA_AVX2_TARGET static void split_avx2_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+                                             const vp_cell *k, vp_timer *tm)
+{
+    draw_split(vp, w, fs, k, tm, true, ISA_AVX2);
+}
+#endif
 
 /* The walk of a face from the top cell (never a single sample: a screen is
  * at least 2 x 2). */
-static inline __attribute__((always_inline)) void
-draw_walk(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, vp_timer *tm, const bool timed)
+static inline __attribute__((always_inline)) void draw_walk(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, vp_timer *tm,
+                      const bool timed)
 {
     vp_cell k = w->stack[0];
     const bool own = owns(w, &k);
@@ -650,10 +818,10 @@ draw_walk(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, vp_timer *tm, c
         timer_hand_over(tm, &k, timed);
     } else {
         vp->st.cells_split += own;
-        if (timed)
-            draw_split_timed(vp, w, fs, &k, tm);
+        if (vp->walk_avx2)
+            split_below(vp, w, fs, &k, tm, timed, VP_AVX2 ? ISA_AVX2 : ISA_BASE);
         else
-            draw_split_plain(vp, w, fs, &k, tm);
+            split_below(vp, w, fs, &k, tm, timed, ISA_BASE);
     }
 }
 
@@ -699,8 +867,13 @@ alb_err vp_load_face(alb_vp *vp, const alb_ws_face *f, vp_loaded_face *out, alb_
         fs->texels = vp->tex[f->texture];
         fs->tex_log2 = vp->tex_log2[f->texture];
     }
-    for (unsigned i = 0; i < f->n_edges; i++)
+    out->narrow = true;
+    for (unsigned i = 0; i < f->n_edges; i++) {
         vp_edge_setup(vp, &f->edge[i], &out->e[i]);
+        /* the walk's 32-bit lanes (vp_walk.narrow) */
+        int64_t a = out->e[i].a, b = out->e[i].b;
+        out->narrow &= (a < 0 ? -a : a) + (b < 0 ? -b : b) < (int64_t)1 << 27;
+    }
     out->n = f->n_edges;
     fs->units = vp_face_units(fs);
     vp_flat_colour(vp, fs, fs->flat);

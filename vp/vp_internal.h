@@ -88,6 +88,7 @@ struct alb_vp {
     uint32_t **old_tex;
     unsigned nold_tex, cap_old_tex;
     bool plain_fill;         /* tests: the fill's plain loops only, no fast path */
+    bool walk_avx2;          /* the functional engine's AVX2 instantiation (vp.c) */
     vp_depth_rect_fn depth_rect;       /* the fast loop's forms, the host's fastest */
     vp_depth_block8_fn depth_block8;
     alb_ws_frame frame;
@@ -107,6 +108,7 @@ typedef struct vp_loaded_face {
     vp_face_setup fs;
     vp_edge_fn e[ALB_WS_MAX_EDGES];
     unsigned n;
+    bool narrow;             /* every edge has |a| + |b| < 2^27 (vp_walk.narrow) */
 } vp_loaded_face;
 
 /* ---- the subdivision engine as a resumable walk (vp.c) ---- */
@@ -135,6 +137,10 @@ typedef struct {
 
 typedef struct {
     const vp_edge_fn *e;
+    /* the face's edges are narrow: an edge crossing an 8 x 8 cell has |h| <
+     * 2^31 at every point of it, so the functional engine may decide such a
+     * cell's samples in 32-bit lanes (vp.c) */
+    bool narrow;
     vp_cell stack[3 * ALB_VP_MAX_LEVELS + 4];
     unsigned top;
     /* A walk clipped to one tile — a cell of the same quadtree, so any cell
@@ -156,6 +162,8 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step);
  * same cells, counts and samples as vp_walk_next and vp_fill step by step;
  * clipped to a tile as vp_walk_begin_tile. */
 void vp_draw_face(alb_vp *vp, const vp_loaded_face *f);
+/* Whether the host runs the engine's AVX2 instantiation (vp.c). */
+bool vp_walk_avx2_host(void);
 void vp_draw_face_tile(alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile);
 /* What the timed model needs of a walk besides its fills: each step's
  * cycles, and a call at each hand-over of a FILL or SAMPLE_IN cell to the
