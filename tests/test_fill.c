@@ -6,7 +6,7 @@
  * it was drawn with; a frame drawn after another as if on a cleared store. */
 #include "t.h"
 #include "gp_helpers.h"
-#include "../vp/vp_internal.h"
+#include "../vp/units.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -18,6 +18,41 @@ static bool row_in_range(const alb_vp *vp, int64_t z, int64_t dz, uint32_t n, in
     const uint32_t dmax = (uint32_t)(((uint64_t)1 << vp->prof.depth_bits) - 1);
     int64_t last = z + (int64_t)(n - 1) * dz, lo = z < last ? z : last, hi = z < last ? last : z;
     return lo > 0 && vp_depth_value(vp, lo, exp) > 0 && vp_depth_value(vp, hi, exp) < dmax;
+}
+
+/* The fast loop's bounds on N (units_depth_range, one pair per face)
+ * against the depth unit: N lies in [lo, hi] exactly where its stored depth
+ * neither underflows to 0 nor saturates — at the bounds and one past them,
+ * at random N and at N <= 0, for shifts far both ways and every store
+ * width. */
+TEST(fill_depth_range_is_the_depth_units)
+{
+    uint64_t seed = 7;
+    unsigned checked = 0, inside = 0, bad = 0;
+    for (unsigned bits = 8; bits <= 32; bits++) {
+        const int64_t max = ((int64_t)1 << bits) - 1;
+        for (int sh = -70; sh <= 70; sh++) {
+            int64_t lo, hi;
+            units_depth_range(sh, max, &lo, &hi);
+            int64_t probe[12] = {lo - 1, lo, lo + 1, hi - 1, hi, hi + 1, 0, -1, INT64_MAX, 1};
+            probe[10] = (int64_t)(t_rand(&seed) >> (t_rand(&seed) % 63));
+            probe[11] = (int64_t)(t_rand(&seed) >> 1);
+            for (unsigned k = 0; k < 12; k++) {
+                const int64_t n = probe[k];
+                if ((k == 0 && lo == INT64_MIN) || (k == 5 && hi == INT64_MAX))
+                    continue;
+                const uint32_t d = units_depth(n, sh, max);
+                const bool want = d > 0 && d < (uint32_t)max, got = n >= lo && n <= hi;
+                checked++;
+                inside += want;
+                if (want != got && bad++ < 5)
+                    CHECK_MSG(0, "depth_bits %u shift %d N %lld: depth %u, range [%lld, %lld]",
+                              bits, sh, (long long)n, d, (long long)lo, (long long)hi);
+            }
+        }
+    }
+    CHECK_EQ(bad, 0);
+    CHECK_MSG(checked > 30000 && inside > checked / 5, "%u probes, %u in range", checked, inside);
 }
 
 /* One sample of the reference: the depth unit and the strict depth test. */

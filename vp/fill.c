@@ -329,18 +329,16 @@ unsigned vp_depth_forms(vp_depth_rect_fn rect[3], vp_depth_block8_fn block8[3], 
 
 /* ---- cells and blocks ---- */
 
-/* The depth form of face fs over the rectangle of w x h samples at (c0,
- * r0): N at its first sample, and whether every sample's depth lies in the
- * store's range (its extremes are at two corners). */
+/* Whether every sample of the rectangle of w x h samples whose first has
+ * depth form N = z lies in the store's range (the extremes of N are at two
+ * corners). */
 static inline bool depth_in_range(const alb_vp *vp, const vp_face_setup *fs, uint32_t w, uint32_t h,
-                                  int64_t z, int sh)
+                                  int64_t z)
 {
-    const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
     const int64_t ec = (int64_t)(w - 1) * fs->depth.step_c, er = (int64_t)(h - 1) * fs->depth.step_r;
     const int64_t zmin = z + (ec < 0 ? ec : 0) + (er < 0 ? er : 0);
     const int64_t zmax = z + (ec > 0 ? ec : 0) + (er > 0 ? er : 0);
-    return !vp->plain_fill && zmin > 0 && units_depth(zmin, sh, dmax) > 0 &&
-           units_depth(zmax, sh, dmax) < (uint32_t)dmax;
+    return !vp->plain_fill && zmin >= fs->depth_lo && zmax <= fs->depth_hi;
 }
 
 /* The samples of cell k for face fs. */
@@ -353,7 +351,7 @@ static void fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
     int64_t z = units_form_at(&fs->depth, k->c0, k->r0);
     size_t idx = (size_t)k->r0 * vp->sw + k->c0;
     fill_counts n = {0, 0, 0, 0, 0, 0};
-    if (depth_in_range(vp, fs, cw, ch, z, sh)) {
+    if (depth_in_range(vp, fs, cw, ch, z)) {
         /* every sample in range: z > 0, so the shifts are exact */
         const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
         vp_rect_result x = vp->depth_rect(vp->s_depth + idx, vp->s_tag + idx, vp->sw, cw, ch, z,
@@ -389,7 +387,7 @@ void vp_fill_block8(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r
     const int64_t z = units_form_at(&fs->depth, c0, r0);
     const size_t idx = (size_t)r0 * vp->sw + c0;
     fill_counts n = {0, 0, 0, 0, 0, 0};
-    if (depth_in_range(vp, fs, 8, 8, z, sh)) {
+    if (depth_in_range(vp, fs, 8, 8, z)) {
         const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
         vp_rect_result x = vp->depth_block8(vp->s_depth + idx, vp->s_tag + idx, vp->sw, z, dc, dr,
                                             sr, sl, mask, mid, fine, t);

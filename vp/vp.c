@@ -876,6 +876,8 @@ alb_err vp_load_face(alb_vp *vp, const alb_ws_face *f, vp_loaded_face *out, alb_
     }
     out->n = f->n_edges;
     fs->units = vp_face_units(fs);
+    units_depth_range(units_depth_shift(vp, fs->depth.exp), ((int64_t)1 << vp->prof.depth_bits) - 1,
+                      &fs->depth_lo, &fs->depth_hi);
     vp_flat_colour(vp, fs, fs->flat);
     return ALB_OK;
 }

@@ -48,6 +48,8 @@ typedef struct {
     const uint32_t *texels;
     unsigned tex_log2;
     unsigned units;          /* the shading units the face uses (shade.c) */
+    int64_t depth_lo, depth_hi;   /* the depth form's N in the store's range
+                                     (units_depth_range): the fill's fast loop */
     uint16_t flat[3];        /* its colour where it uses neither intensity nor texture */
     uint32_t tag;            /* its index in the frame's face list, << VP_TAG_LEVEL_BITS
                                 (vp_begin_face): what the samples it writes hold */
