@@ -198,6 +198,7 @@ static inline bool sample_inside(const vp_edge_fn *e, uint64_t active, uint32_t 
 void vp_walk_begin(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f)
 {
     w->e = f->e;
+    w->n = f->n;
     w->narrow = f->narrow;
     w->top = 0;
     w->clipped = false;
@@ -484,48 +485,62 @@ edge_block8(const vp_edge_fn *f, int64_t c0, int64_t r0, block8_verdicts *v)
     v->outside |= outside;
 }
 
-#if VP_AVX2
-/* The same in 32-bit lanes, eight at a time, for an edge of a narrow face
- * (vp_loaded_face.narrow: |a| + |b| < 2^27).  The edge crosses the cell, so
- * at every point of it |h| <= hmax - hmin = 16 (|a| + |b|) < 2^31: each
- * value below is exact in 32 bits.  The samples' signs survive the signed
- * saturating packs to bytes, four rows to a register. */
-ISA_AVX2_TARGET static inline void edge_block8_narrow(const vp_edge_fn *f, int64_t c0, int64_t r0,
-                                                      block8_verdicts *v)
+/* An edge's offsets for the 32-bit lanes (vp_lanes8), once per face. */
+static void narrow_lanes(const vp_edge_fn *f, vp_lanes8 *ln)
 {
-    const int32_t a = (int32_t)f->a, b = (int32_t)f->b, h = (int32_t)(f->a * c0 + f->b * r0 + f->c);
+    const int32_t a = (int32_t)f->a, b = (int32_t)f->b, a4 = 4 * a, b4 = 4 * b, a8 = 8 * a, b8 = 8 * b;
+    for (int x = 0; x < 8; x++) {
+        ln->row0[x] = a * (2 * x + 1) + b;
+        ln->g01[x] = a4 * (x & 3) + b4 * (x >> 2);
+    }
+    for (int j = 0; j < 4; j++)
+        ln->t4[j] = a8 * (j & 1) + b8 * (j >> 1);
+    ln->up4 = (a8 > 0 ? a8 : 0) + (b8 > 0 ? b8 : 0);
+    ln->down4 = (a8 < 0 ? a8 : 0) + (b8 < 0 ? b8 : 0);
+    ln->up2 = (a4 > 0 ? a4 : 0) + (b4 > 0 ? b4 : 0);
+    ln->down2 = (a4 < 0 ? a4 : 0) + (b4 < 0 ? b4 : 0);
+    ln->step2 = 2 * b;
+}
+
+#if VP_AVX2
+/* The same verdicts in 32-bit lanes, eight at a time, for an edge of a
+ * narrow face (vp_loaded_face.narrow: |a| + |b| < 2^27).  The edge crosses
+ * the cell, so at every point of it |h| <= hmax - hmin = 16 (|a| + |b|) <
+ * 2^31: each value below is exact in 32 bits.  The samples' signs survive
+ * the signed saturating packs to bytes, four rows to a register. */
+ISA_AVX2_TARGET static inline void edge_block8_narrow(const vp_edge_fn *f, const vp_lanes8 *ln,
+                                                      int64_t c0, int64_t r0, block8_verdicts *v,
+                                                      const bool timed)
+{
+    const int32_t h = (int32_t)(f->a * c0 + f->b * r0 + f->c);
     const __m256i vh = _mm256_set1_epi32(h);
     /* children: their top-left corners in lanes 0..3 */
-    const int32_t a8 = 8 * a, b8 = 8 * b;
-    const __m128i t4 = _mm_add_epi32(_mm256_castsi256_si128(vh), _mm_setr_epi32(0, a8, b8, a8 + b8));
-    const int32_t up4 = (a8 > 0 ? a8 : 0) + (b8 > 0 ? b8 : 0);
-    const int32_t down4 = (a8 < 0 ? a8 : 0) + (b8 < 0 ? b8 : 0);
-    v->out4 |= (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_add_epi32(t4, _mm_set1_epi32(up4))));
+    const __m128i t4 = _mm_add_epi32(_mm256_castsi256_si128(vh),
+                                     _mm_loadu_si128((const __m128i *)(const void *)ln->t4));
+    v->out4 |= (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_add_epi32(t4, _mm_set1_epi32(ln->up4))));
     const unsigned loose4 =
-        (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_add_epi32(t4, _mm_set1_epi32(down4))));
+        (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_add_epi32(t4, _mm_set1_epi32(ln->down4))));
     v->held4 &= ~loose4;
-    v->loose4 += spread4[loose4];
     /* grandchildren: rows 0 and 1 of their corners in one register, 2 and 3
      * in the other */
-    const int32_t a4 = 4 * a, b4 = 4 * b;
-    const __m256i g01 = _mm256_add_epi32(vh, _mm256_setr_epi32(0, a4, 2 * a4, 3 * a4, b4, a4 + b4,
-                                                               2 * a4 + b4, 3 * a4 + b4));
-    const __m256i g23 = _mm256_add_epi32(g01, _mm256_set1_epi32(2 * b4));
-    const __m256i up2 = _mm256_set1_epi32((a4 > 0 ? a4 : 0) + (b4 > 0 ? b4 : 0));
-    const __m256i down2 = _mm256_set1_epi32((a4 < 0 ? a4 : 0) + (b4 < 0 ? b4 : 0));
+    const __m256i g01 = _mm256_add_epi32(vh, _mm256_loadu_si256((const __m256i *)(const void *)ln->g01));
+    const __m256i g23 = _mm256_add_epi32(g01, _mm256_set1_epi32(4 * ln->step2));
+    const __m256i up2 = _mm256_set1_epi32(ln->up2), down2 = _mm256_set1_epi32(ln->down2);
     v->out2 |= (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_add_epi32(g01, up2))) |
                (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_add_epi32(g23, up2))) << 8;
     const unsigned loose2 =
         (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_add_epi32(g01, down2))) |
         (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_add_epi32(g23, down2))) << 8;
     v->held2 &= ~loose2;
-    for (unsigned gy = 0; gy < 4; gy++)
-        v->loose2[gy] += spread4[loose2 >> 4 * gy & 0xF];
+    if (timed) {
+        v->loose4 += spread4[loose4];
+        for (unsigned gy = 0; gy < 4; gy++)
+            v->loose2[gy] += spread4[loose2 >> 4 * gy & 0xF];
+    }
     /* samples: row sy in a register, 2b apart */
-    const __m256i step = _mm256_set1_epi32(2 * b);
+    const __m256i step = _mm256_set1_epi32(ln->step2);
     __m256i r[8];
-    r[0] = _mm256_add_epi32(_mm256_set1_epi32(h + a + b),
-                            _mm256_setr_epi32(0, 2 * a, 4 * a, 6 * a, 8 * a, 10 * a, 12 * a, 14 * a));
+    r[0] = _mm256_add_epi32(vh, _mm256_loadu_si256((const __m256i *)(const void *)ln->row0));
     for (unsigned sy = 1; sy < 8; sy++)
         r[sy] = _mm256_add_epi32(r[sy - 1], step);
     /* per 128-bit half the packs give bytes of rows 0..3 (or 4..7), columns
@@ -574,8 +589,10 @@ draw_split8(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell
     const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
 #if VP_AVX2
     if (isa == ISA_AVX2 && w->narrow) {
-        for (uint64_t act = k->active; act; act &= act - 1)
-            edge_block8_narrow(&w->e[__builtin_ctzll(act)], c0, r0, &v);
+        for (uint64_t act = k->active; act; act &= act - 1) {
+            const unsigned i = (unsigned)__builtin_ctzll(act);
+            edge_block8_narrow(&w->e[i], &w->lanes[i], c0, r0, &v, timed);
+        }
     } else
 #endif
     {
@@ -802,7 +819,7 @@ ISA_AVX2_TARGET static void split_avx2_timed(alb_vp *vp, const vp_walk *w, const
 
 /* The walk of a face from the top cell (never a single sample: a screen is
  * at least 2 x 2). */
-static inline __attribute__((always_inline)) void draw_walk(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, vp_timer *tm,
+static inline __attribute__((always_inline)) void draw_walk(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, vp_timer *tm,
                       const bool timed)
 {
     vp_cell k = w->stack[0];
@@ -818,6 +835,9 @@ static inline __attribute__((always_inline)) void draw_walk(alb_vp *vp, const vp
         timer_hand_over(tm, &k, timed);
     } else {
         vp->st.cells_split += own;
+        if (w->narrow && vp->walk_avx2)
+            for (unsigned i = 0; i < w->n; i++)
+                narrow_lanes(&w->e[i], &w->lanes[i]);
         if (vp->walk_avx2)
             split_below(vp, w, fs, &k, tm, timed, VP_AVX2 ? ISA_AVX2 : ISA_BASE);
         else

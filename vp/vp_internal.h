@@ -137,12 +137,26 @@ typedef struct {
     unsigned edges;          /* active edges the step evaluated */
 } vp_step;
 
+/* An edge's values within an 8 x 8 cell relative to its top-left corner,
+ * for the functional engine's 32-bit lanes (vp.c): at the centres of the
+ * cell's first row of samples, at the corners of the first two rows of its
+ * 2 x 2 cells and of its 4 x 4 cells, and the extremes over those. */
+typedef struct {
+    int32_t row0[8];         /* a (2x + 1) + b, x = 0..7 (doubled coordinates) */
+    int32_t g01[8];          /* 4a gx + 4b gy, gx = 0..3, gy = 0..1 */
+    int32_t t4[4];           /* 8a cx + 8b cy, cx, cy = 0..1 */
+    int32_t up4, down4, up2, down2;   /* a 4 x 4 and a 2 x 2 cell's extremes */
+    int32_t step2;           /* 2b: a row of samples on */
+} vp_lanes8;
+
 typedef struct {
     const vp_edge_fn *e;
     /* the face's edges are narrow: an edge crossing an 8 x 8 cell has |h| <
      * 2^31 at every point of it, so the functional engine may decide such a
-     * cell's samples in 32-bit lanes (vp.c) */
+     * cell's samples in 32-bit lanes (vp.c), with these offsets */
     bool narrow;
+    unsigned n;              /* its edges */
+    vp_lanes8 lanes[ALB_WS_MAX_EDGES];
     vp_cell stack[3 * ALB_VP_MAX_LEVELS + 4];
     unsigned top;
     /* A walk clipped to one tile — a cell of the same quadtree, so any cell
