@@ -470,3 +470,79 @@ TEST(a_frame_after_another_is_drawn_on_a_clear_store)
     alb_ws_buf_free(&a);
     alb_ws_buf_free(&b);
 }
+
+/* The frames of a stream through one VP, each resolved into every plane
+ * and into a frame with only the planes `planes` has: those must hold the
+ * full frame's values, the others stay NULL. */
+static unsigned planes_alone(const alb_profile *p, const alb_ws_buf *b, unsigned planes)
+{
+    alb_vp *vp = NULL;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    if (alb_vp_create(&vp, p, &d))
+        return 1;
+    alb_ws_reader r;
+    alb_ws_reader_init(&r, b->w, b->n, "test");
+    alb_ws_event *ev = malloc(sizeof *ev);
+    alb_frame all, some;
+    memset(&all, 0, sizeof all);
+    memset(&some, 0, sizeof some);
+    unsigned bad = !ev, resolved = 0;
+    while (!bad && !r.ended && !alb_ws_next(&r, ev, &d)) {
+        if (ev->kind == ALB_WS_EV_CONFIG) {
+            alb_frame_free(&all);
+            alb_frame_free(&some);
+            bad |= alb_vp_config(vp, &ev->u.config, &d) != ALB_OK ||
+                   alb_vp_frame_alloc(vp, &all, false) || alb_vp_frame_alloc_planes(vp, &some, planes);
+        } else if (ev->kind == ALB_WS_EV_TEXTURE) {
+            bad |= alb_vp_texture(vp, &ev->u.texture, &d) != ALB_OK;
+        } else if (ev->kind == ALB_WS_EV_FRAME) {
+            alb_vp_frame_begin(vp, &ev->u.frame);
+        } else if (ev->kind == ALB_WS_EV_FACE) {
+            bad |= alb_vp_face(vp, &ev->u.face, &d) != ALB_OK;
+        } else if (ev->kind == ALB_WS_EV_FRAME_END) {
+            /* the same samples resolved twice: the store is left as it was */
+            alb_vp_frame_end(vp, &some);
+            alb_vp_frame_end(vp, &all);
+            const size_t n = (size_t)all.width * all.height;
+            bad |= alb_frame_planes(&some) != planes;
+            bad |= some.rgb && memcmp(some.rgb, all.rgb, 3 * n * sizeof *all.rgb);
+            bad |= some.depth && memcmp(some.depth, all.depth, n * sizeof *all.depth);
+            bad |= some.face && memcmp(some.face, all.face, n * sizeof *all.face);
+            bad |= some.level && memcmp(some.level, all.level, n);
+            bad |= some.coverage && memcmp(some.coverage, all.coverage, n * sizeof *all.coverage);
+            resolved++;
+        }
+    }
+    bad |= !r.ended || resolved == 0;
+    free(ev);
+    alb_frame_free(&all);
+    alb_frame_free(&some);
+    alb_vp_destroy(vp);
+    return bad;
+}
+
+/* Every subset of the planes, on the built-in scene (shaded, textured,
+ * fogged) with one sample a pixel and with four. */
+TEST(a_frame_resolves_only_the_planes_it_has)
+{
+    char *text = builtin_scene_copy();
+    static const char *const sets[] = {"", "aa=1"};
+    for (unsigned k = 0; k < 2; k++) {
+        alb_profile p;
+        alb_profile_lookup("t32", &p);
+        p.width = p.height = 64;
+        p.edge_frac_bits = 11;
+        profile_set_all(&p, sets[k]);
+        alb_ws_buf b;
+        if (stream_of(text, &p, &b)) {
+            CHECK_MSG(0, "no stream");
+            break;
+        }
+        for (unsigned planes = 0; planes <= ALB_FRAME_PLANES; planes++)
+            CHECK_MSG(planes_alone(&p, &b, planes) == 0, "%s: planes 0x%02x differ from the full "
+                      "frame's", sets[k], planes);
+        alb_ws_buf_free(&b);
+    }
+    free(text);
+}

@@ -202,15 +202,20 @@ typedef struct {
     uint16_t *coverage;
 } row_out;
 
-/* Samples [c, e) with no surface: the background. */
+/* Samples [c, e) with no surface: the background.  Planes the frame lacks
+ * (NULL) are left out, here and below. */
 static inline void emit_none(const alb_vp *vp, const row_out *o, uint32_t c, uint32_t e,
                              const bool pixels)
 {
-    vp_fill_rgb(o->rgb + 3 * (size_t)c, e - c, vp->bg);
+    if (o->rgb)
+        vp_fill_rgb(o->rgb + 3 * (size_t)c, e - c, vp->bg);
     if (pixels) {
-        fill_u32(o->face + c, e - c, ALB_FRAME_NO_FACE);
-        memset(o->level + c, ALB_FRAME_NO_LEVEL, e - c);
-        fill_u16(o->coverage + c, e - c, 0);
+        if (o->face)
+            fill_u32(o->face + c, e - c, ALB_FRAME_NO_FACE);
+        if (o->level)
+            memset(o->level + c, ALB_FRAME_NO_LEVEL, e - c);
+        if (o->coverage)
+            fill_u16(o->coverage + c, e - c, 0);
     } else {
         fill_u32(o->tag + c, e - c, VP_TAG_NONE);
     }
@@ -221,11 +226,15 @@ static inline void emit_face(const alb_vp *vp, const row_out *o, const uint32_t 
                              uint32_t c, uint32_t e, const bool pixels)
 {
     const vp_face_setup *fs = &vp->faces[tag[c] >> VP_TAG_LEVEL_BITS];
-    vp_shade_run(vp, fs, r, c, e, o->rgb + 3 * (size_t)c);
+    if (o->rgb)
+        vp_shade_run(vp, fs, r, c, e, o->rgb + 3 * (size_t)c);
     if (pixels) {
-        fill_u32(o->face + c, e - c, fs->id);
-        levels_of(o->level + c, tag + c, e - c);
-        fill_u16(o->coverage + c, e - c, 1);
+        if (o->face)
+            fill_u32(o->face + c, e - c, fs->id);
+        if (o->level)
+            levels_of(o->level + c, tag + c, e - c);
+        if (o->coverage)
+            fill_u16(o->coverage + c, e - c, 1);
     } else {
         memcpy(o->tag + c, tag + c, (e - c) * sizeof *tag);
     }
@@ -264,12 +273,18 @@ static inline void sample_row(const alb_vp *vp, uint32_t r, const row_out *o, co
         while (d < sw && clean[d >> twl] == cl)
             d += 1u << twl;
         if (cl) {
-            memset(o->depth + c, 0, (d - c) * sizeof *o->depth);
+            if (o->depth)
+                memset(o->depth + c, 0, (d - c) * sizeof *o->depth);
             emit_none(vp, o, c, d, pixels);
             c = d;
             continue;
         }
-        memcpy(o->depth + c, vp->s_depth + (size_t)r * sw + c, (d - c) * sizeof *o->depth);
+        if (o->depth)
+            memcpy(o->depth + c, vp->s_depth + (size_t)r * sw + c, (d - c) * sizeof *o->depth);
+        if (pixels && !o->rgb && !o->face && !o->level && !o->coverage) {
+            c = d;   /* the depth alone: no run of the tags matters */
+            continue;
+        }
         while (c < d) {
             uint32_t t = tag[c], e = c + 1;
             if (t == VP_TAG_NONE) {
@@ -313,8 +328,9 @@ static void resolve_rows(alb_vp *vp, void *ctx, unsigned worker, uint32_t y0, ui
         /* one sample per pixel: the rows are the frame's */
         for (uint32_t y = y0; y < y1; y++) {
             size_t p = (size_t)y * w;
-            row_out o = {out->rgb + 3 * p, out->depth + p, NULL, out->face + p, out->level + p,
-                         out->coverage + p};
+            row_out o = {out->rgb ? out->rgb + 3 * p : NULL, out->depth ? out->depth + p : NULL, NULL,
+                         out->face ? out->face + p : NULL, out->level ? out->level + p : NULL,
+                         out->coverage ? out->coverage + p : NULL};
             sample_row(vp, y, &o, true);
         }
         return;
@@ -322,10 +338,12 @@ static void resolve_rows(alb_vp *vp, void *ctx, unsigned worker, uint32_t y0, ui
     unsigned char *scratch = vp->scratch + worker * vp_store_scratch_bytes(vp);
     uint32_t *depth = (uint32_t *)(void *)scratch, *tag = depth + n * sw;
     uint16_t *rgb = (uint16_t *)(void *)(tag + n * sw);
+    const bool nearest = out->depth || out->face || out->level;
     for (uint32_t y = y0; y < y1; y++) {
         size_t p = (size_t)y * w;
         for (unsigned sy = 0; sy < n; sy++) {
-            row_out o = {rgb + 3 * sy * sw, depth + sy * sw, tag + sy * sw, NULL, NULL, NULL};
+            row_out o = {out->rgb ? rgb + 3 * sy * sw : NULL, depth + sy * sw, tag + sy * sw, NULL,
+                         NULL, NULL};
             sample_row(vp, (y << aa) + sy, &o, false);
         }
         for (uint32_t x = 0; x < w; x++, p++) {
@@ -338,20 +356,26 @@ static void resolve_rows(alb_vp *vp, void *ctx, unsigned worker, uint32_t y0, ui
             for (unsigned sy = 0; sy < n; sy++)
                 for (unsigned sx = 0; sx < n; sx++) {
                     size_t i = sy * sw + ((size_t)x << aa) + sx;
-                    for (int ch = 0; ch < 3; ch++)
-                        sum[ch] += rgb[3 * i + ch];
+                    if (out->rgb)
+                        for (int ch = 0; ch < 3; ch++)
+                            sum[ch] += rgb[3 * i + ch];
                     covered += tag[i] != VP_TAG_NONE;
-                    if (depth[i] > best) {
+                    if (nearest && depth[i] > best) {
                         best = depth[i];
                         best_i = i;
                     }
                 }
-            for (int ch = 0; ch < 3; ch++)
-                out->rgb[3 * p + ch] = (uint16_t)((sum[ch] + (n * n / 2)) >> (2 * aa));
-            out->depth[p] = depth[best_i];
-            out->face[p] = face_of(vp, tag[best_i]);
-            out->level[p] = level_of(tag[best_i]);
-            out->coverage[p] = (uint16_t)covered;
+            if (out->rgb)
+                for (int ch = 0; ch < 3; ch++)
+                    out->rgb[3 * p + ch] = (uint16_t)((sum[ch] + (n * n / 2)) >> (2 * aa));
+            if (out->depth)
+                out->depth[p] = depth[best_i];
+            if (out->face)
+                out->face[p] = face_of(vp, tag[best_i]);
+            if (out->level)
+                out->level[p] = level_of(tag[best_i]);
+            if (out->coverage)
+                out->coverage[p] = (uint16_t)covered;
         }
     }
 }

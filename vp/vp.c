@@ -58,7 +58,12 @@ const alb_vp_stats *alb_vp_stats_get(const alb_vp *vp) { return &vp->st; }
 
 int alb_vp_frame_alloc(const alb_vp *vp, alb_frame *f, bool with_cycles)
 {
-    if (alb_frame_alloc(f, vp->prof.width, vp->prof.height, with_cycles))
+    return alb_vp_frame_alloc_planes(vp, f, ALB_FRAME_PLANES | (with_cycles ? ALB_FRAME_CYCLES : 0));
+}
+
+int alb_vp_frame_alloc_planes(const alb_vp *vp, alb_frame *f, unsigned planes)
+{
+    if (alb_frame_alloc_planes(f, vp->prof.width, vp->prof.height, planes))
         return -1;
     f->colour_bits = vp->prof.colour_bits;
     f->depth_bits = vp->prof.depth_bits;
