@@ -91,6 +91,7 @@ struct alb_vp {
     unsigned nold_tex, cap_old_tex;
     bool plain_fill;         /* tests: the fill's plain loops only, no fast path */
     bool walk_avx2;          /* the functional engine's AVX2 instantiation (vp.c) */
+    bool shade_avx2;         /* the output stage's AVX2 stretches (shade.c) */
     vp_depth_rect_fn depth_rect;       /* the fast loop's forms, the host's fastest */
     vp_depth_block8_fn depth_block8;
     alb_ws_frame frame;
@@ -180,6 +181,8 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step);
 void vp_draw_face(alb_vp *vp, const vp_loaded_face *f);
 /* Whether the host runs the engine's AVX2 instantiation (vp.c). */
 bool vp_walk_avx2_host(void);
+/* ... and the output stage's AVX2 shading (shade.c). */
+bool vp_shade_avx2_host(void);
 void vp_draw_face_tile(alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile);
 /* What the timed model needs of a walk besides its fills: each step's
  * cycles, and a call at each hand-over of a FILL or SAMPLE_IN cell to the
