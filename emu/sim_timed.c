@@ -29,6 +29,10 @@ typedef struct {
     uint64_t cells;
     int64_t fill_free;        /* first cycle the fill unit can take a cell */
     int64_t now;              /* the engine's next cycle in the face being walked */
+    /* the face's engine cycles, engine stalls and fill cycles so far: all
+     * after the last retirement, so they go to the open frame's bin at once
+     * when the face is done (run_face) */
+    uint64_t face_engine, face_stall, face_fill;
     vp_timer timer;           /* the walk's steps and hand-overs (hand_over) */
     int64_t drain;            /* last cycle of any face's activity so far */
     int64_t frame_last;       /* last activity of the current frame's faces */
@@ -114,26 +118,26 @@ static void word_times(timed *t, int64_t compute, int64_t ready)
 static void hand_over(vp_timer *tm, const vp_cell *k, uint64_t cycles)
 {
     timed *t = tm->ctx;
-    const alb_profile *p = t->p;
-    bins_add(&t->bins, CNT(engine_busy), t->now, t->now + (int64_t)cycles);
-    int64_t end = t->now + (int64_t)cycles - 1;
+    const int64_t end = t->now + (int64_t)cycles - 1;
     /* the queue held fewer than fill_queue cells at the start of the cycle:
      * the cell fill_queue back (the ring's oldest) had been taken */
     int64_t put = end;
-    if (t->cells >= p->fill_queue)
+    if (t->cells >= t->p->fill_queue)
         put = max64(put, t->take_ring[t->take_slot] + 1);
-    bins_add(&t->bins, CNT(engine_stall), end + 1, put + 1);
-    int64_t take = max64(put + 1, t->fill_free);
-    uint64_t f = t->dur.fill[k->wl + k->hl];
+    const int64_t take = max64(put + 1, t->fill_free);
+    const uint64_t f = t->dur.fill[k->wl + k->hl];
     if (t->frames)
         cycle_map_charge(&t->map, t->vp, k, f);
-    bins_add(&t->bins, CNT(fill_busy), take, take + (int64_t)f);
+    t->face_engine += cycles;
+    t->face_stall += (uint64_t)(put - end);
+    t->face_fill += f;
+    /* its last sample is written latency - 1 cycles after its last fill
+     * cycle: fill_free - 1 only grows, so the face's last hand-over gives
+     * the frame's latest write (run_face) */
     t->fill_free = take + (int64_t)f;
     t->take_ring[t->take_slot] = take;
-    t->take_slot = t->take_slot + 1 == p->fill_queue ? 0 : t->take_slot + 1;
+    t->take_slot = t->take_slot + 1 == t->p->fill_queue ? 0 : t->take_slot + 1;
     t->cells++;
-    int64_t written = take + (int64_t)f - 1 + t->latency - 1;
-    t->frame_last = max64(t->frame_last, written);
     t->now = put + 1;
 }
 
@@ -154,10 +158,20 @@ static alb_err run_face(timed *t, vp_loaded_face *lf, int64_t loaded, alb_diag *
     if (e)
         return e;
     t->timer.pending = 0;
+    const int64_t start = t->now;
+    const uint64_t cells = t->cells;
+    t->face_engine = t->face_stall = t->face_fill = 0;
     vp_draw_face_timed(t->vp, lf, &t->timer);
     /* the steps after the last hand-over */
-    bins_add(&t->bins, CNT(engine_busy), t->now, t->now + (int64_t)t->timer.pending);
+    t->face_engine += t->timer.pending;
     t->now += (int64_t)t->timer.pending;
+    /* every cycle of the face follows the last retirement (its first is at
+     * least the frame's start): one sum each into the open bin */
+    bins_add(&t->bins, CNT(engine_busy), start, start + (int64_t)t->face_engine);
+    bins_add(&t->bins, CNT(engine_stall), start, start + (int64_t)t->face_stall);
+    bins_add(&t->bins, CNT(fill_busy), start, start + (int64_t)t->face_fill);
+    if (t->cells != cells)
+        t->frame_last = max64(t->frame_last, t->fill_free - 1 + (int64_t)t->latency - 1);
     /* the face is finished in its last step's cycle; its slot is free next */
     t->engine_free = t->now;
     t->frame_last = max64(t->frame_last, t->now - 1);

@@ -96,10 +96,9 @@ static uint32_t old_depth(uint64_t *seed, uint32_t dv, unsigned depth_bits)
  * tied, the first tie in raster order and the largest depth written. */
 TEST(fill_fast_forms_equal_the_depth_unit)
 {
-    vp_depth_rect_fn rects[3];
-    vp_depth_block8_fn blocks[3];
+    vp_depth_forms_t forms[3];
     const char *names[3];
-    const unsigned nforms = vp_depth_forms(rects, blocks, names);
+    const unsigned nforms = vp_depth_forms(forms, names);
     CHECK(nforms >= 1);
     static const unsigned depth_bits[] = {8, 16, 24, 31, 32};
     uint64_t seed = 42;
@@ -116,7 +115,9 @@ TEST(fill_fast_forms_equal_the_depth_unit)
             return;
         }
         for (unsigned trial = 0; trial < 6000 && !bad; trial++) {
-            const bool block = trial & 1;
+            /* a rectangle, a masked block, or a rectangle of clean store */
+            const unsigned shape = trial % 3;
+            const bool block = shape == 1, clean = shape == 2;
             uint32_t w = block ? 8 : 1 + (uint32_t)(t_rand(&seed) % 37);
             uint32_t h = block ? 8 : 1 + (uint32_t)(t_rand(&seed) % 5);
             int exp = (int)(t_rand(&seed) % 48) - 36;
@@ -137,7 +138,7 @@ TEST(fill_fast_forms_equal_the_depth_unit)
                 for (uint32_t x = 0; x < STRIDE; x++) {
                     size_t i = y * STRIDE + x;
                     uint32_t dv = vp_depth_value(vp, z + (int64_t)x * dz + (int64_t)y * dr, exp);
-                    d0[i] = want_d[i] = x < w ? old_depth(&seed, dv, depth_bits[b]) : 0x5A5A5A5A;
+                    d0[i] = want_d[i] = x >= w ? 0x5A5A5A5A : clean ? 0 : old_depth(&seed, dv, depth_bits[b]);
                     t0[i] = want_t[i] = (uint32_t)i;
                     high += x < w && dv >= 0x80000000u;
                     straddle += x < w && (dv >= 0x80000000u) != (d0[i] >= 0x80000000u);
@@ -161,17 +162,22 @@ TEST(fill_fast_forms_equal_the_depth_unit)
                 static uint32_t depth[8 * STRIDE], tag[8 * STRIDE];
                 memcpy(depth, d0, sizeof depth);
                 memcpy(tag, t0, sizeof tag);
-                vp_rect_result got =
-                    block ? blocks[k](depth, tag, STRIDE, z, dz, dr, sr, sl, mask, mid, fine, tags)
-                          : rects[k](depth, tag, STRIDE, w, h, z, dz, dr, sr, sl, tags[0]);
+                vp_rect_result got = {want.written, 0, 0, want.nearest};   /* the store counts none */
+                if (block)
+                    got = forms[k].block8(depth, tag, STRIDE, z, dz, dr, sr, sl, mask, mid, fine, tags);
+                else if (clean)
+                    forms[k].store(depth, tag, STRIDE, w, h, z, dz, dr, sr, sl, tags[0]);
+                else
+                    got = forms[k].rect(depth, tag, STRIDE, w, h, z, dz, dr, sr, sl, tags[0]);
                 if (got.written != want.written || got.ties != want.ties ||
                     (want.ties && got.first_tie != want.first_tie) || got.nearest != want.nearest ||
+                    (clean && want.written != w * h) ||
                     memcmp(depth, want_d, h * STRIDE * sizeof *depth) ||
                     memcmp(tag, want_t, h * STRIDE * sizeof *tag)) {
                     CHECK_MSG(0, "%s %s, depth_bits %u, %ux%u samples from N = %lld steps %lld, "
                               "%lld, shift %d: %u written, %u tied (first %zu), nearest %u; %u, %u "
                               "(%zu), %u expected, or a sample differs", names[k],
-                              block ? "block" : "rectangle", depth_bits[b], w, h, (long long)z,
+                              block ? "block" : clean ? "clean rectangle" : "rectangle", depth_bits[b], w, h, (long long)z,
                               (long long)dz, (long long)dr, sh, got.written, got.ties,
                               got.first_tie, got.nearest, want.written, want.ties,
                               want.first_tie, want.nearest);

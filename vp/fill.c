@@ -46,7 +46,8 @@ static void add_counts(alb_vp *vp, const vp_face_setup *fs, uint64_t covered, co
 static inline void add_rect(fill_counts *n, const vp_rect_result *x, size_t base)
 {
     n->written += x->written;
-    if (x->ties && !n->ties)
+    /* the lowest index: a cell filled in parts may meet a later row first */
+    if (x->ties && (!n->ties || base + x->first_tie < n->tie))
         n->tie = base + x->first_tie;
     n->ties += x->ties;
     n->nearest = x->nearest > n->nearest ? x->nearest : n->nearest;
@@ -104,6 +105,20 @@ static vp_rect_result rect_plain_c(uint32_t *depth, uint32_t *tag, size_t stride
             sample_fast(depth, tag, y * stride + x, zc, sr, sl, t, y * stride + x, &r);
     }
     return r;
+}
+
+/* A rectangle of clean tiles (no surface anywhere: store 0, so every sample
+ * wins): stored without reading, the same values as the rectangle's fill. */
+static void store_plain_c(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h,
+                          int64_t z, int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
+{
+    for (uint32_t y = 0; y < h; y++, z += dr) {
+        int64_t zc = z;
+        for (uint32_t x = 0; x < w; x++, zc += dc) {
+            depth[y * stride + x] = (uint32_t)(((uint64_t)zc >> sr) << sl);
+            tag[y * stride + x] = t;
+        }
+    }
 }
 
 /* Samples `mask` (bit 8y + x) of the 8 x 8 block: tag t[0], or t[1] where
@@ -277,6 +292,31 @@ rect_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h,
     return res;
 }
 
+/* The clean rectangle's store, eight samples a step (w a multiple of 8). */
+__attribute__((target("avx2,popcnt"))) static void
+store_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
+           int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
+{
+    if (w % 8) {
+        store_plain_c(depth, tag, stride, w, h, z, dc, dr, sr, sl, t);
+        return;
+    }
+    const __m256i step = _mm256_set1_epi64x(8 * dc), four = _mm256_set1_epi64x(4 * dc),
+                  down = _mm256_set1_epi64x(dr), vt = _mm256_set1_epi32((int)t);
+    const __m128i vsr = _mm_cvtsi32_si128((int)sr), vsl = _mm_cvtsi32_si128((int)sl);
+    __m256i row = _mm256_set_epi64x(z + 3 * dc, z + 2 * dc, z + dc, z);
+    for (uint32_t y = 0; y < h; y++, row = _mm256_add_epi64(row, down)) {
+        uint32_t *dp = depth + y * stride, *tp = tag + y * stride;
+        __m256i lo = row, hi = _mm256_add_epi64(row, four);
+        for (uint32_t i = 0; i < w; i += 8) {
+            _mm256_storeu_si256((__m256i *)(void *)(dp + i), narrow8(lo, hi, vsr, vsl));
+            _mm256_storeu_si256((__m256i *)(void *)(tp + i), vt);
+            lo = _mm256_add_epi64(lo, step);
+            hi = _mm256_add_epi64(hi, step);
+        }
+    }
+}
+
 /* The masked 8 x 8 block: a row a step, its byte of the mask spread over
  * the lanes, the tags chosen by the level masks. */
 __attribute__((target("avx2,popcnt"))) static inline __m256i lanes_of(unsigned byte, __m256i bit)
@@ -310,20 +350,20 @@ block8_avx2(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z, int64_t dc
 }
 #endif
 
-unsigned vp_depth_forms(vp_depth_rect_fn rect[3], vp_depth_block8_fn block8[3], const char *name[3])
+unsigned vp_depth_forms(vp_depth_forms_t f[3], const char *name[3])
 {
     unsigned k = 0;
 #if VP_AVX2
     __builtin_cpu_init();
     if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt"))
-        rect[k] = rect_avx2, block8[k] = block8_avx2, name[k++] = "AVX2";
+        f[k] = (vp_depth_forms_t){rect_avx2, block8_avx2, store_avx2}, name[k++] = "AVX2";
 #endif
 #if VP_SSE2
-    /* the masked block in SSE2 is the plain form: hosts with SSE2 and
-     * without AVX2 predate 2013 */
-    rect[k] = rect_sse2, block8[k] = block8_plain_c, name[k++] = "SSE2";
+    /* the masked block and the store in SSE2 are the plain forms: hosts
+     * with SSE2 and without AVX2 predate 2013 */
+    f[k] = (vp_depth_forms_t){rect_sse2, block8_plain_c, store_plain_c}, name[k++] = "SSE2";
 #endif
-    rect[k] = rect_plain_c, block8[k] = block8_plain_c, name[k++] = "plain C";
+    f[k] = (vp_depth_forms_t){rect_plain_c, block8_plain_c, store_plain_c}, name[k++] = "plain C";
     return k;
 }
 
@@ -341,10 +381,47 @@ static inline bool depth_in_range(const alb_vp *vp, const vp_face_setup *fs, uin
     return !vp->plain_fill && zmin >= fs->depth_lo && zmax <= fs->depth_hi;
 }
 
+/* The fast loop over a cell that covers whole tiles of the store: tile row
+ * by tile row, spans of clean tiles stored without reading (no clearing:
+ * every sample beats the cleared store's 0) and spans of touched tiles
+ * through the depth test. */
+static void fill_tiles(alb_vp *vp, const vp_cell *k, int64_t z, int64_t dc, int64_t dr, unsigned sr,
+                       unsigned sl, uint32_t t, fill_counts *n)
+{
+    const unsigned twl = vp->tile_wl, thl = vp->tile_hl;
+    const uint32_t th = 1u << thl, c1 = k->c0 + (1u << k->wl), r1 = k->r0 + (1u << k->hl);
+    for (uint32_t r = k->r0; r < r1; r += th) {
+        uint8_t *clean = vp->tile_clean + ((size_t)(r >> thl) << vp->tiles_lw);
+        for (uint32_t c = k->c0; c < c1;) {
+            const uint8_t cl = clean[c >> twl];
+            uint32_t e = c + (1u << twl);
+            while (e < c1 && clean[e >> twl] == cl)
+                e += 1u << twl;
+            const int64_t zc = z + (int64_t)(c - k->c0) * dc + (int64_t)(r - k->r0) * dr;
+            const size_t idx = (size_t)r * vp->sw + c;
+            if (cl) {
+                vp->depth_forms.store(vp->s_depth + idx, vp->s_tag + idx, vp->sw, e - c, th, zc, dc,
+                                      dr, sr, sl, t);
+                memset(clean + (c >> twl), 0, (e - c) >> twl);
+                n->written += (uint64_t)(e - c) * th;
+                /* depth is monotone in N: the span's largest at a corner */
+                const int64_t ec = (int64_t)(e - c - 1) * dc, er = (int64_t)(th - 1) * dr;
+                const int64_t zmax = zc + (ec > 0 ? ec : 0) + (er > 0 ? er : 0);
+                const uint32_t top = (uint32_t)(((uint64_t)zmax >> sr) << sl);
+                n->nearest = top > n->nearest ? top : n->nearest;
+            } else {
+                vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, vp->s_tag + idx, vp->sw,
+                                                        e - c, th, zc, dc, dr, sr, sl, t);
+                add_rect(n, &x, idx);
+            }
+            c = e;
+        }
+    }
+}
+
 /* The samples of cell k for face fs. */
 static void fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
 {
-    vp_touch(vp, k);
     const uint32_t cw = 1u << k->wl, ch = 1u << k->hl, t = fs->tag | k->level;
     const int sh = units_depth_shift(vp, fs->depth.exp);
     const int64_t dc = fs->depth.step_c, dr = fs->depth.step_r;
@@ -354,10 +431,16 @@ static void fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
     if (depth_in_range(vp, fs, cw, ch, z)) {
         /* every sample in range: z > 0, so the shifts are exact */
         const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
-        vp_rect_result x = vp->depth_rect(vp->s_depth + idx, vp->s_tag + idx, vp->sw, cw, ch, z,
-                                          dc, dr, sr, sl, t);
-        add_rect(&n, &x, idx);
+        if (k->wl >= vp->tile_wl && k->hl >= vp->tile_hl) {
+            fill_tiles(vp, k, z, dc, dr, sr, sl, t, &n);
+        } else {
+            vp_touch(vp, k);
+            vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, vp->s_tag + idx, vp->sw, cw,
+                                                    ch, z, dc, dr, sr, sl, t);
+            add_rect(&n, &x, idx);
+        }
     } else {
+        vp_touch(vp, k);
         const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
         for (uint32_t r = 0; r < ch; r++, z += dr, idx += vp->sw) {
             int64_t zc = z;
@@ -389,7 +472,7 @@ void vp_fill_block8(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r
     fill_counts n = {0, 0, 0, 0, 0, 0};
     if (depth_in_range(vp, fs, 8, 8, z)) {
         const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
-        vp_rect_result x = vp->depth_block8(vp->s_depth + idx, vp->s_tag + idx, vp->sw, z, dc, dr,
+        vp_rect_result x = vp->depth_forms.block8(vp->s_depth + idx, vp->s_tag + idx, vp->sw, z, dc, dr,
                                             sr, sl, mask, mid, fine, t);
         add_rect(&n, &x, idx);
     } else {

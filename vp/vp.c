@@ -24,13 +24,11 @@ alb_err alb_vp_create(alb_vp **out, const alb_profile *prof, alb_diag *d)
     vp->sw = 1u << vp->lw;
     vp->sh = 1u << vp->lh;
     vp->p = vp->lw > vp->lh ? vp->lw : vp->lh;
-    vp_depth_rect_fn rects[3];
-    vp_depth_block8_fn blocks[3];
+    vp_depth_forms_t forms[3];
     const char *names[3];
-    /* the host's fastest forms, or with simd=0 the baseline's (the last) */
-    unsigned nforms = vp_depth_forms(rects, blocks, names), form = prof->simd ? 0 : nforms - 1;
-    vp->depth_rect = rects[form];
-    vp->depth_block8 = blocks[form];
+    /* the host's fastest forms, or with simd=0 the plain C ones (the last) */
+    unsigned nforms = vp_depth_forms(forms, names);
+    vp->depth_forms = forms[prof->simd ? 0 : nforms - 1];
     vp->walk_avx2 = prof->simd && vp_walk_avx2_host();
     vp->shade_avx2 = prof->simd && vp_shade_avx2_host();
     if (vp_store_init(vp) || vp_scratch_for(vp, 1) || vp_recip_rom_init(vp)) {

@@ -38,6 +38,16 @@ typedef vp_rect_result (*vp_depth_block8_fn)(uint32_t *depth, uint32_t *tag, siz
                                              int64_t z, int64_t dc, int64_t dr, unsigned sr,
                                              unsigned sl, uint64_t mask, uint64_t mid,
                                              uint64_t fine, const uint32_t t[3]);
+typedef void (*vp_depth_store_fn)(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w,
+                                  uint32_t h, int64_t z, int64_t dc, int64_t dr, unsigned sr,
+                                  unsigned sl, uint32_t t);
+/* One form of each shape: a rectangle, a masked 8 x 8 block, and a
+ * rectangle of clean tiles, stored without reading. */
+typedef struct {
+    vp_depth_rect_fn rect;
+    vp_depth_block8_fn block8;
+    vp_depth_store_fn store;
+} vp_depth_forms_t;
 
 /* Per-face shading set-up. */
 typedef struct {
@@ -92,8 +102,7 @@ struct alb_vp {
     bool plain_fill;         /* tests: the fill's plain loops only, no fast path */
     bool walk_avx2;          /* the functional engine's AVX2 instantiation (vp.c) */
     bool shade_avx2;         /* the output stage's AVX2 stretches (shade.c) */
-    vp_depth_rect_fn depth_rect;       /* the fast loop's forms, the host's fastest */
-    vp_depth_block8_fn depth_block8;
+    vp_depth_forms_t depth_forms;   /* the fast loop's forms, the host's fastest */
     alb_ws_frame frame;
     uint16_t bg[3];          /* background in frame-store units */
     uint16_t fog_rgb[3];
@@ -208,10 +217,11 @@ void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k);
  * on those of an 8 x 8 block that `mask` has (bit 8 y + x), of depths z +
  * x dc + y dr, all in the store's range: stored as z >> sr << sl with tag t
  * (the block: t[0], or t[1] where `mid` has the sample, t[2] where `fine`
- * has it) where they win; counts what won and what tied.  vp_depth_forms
+ * has it) where they win; counts what won and what tied; the store form
+ * writes every sample of a rectangle whose store is clean.  vp_depth_forms
  * lists the forms the host can run, the fastest first (the VP takes that
  * one). */
-unsigned vp_depth_forms(vp_depth_rect_fn rect[3], vp_depth_block8_fn block8[3], const char *name[3]);
+unsigned vp_depth_forms(vp_depth_forms_t forms[3], const char *name[3]);
 /* The samples `mask` (bit 8 y + x) of the 8 x 8 block at (c0, r0) through
  * the depth test, decided at level l, or l + 1 where `mid` has them, l + 2
  * where `fine` has them (fill.c). */
