@@ -351,11 +351,17 @@ static inline unsigned children_present(const vp_walk *w, const vp_cell *k, uint
     return present;
 }
 
-void vp_timer_init(vp_timer *tm, unsigned edge_units)
+void vp_timer_init(vp_timer *tm, const alb_profile *p, int64_t *take_ring)
 {
+    /* docs/microarchitecture.md: a step evaluates edge_units edges a cycle
+     * (one cycle with none), a fill issues fill_rate samples a cycle */
     memset(tm, 0, sizeof *tm);
-    for (unsigned e = 0; e <= ALB_WS_MAX_EDGES; e++)   /* docs/microarchitecture.md */
-        tm->step_cycles[e] = (uint8_t)(e ? (e + edge_units - 1) / edge_units : 1);
+    for (unsigned e = 0; e <= ALB_WS_MAX_EDGES; e++)
+        tm->step_cycles[e] = (uint8_t)(e ? (e + p->edge_units - 1) / p->edge_units : 1);
+    for (unsigned s = 0; s < sizeof tm->fill_cycles / sizeof *tm->fill_cycles; s++)
+        tm->fill_cycles[s] = ((1ull << s) + p->fill_rate - 1) / p->fill_rate;
+    tm->take_ring = take_ring;
+    tm->fill_queue = p->fill_queue;
 }
 
 /* The timer's part of a step on cell k evaluating `edges` edges, and of a
@@ -373,10 +379,8 @@ static inline void timer_step(vp_timer *tm, const vp_cell *k, unsigned edges, co
 
 static inline void timer_hand_over(vp_timer *tm, const vp_cell *k, const bool timed)
 {
-    if (!timed)
-        return;
-    tm->hand_over(tm, k, tm->pending);
-    tm->pending = 0;
+    if (timed)
+        vp_timer_hand_over(tm, k);
 }
 
 /* Children that are single samples, each the walk's next step in turn:
@@ -578,6 +582,103 @@ static inline uint64_t samples_of_children(unsigned c)
            (c & 4 ? 0x0F0F0F0F00000000ull : 0) | (c & 8 ? 0xF0F0F0F000000000ull : 0);
 }
 
+/* The steps below an 8 x 8 cell k in the walk's order, for the timer: each
+ * child, each grandchild of a split child, each sample of a split
+ * grandchild, and the hand-overs of those found inside.  The walk's order
+ * gives the hand-overs and the engine cycles before each, which then go
+ * through the fill queue together (vp_timer_hand_overs).  With `unit` every
+ * step takes one cycle (the face has no more edges than the engine has edge
+ * units), so the edges a step evaluates are not needed; with `charged` each
+ * step and fill is charged to its cell on the per-pixel map, whose sums do
+ * not depend on when.  Both are constants at each call. */
+typedef struct {
+    uint32_t gap[4 + 16 + 64];   /* engine cycles before each hand-over */
+    uint8_t lg[4 + 16 + 64];     /* log2 of its cell's samples */
+    unsigned n;
+    uint32_t since;              /* cycles since the last */
+} hand_over_list;
+
+static inline __attribute__((always_inline)) void
+time_step(vp_timer *tm, hand_over_list *h, const vp_cell *k, uint32_t x, uint32_t y, uint8_t lg,
+          uint8_t level, unsigned edges, const bool unit, const bool charged)
+{
+    const unsigned c = unit ? 1 : tm->step_cycles[edges];
+    h->since += c;
+    if (charged) {
+        const vp_cell cell = {k->c0 + x, k->r0 + y, (uint8_t)(lg / 2), (uint8_t)(lg / 2), level, 0, 0};
+        tm->charge(tm, &cell, c);
+    }
+}
+
+static inline __attribute__((always_inline)) void
+time_hand_over(vp_timer *tm, hand_over_list *h, const vp_cell *k, uint32_t x, uint32_t y, uint8_t lg,
+               uint8_t level, const bool charged)
+{
+    if (charged) {
+        const vp_cell cell = {k->c0 + x, k->r0 + y, (uint8_t)(lg / 2), (uint8_t)(lg / 2), level, 0, 0};
+        tm->charge(tm, &cell, tm->fill_cycles[lg]);
+    }
+    h->gap[h->n] = h->since;
+    h->lg[h->n++] = lg;
+    h->since = 0;
+}
+
+static inline __attribute__((always_inline)) void
+time_split8_body(vp_timer *tm, const vp_cell *k, const block8_verdicts *v, unsigned in4,
+                 unsigned in2, uint64_t fine, const bool unit, const bool charged)
+{
+    const uint8_t l = k->level + 1;
+    hand_over_list h;
+    h.n = 0, h.since = 0;
+    for (unsigned j = 0; j < 4; j++) {
+        const uint32_t cx = 4 * (j & 1), cy = 4 * (j >> 1);
+        time_step(tm, &h, k, cx, cy, 4, l, k->edges, unit, charged);
+        if (v->out4 >> j & 1)
+            continue;
+        if (in4 >> j & 1) {
+            time_hand_over(tm, &h, k, cx, cy, 4, l, charged);
+            continue;
+        }
+        for (unsigned i = 0; i < 4; i++) {
+            const uint32_t gx = cx / 2 + (i & 1), gy = cy / 2 + (i >> 1), g = 4 * gy + gx;
+            time_step(tm, &h, k, 2 * gx, 2 * gy, 2, (uint8_t)(l + 1), v->loose4 >> 8 * j & 0xFF,
+                      unit, charged);
+            if (v->out2 >> g & 1)
+                continue;
+            if (in2 >> g & 1) {
+                time_hand_over(tm, &h, k, 2 * gx, 2 * gy, 2, (uint8_t)(l + 1), charged);
+                continue;
+            }
+            /* the grandchild's samples inside: bits 0, 1 of its rows */
+            const unsigned edges = v->loose2[gy] >> 8 * gx & 0xFF;
+            const uint64_t rows = fine >> (16 * gy + 2 * gx);
+            const unsigned in = (unsigned)(rows & 3) | (unsigned)(rows >> 6 & 0xC);
+            for (unsigned q = 0; q < 4; q++) {
+                const uint32_t sx = 2 * gx + (q & 1), sy = 2 * gy + (q >> 1);
+                time_step(tm, &h, k, sx, sy, 0, (uint8_t)(l + 2), edges, unit, charged);
+                if (in >> q & 1)
+                    time_hand_over(tm, &h, k, sx, sy, 0, (uint8_t)(l + 2), charged);
+            }
+        }
+    }
+    vp_timer_hand_overs(tm, h.gap, h.lg, h.n, h.since);
+}
+
+static void time_split8(vp_timer *tm, const vp_cell *k, const block8_verdicts *v, unsigned in4,
+                        unsigned in2, uint64_t fine, bool unit)
+{
+    if (tm->charge) {
+        if (unit)
+            time_split8_body(tm, k, v, in4, in2, fine, true, true);
+        else
+            time_split8_body(tm, k, v, in4, in2, fine, false, true);
+    } else if (unit) {
+        time_split8_body(tm, k, v, in4, in2, fine, true, false);
+    } else {
+        time_split8_body(tm, k, v, in4, in2, fine, false, false);
+    }
+}
+
 /* Then the counts, one masked fill of the block's samples, each with the
  * level that decided it, and for a timer the steps in the walk's order.  A
  * walk clipped to a tile calls this only for cells no larger than the tile,
@@ -591,11 +692,13 @@ draw_split8(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell
     static const uint16_t quadrant[4] = {0x0033, 0x00CC, 0x3300, 0xCC00};
     block8_verdicts v = {0, 0xF, 0, 0xFFFF, 0, 0, {0, 0, 0, 0}};
     const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
+    /* every step one cycle (the step table is monotone): no edge counts */
+    const bool unit = timed && tm->step_cycles[w->n] == 1;
 #if VP_AVX2
     if (isa == ISA_AVX2 && w->narrow) {
         for (uint64_t act = k->active; act; act &= act - 1) {
             const unsigned i = (unsigned)__builtin_ctzll(act);
-            edge_block8_narrow(&w->e[i], &w->lanes[i], c0, r0, &v, timed);
+            edge_block8_narrow(&w->e[i], &w->lanes[i], c0, r0, &v, timed && !unit);
         }
     } else
 #endif
@@ -622,37 +725,8 @@ draw_split8(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell
     vp->st.cells_split += vp_bits4(split4) + nsplit2;
     if (fill)
         vp_fill_block8(vp, fs, k->c0, k->r0, fill, mid, fine, l);
-    if (!timed)
-        return;
-    for (unsigned j = 0; j < 4; j++) {
-        const uint32_t cx = 4 * (j & 1), cy = 4 * (j >> 1);
-        const vp_cell c = {k->c0 + cx, k->r0 + cy, 2, 2, l, 0, 0};
-        timer_step(tm, &c, k->edges, timed);
-        if (v.out4 >> j & 1)
-            continue;
-        if (in4 >> j & 1) {
-            timer_hand_over(tm, &c, timed);
-            continue;
-        }
-        for (unsigned i = 0; i < 4; i++) {
-            const uint32_t gx = cx / 2 + (i & 1), gy = cy / 2 + (i >> 1), g = 4 * gy + gx;
-            const vp_cell gc = {k->c0 + 2 * gx, k->r0 + 2 * gy, 1, 1, (uint8_t)(l + 1), 0, 0};
-            timer_step(tm, &gc, v.loose4 >> 8 * j & 0xFF, timed);
-            if (v.out2 >> g & 1)
-                continue;
-            if (in2 >> g & 1) {
-                timer_hand_over(tm, &gc, timed);
-                continue;
-            }
-            for (unsigned q = 0; q < 4; q++) {
-                const uint32_t sx = 2 * gx + (q & 1), sy = 2 * gy + (q >> 1);
-                const vp_cell sc = {k->c0 + sx, k->r0 + sy, 0, 0, (uint8_t)(l + 2), 0, 0};
-                timer_step(tm, &sc, v.loose2[gy] >> 8 * gx & 0xFF, timed);
-                if (fine >> (8 * sy + sx) & 1)
-                    timer_hand_over(tm, &sc, timed);
-            }
-        }
-    }
+    if (timed)
+        time_split8(tm, k, &v, in4, in2, fine, unit);
 }
 
 /* ---- any other cell that splits ---- */

@@ -194,19 +194,77 @@ bool vp_walk_avx2_host(void);
 bool vp_shade_avx2_host(void);
 void vp_draw_face_tile(alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile);
 /* What the timed model needs of a walk besides its fills: each step's
- * cycles, and a call at each hand-over of a FILL or SAMPLE_IN cell to the
- * fill unit, in the walk's order.  Steps between two hand-overs only add
- * engine cycles, so the timer sums them; the hand-over gets the sum, its own
- * step's included. */
+ * cycles, and at each hand-over of a FILL or SAMPLE_IN cell to the fill
+ * unit, in the walk's order, the recurrences of the fill queue
+ * (docs/microarchitecture.md, "Fidelities"; emu/sim_timed.c owns the rest
+ * of the model).  Steps between two hand-overs only add engine cycles, so
+ * the timer sums them; the hand-over takes the sum, its own step's
+ * included.  The queue lives here, with the walk, so that a hand-over costs
+ * no call. */
 typedef struct vp_timer {
     uint8_t step_cycles[ALB_WS_MAX_EDGES + 1];   /* a step's cycles by the edges it evaluates */
+    uint64_t fill_cycles[2 * (ALB_VP_MAX_LEVELS - 1) + 1];   /* a fill's by log2 of its samples */
     uint64_t pending;         /* engine cycles of the steps since the last hand-over */
-    void (*hand_over)(struct vp_timer *tm, const vp_cell *k, uint64_t cycles);
-    /* each step's cycles on its cell (the per-pixel cycle map), or NULL */
+    int64_t now;              /* the engine's next cycle */
+    int64_t fill_free;        /* the first cycle the fill unit can take a cell */
+    int64_t *take_ring;       /* the cycles it took the last fill_queue cells */
+    unsigned take_slot;       /* cells % fill_queue: the oldest of them, the next to write */
+    unsigned fill_queue;
+    uint64_t cells;           /* cells handed over */
+    uint64_t engine, stall, fill;   /* engine cycles, engine stalls, fill cycles, summed */
+    /* each step's and each fill's cycles on its cell (the per-pixel cycle
+     * map), or NULL */
     void (*charge)(struct vp_timer *tm, const vp_cell *k, uint64_t cycles);
     void *ctx;
 } vp_timer;
-void vp_timer_init(vp_timer *tm, unsigned edge_units);
+/* The durations from the profile; take_ring has room for fill_queue cycles. */
+void vp_timer_init(vp_timer *tm, const alb_profile *p, int64_t *take_ring);
+
+/* Cells handed over to the fill unit, each in the last cycle of the
+ * engine's step: cell i of 2^lg[i] samples after gap[i] engine cycles (the
+ * first after the timer's pending ones too), then `after` cycles of steps.
+ * The queue held fewer than fill_queue cells at the start of a hand-over's
+ * cycle (the cell fill_queue back had been taken), or the engine stalls
+ * until it does; the fill unit takes the cell when it is free.  (The
+ * per-pixel map's charges are the caller's.) */
+static inline void vp_timer_hand_overs(vp_timer *tm, const uint32_t *gap, const uint8_t *lg,
+                                       unsigned n, uint64_t after)
+{
+    int64_t now = tm->now, fill_free = tm->fill_free, *const ring = tm->take_ring;
+    const uint64_t *const dur = tm->fill_cycles;
+    const unsigned queue = tm->fill_queue;
+    uint64_t cycles = tm->pending, cells = tm->cells, stall = 0, fill = 0, engine = 0;
+    unsigned slot = tm->take_slot;
+    for (unsigned i = 0; i < n; i++) {
+        cycles += gap[i];
+        const int64_t end = now + (int64_t)cycles - 1, oldest = ring[slot];
+        const int64_t put = cells >= queue && oldest + 1 > end ? oldest + 1 : end;
+        const int64_t take = put + 1 > fill_free ? put + 1 : fill_free;
+        const uint64_t f = dur[lg[i]];
+        engine += cycles;
+        stall += (uint64_t)(put - end);
+        fill += f;
+        fill_free = take + (int64_t)f;
+        ring[slot] = take;
+        slot = slot + 1 == queue ? 0 : slot + 1;
+        cells++;
+        cycles = 0;
+        now = put + 1;
+    }
+    tm->now = now, tm->fill_free = fill_free, tm->take_slot = slot, tm->cells = cells;
+    tm->engine += engine, tm->stall += stall, tm->fill += fill;
+    tm->pending = cycles + after;
+}
+
+/* One cell k handed over after the timer's pending cycles. */
+static inline void vp_timer_hand_over(vp_timer *tm, const vp_cell *k)
+{
+    const uint32_t none = 0;
+    const uint8_t lg = (uint8_t)(k->wl + k->hl);
+    if (tm->charge)
+        tm->charge(tm, k, tm->fill_cycles[lg]);
+    vp_timer_hand_overs(tm, &none, &lg, 1, 0);
+}
 /* vp_draw_face with a timer: the same fills and statistics, and the timer
  * called as vp_walk_next's steps would have it. */
 void vp_draw_face_timed(alb_vp *vp, const vp_loaded_face *f, vp_timer *tm);
