@@ -362,6 +362,8 @@ void vp_timer_init(vp_timer *tm, const alb_profile *p, int64_t *take_ring)
         tm->fill_cycles[s] = ((1ull << s) + p->fill_rate - 1) / p->fill_rate;
     tm->take_ring = take_ring;
     tm->fill_queue = p->fill_queue;
+    for (unsigned i = 0; take_ring && i < p->fill_queue; i++)
+        take_ring[i] = INT64_MIN / 4;
 }
 
 /* The timer's part of a step on cell k evaluating `edges` edges, and of a
@@ -567,13 +569,18 @@ ISA_AVX2_TARGET static inline void edge_block8_narrow(const vp_edge_fn *f, const
  * + sx), and a 4-bit mask of children likewise. */
 static inline uint64_t samples_of_grandchildren(unsigned g)
 {
-    /* bit i of a nibble to bits 2i, 2i + 1 */
-    static const uint8_t twice[16] = {0x00, 0x03, 0x0C, 0x0F, 0x30, 0x33, 0x3C, 0x3F,
-                                      0xC0, 0xC3, 0xCC, 0xCF, 0xF0, 0xF3, 0xFC, 0xFF};
-    uint64_t m = 0;
-    for (unsigned gy = 0; gy < 4; gy++)
-        m |= (uint64_t)(twice[g >> 4 * gy & 0xF] * 0x0101u) << 16 * gy;
-    return m;
+    /* each bit doubled (bit i to bits 2i and 2i + 1): a row of four cells
+     * to its byte of samples */
+    uint64_t x = g & 0xFFFF;
+    x = (x | x << 8) & 0x00FF00FFu;
+    x = (x | x << 4) & 0x0F0F0F0Fu;
+    x = (x | x << 2) & 0x33333333u;
+    x = (x | x << 1) & 0x55555555u;
+    x |= x << 1;
+    /* each byte doubled: a row of cells to its two rows of samples */
+    x = (x | x << 16) & 0x0000FFFF0000FFFFull;
+    x = (x | x << 8) & 0x00FF00FF00FF00FFull;
+    return x | x << 8;
 }
 
 static inline uint64_t samples_of_children(unsigned c)

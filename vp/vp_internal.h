@@ -207,7 +207,8 @@ typedef struct vp_timer {
     uint64_t pending;         /* engine cycles of the steps since the last hand-over */
     int64_t now;              /* the engine's next cycle */
     int64_t fill_free;        /* the first cycle the fill unit can take a cell */
-    int64_t *take_ring;       /* the cycles it took the last fill_queue cells */
+    int64_t *take_ring;       /* the cycles it took the last fill_queue cells (at first,
+                                 long before the first cycle) */
     unsigned take_slot;       /* cells % fill_queue: the oldest of them, the next to write */
     unsigned fill_queue;
     uint64_t cells;           /* cells handed over */
@@ -217,7 +218,8 @@ typedef struct vp_timer {
     void (*charge)(struct vp_timer *tm, const vp_cell *k, uint64_t cycles);
     void *ctx;
 } vp_timer;
-/* The durations from the profile; take_ring has room for fill_queue cycles. */
+/* The durations from the profile; take_ring has room for fill_queue cycles
+ * (set here). */
 void vp_timer_init(vp_timer *tm, const alb_profile *p, int64_t *take_ring);
 
 /* Cells handed over to the fill unit, each in the last cycle of the
@@ -233,12 +235,14 @@ static inline void vp_timer_hand_overs(vp_timer *tm, const uint32_t *gap, const 
     int64_t now = tm->now, fill_free = tm->fill_free, *const ring = tm->take_ring;
     const uint64_t *const dur = tm->fill_cycles;
     const unsigned queue = tm->fill_queue;
-    uint64_t cycles = tm->pending, cells = tm->cells, stall = 0, fill = 0, engine = 0;
+    uint64_t cycles = tm->pending, stall = 0, fill = 0, engine = 0;
     unsigned slot = tm->take_slot;
+    /* (the ring starts far in the past: the first fill_queue cells wait
+     * for none) */
     for (unsigned i = 0; i < n; i++) {
         cycles += gap[i];
-        const int64_t end = now + (int64_t)cycles - 1, oldest = ring[slot];
-        const int64_t put = cells >= queue && oldest + 1 > end ? oldest + 1 : end;
+        const int64_t end = now + (int64_t)cycles - 1, room = ring[slot] + 1;
+        const int64_t put = room > end ? room : end;
         const int64_t take = put + 1 > fill_free ? put + 1 : fill_free;
         const uint64_t f = dur[lg[i]];
         engine += cycles;
@@ -247,11 +251,10 @@ static inline void vp_timer_hand_overs(vp_timer *tm, const uint32_t *gap, const 
         fill_free = take + (int64_t)f;
         ring[slot] = take;
         slot = slot + 1 == queue ? 0 : slot + 1;
-        cells++;
         cycles = 0;
         now = put + 1;
     }
-    tm->now = now, tm->fill_free = fill_free, tm->take_slot = slot, tm->cells = cells;
+    tm->now = now, tm->fill_free = fill_free, tm->take_slot = slot, tm->cells += n;
     tm->engine += engine, tm->stall += stall, tm->fill += fill;
     tm->pending = cycles + after;
 }
