@@ -286,9 +286,15 @@ TEST(gouraud_stretches_equal_the_units)
             fb += fix_bitlen((uint64_t)(base + (int64_t)i * fs.depth.step_c)) !=
                   fix_bitlen((uint64_t)(base + (int64_t)(i + 1) * fs.depth.step_c));
         stretches += 1 + fb;
-        uint16_t got[2][3 * 90], want[3 * 90];
-        for (unsigned k = 0; k < 2; k++)
+        uint16_t got[2][3 * 90 + 8], want[3 * 90];
+        for (unsigned k = 0; k < 2; k++) {
+            for (unsigned i = 0; i < sizeof got[k] / sizeof *got[k]; i++)
+                got[k][i] = 0xBEEF;   /* nothing past the run may change */
             vp_shade_run(vp[k], &fs, 0, 0, n, got[k]);
+            for (unsigned i = 3 * n; i < sizeof got[k] / sizeof *got[k]; i++)
+                if (got[k][i] != 0xBEEF && bad++ < 5)
+                    CHECK_MSG(0, "trial %u: %u samples, a write past the run at %u", trial, n, i);
+        }
         for (unsigned i = 0; i < n; i++) {
             vp_shade_sample(vp[0], &fs, units_form_at(&fs.depth, i, 0), i, 0, want + 3 * i);
             samples++;

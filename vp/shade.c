@@ -156,6 +156,17 @@ static inline vp_recip stretch_recip(const alb_vp *vp, int64_t nz, int rs)
  * proves it for the largest x). */
 #define DIV65025_MUL 2164359683u
 #define DIV65025_SHIFT 47
+
+/* units_output of one channel in four lanes: intensity `in` times kc =
+ * base x 255 x (2^CB - 1), rounded half up to the frame store */
+__attribute__((target("avx2"))) static inline __m256i channel_avx2(__m256i in, __m256i kc,
+                                                                 __m256i den, __m128i vfi,
+                                                                 __m256i mul)
+{
+    const __m256i m2 = _mm256_slli_epi64(_mm256_mul_epu32(in, kc), 1);
+    const __m256i x = _mm256_srl_epi64(_mm256_add_epi64(m2, den), vfi);
+    return _mm256_srli_epi64(_mm256_mul_epu32(x, mul), DIV65025_SHIFT);
+}
 __attribute__((target("avx2"))) static uint32_t
 gouraud_stretch_avx2(const alb_vp *vp, const vp_face_setup *fs, int64_t nz, int64_t ns, uint32_t n,
                      int rs, uint16_t *out)
@@ -179,10 +190,11 @@ gouraud_stretch_avx2(const alb_vp *vp, const vp_face_setup *fs, int64_t nz, int6
     __m256i vz = _mm256_setr_epi64x(nz, nz + dz, nz + 2 * dz, nz + 3 * dz);
     __m256i vs = _mm256_setr_epi64x(ns, ns + ds, ns + 2 * ds, ns + 3 * ds);
     const __m256i stz = _mm256_set1_epi64x(4 * dz), sts = _mm256_set1_epi64x(4 * ds);
+    /* the three channels of two samples into twelve bytes of each half */
+    const __m256i pack = _mm256_setr_epi8(0, 1, 2, 3, 4, 5, 8, 9, 10, 11, 12, 13, -1, -1, -1, -1, 0, 1,
+                                          2, 3, 4, 5, 8, 9, 10, 11, 12, 13, -1, -1, -1, -1);
     uint32_t i = 0;
-    /* groups of four with at least one sample after them: each sample's
-     * eight-byte store spills into the next one's, which overwrites it */
-    for (; i + 4 < n; i += 4) {
+    for (; i + 4 <= n; i += 4) {
         const __m256i dm = rs >= 0 ? _mm256_srl_epi64(vz, vrs) : _mm256_sll_epi64(vz, vrs);
         const __m256i rm = _mm256_cvtepu32_epi64(_mm256_i64gather_epi32(
             (const int *)(const void *)vp->recip_rom, _mm256_sub_epi64(dm, half), 4));
@@ -200,17 +212,25 @@ gouraud_stretch_avx2(const alb_vp *vp, const vp_face_setup *fs, int64_t nz, int6
                                   _mm256_blendv_epi8(_mm256_sll_epi64(p, vk), vone,
                                                      _mm256_cmpgt_epi64(p, thr)));
         }
-        __m256i word = zero;
-        for (int c = 0; c < 3; c++) {
-            const __m256i m2 = _mm256_slli_epi64(_mm256_mul_epu32(in, kc[c]), 1);
-            const __m256i x = _mm256_srl_epi64(_mm256_add_epi64(m2, den), vfi);
-            const __m256i q = _mm256_srli_epi64(_mm256_mul_epu32(x, mul), DIV65025_SHIFT);
-            word = _mm256_or_si256(word, _mm256_slli_epi64(q, 16 * c));
+        /* R | G << 16 | B << 32 in each lane */
+        const __m256i word = _mm256_or_si256(
+            _mm256_or_si256(channel_avx2(in, kc[0], den, vfi, mul),
+                            _mm256_slli_epi64(channel_avx2(in, kc[1], den, vfi, mul), 16)),
+            _mm256_slli_epi64(channel_avx2(in, kc[2], den, vfi, mul), 32));
+        /* each half's sixteen-byte store spills four bytes into the next
+         * sample, which the next store writes: the low half's into the high
+         * half's, the high half's into the next group's, or, for the last
+         * group, twelve bytes exactly */
+        const __m256i rgb = _mm256_shuffle_epi8(word, pack);
+        const __m128i high = _mm256_extracti128_si256(rgb, 1);
+        _mm_storeu_si128((__m128i *)(void *)(out + 3 * i), _mm256_castsi256_si128(rgb));
+        if (i + 4 < n) {
+            _mm_storeu_si128((__m128i *)(void *)(out + 3 * i + 6), high);
+        } else {
+            _mm_storel_epi64((__m128i *)(void *)(out + 3 * i + 6), high);
+            const uint32_t last = (uint32_t)_mm_extract_epi32(high, 2);
+            memcpy(out + 3 * i + 10, &last, 4);
         }
-        uint64_t w[4];
-        _mm256_storeu_si256((__m256i *)(void *)w, word);
-        for (int j = 0; j < 4; j++)
-            memcpy(out + 3 * (i + (uint32_t)j), &w[j], 8);
         vz = _mm256_add_epi64(vz, stz);
         vs = _mm256_add_epi64(vs, sts);
     }
