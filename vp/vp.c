@@ -204,41 +204,18 @@ void vp_walk_begin(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f)
     w->e = f->e;
     w->n = f->n;
     w->narrow = f->narrow;
+    w->lanes_ready = false;
     w->top = 0;
-    w->clipped = false;
     w->stack[w->top++] = (vp_cell){.wl = (uint8_t)vp->lw, .hl = (uint8_t)vp->lh,
                                    .edges = (uint8_t)f->n,
                                    .active = f->n == 64 ? ~0ull : (1ull << f->n) - 1};
 }
 
-void vp_walk_begin_tile(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile)
-{
-    vp_walk_begin(w, vp, f);
-    w->clipped = true;
-    w->tile = *tile;
-}
-
-static bool meets_tile(const vp_walk *w, const vp_cell *k)
-{
-    const vp_cell *t = &w->tile;
-    return k->c0 < t->c0 + (1u << t->wl) && t->c0 < k->c0 + (1u << k->wl) &&
-           k->r0 < t->r0 + (1u << t->hl) && t->r0 < k->r0 + (1u << k->hl);
-}
-
-/* Whether this walk counts cell k: the tile holding its top-left sample. */
-static bool owns(const vp_walk *w, const vp_cell *k)
-{
-    const vp_cell *t = &w->tile;
-    return !w->clipped || (k->c0 - t->c0 < (1u << t->wl) && k->r0 - t->r0 < (1u << t->hl));
-}
-
-/* A child onto the stack, unless the walk is clipped to a tile it misses. */
+/* A child onto the stack. */
 static inline void push(vp_walk *w, uint32_t c0, uint32_t r0, uint8_t wl, uint8_t hl, uint8_t level,
                         const vp_cell *parent)
 {
-    vp_cell c = {c0, r0, wl, hl, level, parent->edges, parent->active};
-    if (!w->clipped || meets_tile(w, &c))
-        w->stack[w->top++] = c;
+    w->stack[w->top++] = (vp_cell){c0, r0, wl, hl, level, parent->edges, parent->active};
 }
 
 bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
@@ -247,8 +224,7 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
         return false;
     vp_cell *k = &step->cell;
     *k = w->stack[--w->top];
-    bool own = owns(w, k);
-    vp->st.cells[k->level] += own;
+    vp->st.cells[k->level]++;
     step->edges = k->edges;
     if (k->wl == 0 && k->hl == 0) {
         /* a single sample: decided at its centre */
@@ -259,22 +235,16 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
     }
     int cls = classify(w->e, k);
     if (cls < 0) {
-        vp->st.cells_outside += own;
+        vp->st.cells_outside++;
         step->kind = VP_STEP_OUT;
         return true;
     }
     if (cls > 0) {
-        vp->st.cells_inside += own;
+        vp->st.cells_inside++;
         step->kind = VP_STEP_FILL;
-        if (w->clipped && (k->wl > w->tile.wl || k->hl > w->tile.hl)) {
-            /* fill only the tile's part, as decided at this cell's level */
-            uint8_t level = k->level;
-            *k = w->tile;
-            k->level = level;
-        }
         return true;
     }
-    vp->st.cells_split += own;
+    vp->st.cells_split++;
     step->kind = VP_STEP_SPLIT;
     /* children, visited top-left, top-right, bottom-left, bottom-right (so
      * pushed in reverse); a side already one sample long is not split */
@@ -335,20 +305,11 @@ static inline unsigned popcount_isa(uint64_t m, const int isa)
 }
 
 /* The children of a cell k that splits, in the walk's order: bit 0 the
- * top-left, 1 top-right, 2 bottom-left, 3 bottom-right.  A side one sample
- * long is not split; a walk clipped to a tile leaves out the children that
- * miss it. */
-static inline unsigned children_present(const vp_walk *w, const vp_cell *k, uint32_t dx, uint32_t dy,
-                                        uint8_t wl, uint8_t hl)
+ * top-left, 1 top-right, 2 bottom-left, 3 bottom-right; a side one sample
+ * long is not split. */
+static inline unsigned children_present(uint32_t dx, uint32_t dy)
 {
-    unsigned present = 1u | (dx ? 2u : 0) | (dy ? 4u : 0) | (dx && dy ? 8u : 0);
-    if (w->clipped)
-        for (unsigned j = 0; j < 4; j++) {
-            vp_cell c = {k->c0 + (j & 1 ? dx : 0), k->r0 + (j & 2 ? dy : 0), wl, hl, 0, 0, 0};
-            if (!meets_tile(w, &c))
-                present &= ~(1u << j);
-        }
-    return present;
+    return 1u | (dx ? 2u : 0) | (dy ? 4u : 0) | (dx && dy ? 8u : 0);
 }
 
 void vp_timer_init(vp_timer *tm, const alb_profile *p, int64_t *take_ring)
@@ -387,10 +348,9 @@ static inline void timer_hand_over(vp_timer *tm, const vp_cell *k, const bool ti
 
 /* Children that are single samples, each the walk's next step in turn:
  * decided at their centres, the active edges at the top-left one and the
- * others a column (2a) or a row (2b) on.  A sample meeting the tile lies in
- * it, so this walk counts it. */
+ * others a column (2a) or a row (2b) on. */
 static inline __attribute__((always_inline)) void
-draw_samples(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
+draw_samples(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
              unsigned present, vp_timer *tm, const bool timed)
 {
     const int64_t cc = 2 * (int64_t)k->c0 + 1, rr = 2 * (int64_t)k->r0 + 1;
@@ -415,17 +375,10 @@ draw_samples(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cel
     }
 }
 
-/* A cell the walk found inside every edge: filled, or, clipped to a smaller
- * tile, the tile's part of it, as decided at the cell's level. */
-static void draw_fill(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k)
+/* A cell the walk found inside every edge. */
+static inline void draw_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
 {
-    if (w->clipped && (k->wl > w->tile.wl || k->hl > w->tile.hl)) {
-        vp_cell t = w->tile;
-        t.level = k->level;
-        vp_fill(vp, fs, &t);
-    } else {
-        vp_fill(vp, fs, k);
-    }
+    vp_fill(vp, fs, k);
 }
 
 /* ---- an 8 x 8 cell that splits, decided in one pass ----
@@ -687,12 +640,9 @@ static void time_split8(vp_timer *tm, const vp_cell *k, const block8_verdicts *v
 }
 
 /* Then the counts, one masked fill of the block's samples, each with the
- * level that decided it, and for a timer the steps in the walk's order.  A
- * walk clipped to a tile calls this only for cells no larger than the tile,
- * which lie in it (a tile is a cell of the same quadtree): every child is
- * present and counted. */
+ * level that decided it, and for a timer the steps in the walk's order. */
 static inline __attribute__((always_inline)) void
-draw_split8(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
+draw_split8(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
             const bool timed, const int isa)
 {
     /* the children's quadrants of the grandchildren */
@@ -703,6 +653,11 @@ draw_split8(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell
     const bool unit = timed && tm->step_cycles[w->n] == 1;
 #if VP_AVX2
     if (isa == ISA_AVX2 && w->narrow) {
+        if (!w->lanes_ready) {   /* the face's first 8 x 8 cell that splits */
+            for (unsigned i = 0; i < w->n; i++)
+                narrow_lanes(&w->e[i], &w->lanes[i]);
+            w->lanes_ready = true;
+        }
         for (uint64_t act = k->active; act; act &= act - 1) {
             const unsigned i = (unsigned)__builtin_ctzll(act);
             edge_block8_narrow(&w->e[i], &w->lanes[i], c0, r0, &v, timed && !unit);
@@ -739,18 +694,18 @@ draw_split8(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell
 /* ---- any other cell that splits ---- */
 
 /* The walk below cell c, which splits, in the instantiation of (timed, isa). */
-static void split_base(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
+static void split_base(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
                        vp_timer *tm);
-static void split_base_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+static void split_base_timed(alb_vp *vp, vp_walk *w, const vp_face_setup *fs,
                              const vp_cell *k, vp_timer *tm);
 #if VP_AVX2
-ISA_AVX2_TARGET static void split_avx2(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+ISA_AVX2_TARGET static void split_avx2(alb_vp *vp, vp_walk *w, const vp_face_setup *fs,
                                        const vp_cell *k, vp_timer *tm);
-ISA_AVX2_TARGET static void split_avx2_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+ISA_AVX2_TARGET static void split_avx2_timed(alb_vp *vp, vp_walk *w, const vp_face_setup *fs,
                                              const vp_cell *k, vp_timer *tm);
 #endif
 static inline __attribute__((always_inline)) void
-split_below(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *c, vp_timer *tm,
+split_below(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *c, vp_timer *tm,
             const bool timed, const int isa)
 {
 #if VP_AVX2
@@ -833,16 +788,16 @@ children_verdicts(const vp_walk *w, const vp_cell *k, int64_t cw, int64_t ch, in
 /* The cells below cell k, which splits: its children classified together,
  * then each in turn a step — counted, rejected, filled, or split further. */
 static inline __attribute__((always_inline)) void
-draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
+draw_split(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
            const bool timed, const int isa)
 {
     const uint8_t wl = k->wl ? k->wl - 1 : 0, hl = k->hl ? k->hl - 1 : 0, l = k->level + 1;
     const uint32_t dx = k->wl ? 1u << wl : 0, dy = k->hl ? 1u << hl : 0;
-    if (k->wl == 3 && k->hl == 3 && (!w->clipped || (w->tile.wl >= 3 && w->tile.hl >= 3))) {
+    if (k->wl == 3 && k->hl == 3) {
         draw_split8(vp, w, fs, k, tm, timed, isa);
         return;
     }
-    const unsigned present = children_present(w, k, dx, dy, wl, hl);
+    const unsigned present = children_present(dx, dy);
     if (!(wl | hl)) {
         draw_samples(vp, w, fs, k, present, tm, timed);
         return;
@@ -855,78 +810,81 @@ draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell 
         if (!(present >> j & 1))
             continue;
         c.c0 = k->c0 + (j & 1 ? dx : 0), c.r0 = k->r0 + (j & 2 ? dy : 0);
-        const bool own = owns(w, &c);
-        vp->st.cells[l] += own;
+        vp->st.cells[l]++;
         timer_step(tm, &c, k->edges, timed);
         if (out >> j & 1) {
-            vp->st.cells_outside += own;
+            vp->st.cells_outside++;
             continue;
         }
         c.active = k->active & ~held[j];
         if (!c.active) {
-            vp->st.cells_inside += own;
-            draw_fill(vp, w, fs, &c);
+            vp->st.cells_inside++;
+            draw_fill(vp, fs, &c);
             timer_hand_over(tm, &c, timed);
             continue;
         }
-        vp->st.cells_split += own;
+        vp->st.cells_split++;
         if (timed)
             c.edges = (uint8_t)popcount_isa(c.active, isa);
         split_below(vp, w, fs, &c, tm, timed, isa);
     }
 }
 
-static void split_base(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
+static void split_base(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
                        vp_timer *tm)
 {
     draw_split(vp, w, fs, k, tm, false, ISA_BASE);
 }
 
-static void split_base_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+static void split_base_timed(alb_vp *vp, vp_walk *w, const vp_face_setup *fs,
                              const vp_cell *k, vp_timer *tm)
 {
     draw_split(vp, w, fs, k, tm, true, ISA_BASE);
 }
 
 #if VP_AVX2
-ISA_AVX2_TARGET static void split_avx2(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+ISA_AVX2_TARGET static void split_avx2(alb_vp *vp, vp_walk *w, const vp_face_setup *fs,
                                        const vp_cell *k, vp_timer *tm)
 {
     draw_split(vp, w, fs, k, tm, false, ISA_AVX2);
 }
 
-ISA_AVX2_TARGET static void split_avx2_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+ISA_AVX2_TARGET static void split_avx2_timed(alb_vp *vp, vp_walk *w, const vp_face_setup *fs,
                                              const vp_cell *k, vp_timer *tm)
 {
     draw_split(vp, w, fs, k, tm, true, ISA_AVX2);
 }
 #endif
 
+/* The walk below cell k, which splits, on the host's instruction set. */
+static inline __attribute__((always_inline)) void
+draw_below(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
+           const bool timed)
+{
+    if (vp->walk_avx2)
+        split_below(vp, w, fs, k, tm, timed, VP_AVX2 ? ISA_AVX2 : ISA_BASE);
+    else
+        split_below(vp, w, fs, k, tm, timed, ISA_BASE);
+}
+
 /* The walk of a face from the top cell (never a single sample: a screen is
  * at least 2 x 2). */
-static inline __attribute__((always_inline)) void draw_walk(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, vp_timer *tm,
-                      const bool timed)
+static inline __attribute__((always_inline)) void
+draw_walk(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, vp_timer *tm, const bool timed)
 {
     vp_cell k = w->stack[0];
-    const bool own = owns(w, &k);
-    vp->st.cells[k.level] += own;
+    vp->st.cells[k.level]++;
     timer_step(tm, &k, k.edges, timed);
     int cls = classify(w->e, &k);
     if (cls < 0) {
-        vp->st.cells_outside += own;
+        vp->st.cells_outside++;
     } else if (cls > 0) {
-        vp->st.cells_inside += own;
-        draw_fill(vp, w, fs, &k);
+        vp->st.cells_inside++;
+        draw_fill(vp, fs, &k);
         timer_hand_over(tm, &k, timed);
     } else {
-        vp->st.cells_split += own;
-        if (w->narrow && vp->walk_avx2)
-            for (unsigned i = 0; i < w->n; i++)
-                narrow_lanes(&w->e[i], &w->lanes[i]);
-        if (vp->walk_avx2)
-            split_below(vp, w, fs, &k, tm, timed, VP_AVX2 ? ISA_AVX2 : ISA_BASE);
-        else
-            split_below(vp, w, fs, &k, tm, timed, ISA_BASE);
+        vp->st.cells_split++;
+        draw_below(vp, w, fs, &k, tm, timed);
     }
 }
 
@@ -937,18 +895,102 @@ void vp_draw_face(alb_vp *vp, const vp_loaded_face *f)
     draw_walk(vp, &w, &f->fs, NULL, false);
 }
 
-void vp_draw_face_tile(alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile)
-{
-    vp_walk w;
-    vp_walk_begin_tile(&w, vp, f, tile);
-    draw_walk(vp, &w, &f->fs, NULL, false);
-}
-
 void vp_draw_face_timed(alb_vp *vp, const vp_loaded_face *f, vp_timer *tm)
 {
     vp_walk w;
     vp_walk_begin(&w, vp, f);
     draw_walk(vp, &w, &f->fs, tm, true);
+}
+
+/* ---- the walk split at a level of tiles (the threads, parallel.c) ---- */
+
+/* The cells below cell k, which splits, down to level tl: the children's
+ * verdicts as in draw_split, each child counted, and each child found
+ * inside or splitting at level tl handed to `job`. */
+static inline __attribute__((always_inline)) void
+tiles_below(alb_vp *vp, const vp_walk *w, const vp_cell *k, unsigned tl, vp_tile_job_fn job, void *ctx,
+            const int isa);
+static void tiles_below_base(alb_vp *vp, const vp_walk *w, const vp_cell *k, unsigned tl,
+                             vp_tile_job_fn job, void *ctx)
+{
+    tiles_below(vp, w, k, tl, job, ctx, ISA_BASE);
+}
+#if VP_AVX2
+ISA_AVX2_TARGET static void tiles_below_avx2(alb_vp *vp, const vp_walk *w, const vp_cell *k,
+                                             unsigned tl, vp_tile_job_fn job, void *ctx)
+{
+    tiles_below(vp, w, k, tl, job, ctx, ISA_AVX2);
+}
+#endif
+
+static inline __attribute__((always_inline)) void
+tiles_below(alb_vp *vp, const vp_walk *w, const vp_cell *k, unsigned tl, vp_tile_job_fn job, void *ctx,
+            const int isa)
+{
+    const uint8_t wl = k->wl ? k->wl - 1 : 0, hl = k->hl ? k->hl - 1 : 0, l = k->level + 1;
+    const uint32_t dx = k->wl ? 1u << wl : 0, dy = k->hl ? 1u << hl : 0;
+    const int64_t cw = (int64_t)2 << wl, ch = (int64_t)2 << hl;
+    uint64_t held[4] = {0, 0, 0, 0};
+    const unsigned present = children_present(dx, dy);
+    const unsigned out = children_verdicts(w, k, cw, ch, dx ? cw : 0, dy ? ch : 0, held, isa);
+    for (unsigned j = 0; j < 4; j++) {
+        if (!(present >> j & 1))
+            continue;
+        vp->st.cells[l]++;
+        if (out >> j & 1) {
+            vp->st.cells_outside++;
+            continue;
+        }
+        vp_cell c = {k->c0 + (j & 1 ? dx : 0), k->r0 + (j & 2 ? dy : 0), wl, hl, l, 0,
+                     k->active & ~held[j]};
+        c.edges = (uint8_t)vp_popcount(c.active);
+        if (!c.active) {
+            vp->st.cells_inside++;
+            job(ctx, &c, true);
+            continue;
+        }
+        vp->st.cells_split++;
+        if (l == tl)
+            job(ctx, &c, false);
+#if VP_AVX2
+        else if (isa == ISA_AVX2)
+            tiles_below_avx2(vp, w, &c, tl, job, ctx);
+#endif
+        else
+            tiles_below_base(vp, w, &c, tl, job, ctx);
+    }
+}
+
+void vp_walk_to_tiles(alb_vp *vp, const vp_loaded_face *f, unsigned tl, vp_tile_job_fn job, void *ctx)
+{
+    vp_walk w;
+    vp_walk_begin(&w, vp, f);
+    vp_cell k = w.stack[0];
+    vp->st.cells[k.level]++;
+    const int cls = classify(f->e, &k);
+    if (cls < 0) {
+        vp->st.cells_outside++;
+    } else if (cls > 0) {
+        vp->st.cells_inside++;
+        job(ctx, &k, true);
+    } else {
+        vp->st.cells_split++;
+        if (k.level == tl)
+            job(ctx, &k, false);
+#if VP_AVX2
+        else if (vp->walk_avx2)
+            tiles_below_avx2(vp, &w, &k, tl, job, ctx);
+#endif
+        else
+            tiles_below_base(vp, &w, &k, tl, job, ctx);
+    }
+}
+
+void vp_draw_below(alb_vp *vp, const vp_loaded_face *f, const vp_cell *k)
+{
+    vp_walk w;
+    vp_walk_begin(&w, vp, f);
+    draw_below(vp, &w, &f->fs, k, NULL, false);
 }
 
 alb_err vp_load_face(alb_vp *vp, const alb_ws_face *f, vp_loaded_face *out, alb_diag *d)

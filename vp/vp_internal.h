@@ -166,33 +166,33 @@ typedef struct {
      * cell's samples in 32-bit lanes (vp.c), with these offsets */
     bool narrow;
     unsigned n;              /* its edges */
+    bool lanes_ready;        /* lanes computed (when the walk first needs them) */
     vp_lanes8 lanes[ALB_WS_MAX_EDGES];
     vp_cell stack[3 * ALB_VP_MAX_LEVELS + 4];
     unsigned top;
-    /* A walk clipped to one tile — a cell of the same quadtree, so any cell
-     * holds it, lies in it, or misses it: only the cells meeting the tile are
-     * visited, a FILL larger than the tile fills the tile (at the cell's
-     * level), and a cell is counted in vp->st only by the tile holding its
-     * top-left sample.  The tiles of a level partition the screen, so their
-     * walks together do and count exactly what the whole walk does. */
-    bool clipped;
-    vp_cell tile;
 } vp_walk;
 
 void vp_walk_begin(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f);
-void vp_walk_begin_tile(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile);
 /* The next cell step in the engine's order; false when the face is done.
  * Counts the cell in vp->st. */
 bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step);
 /* The functional engine (vp.c): a face's whole walk with its fills, the
- * same cells, counts and samples as vp_walk_next and vp_fill step by step;
- * clipped to a tile as vp_walk_begin_tile. */
+ * same cells, counts and samples as vp_walk_next and vp_fill step by step. */
 void vp_draw_face(alb_vp *vp, const vp_loaded_face *f);
+/* The same walk cut at the cells of level tl, the tiles of the threads
+ * (parallel.c): vp_walk_to_tiles makes and counts the cells above them and
+ * gives each tile the face reaches to `job` in the walk's order — a cell
+ * found inside (fill: at its level, over every tile it holds) or a tile
+ * that splits, with the edges still active; vp_draw_below walks and counts
+ * the cells below such a tile.  Together they do and count exactly what
+ * vp_draw_face does. */
+typedef void (*vp_tile_job_fn)(void *ctx, const vp_cell *k, bool fill);
+void vp_walk_to_tiles(alb_vp *vp, const vp_loaded_face *f, unsigned tl, vp_tile_job_fn job, void *ctx);
+void vp_draw_below(alb_vp *vp, const vp_loaded_face *f, const vp_cell *k);
 /* Whether the host runs the engine's AVX2 instantiation (vp.c). */
 bool vp_walk_avx2_host(void);
 /* ... and the output stage's AVX2 shading (shade.c). */
 bool vp_shade_avx2_host(void);
-void vp_draw_face_tile(alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile);
 /* What the timed model needs of a walk besides its fills: each step's
  * cycles, and at each hand-over of a FILL or SAMPLE_IN cell to the fill
  * unit, in the walk's order, the recurrences of the fill queue
