@@ -448,6 +448,7 @@ edge_block8(const vp_edge_fn *f, int64_t c0, int64_t r0, block8_verdicts *v)
     v->outside |= outside;
 }
 
+#if VP_AVX2
 /* An edge's offsets for the 32-bit lanes (vp_lanes8), once per face. */
 static void narrow_lanes(const vp_edge_fn *f, vp_lanes8 *ln)
 {
@@ -465,7 +466,6 @@ static void narrow_lanes(const vp_edge_fn *f, vp_lanes8 *ln)
     ln->step2 = 2 * b;
 }
 
-#if VP_AVX2
 /* The same verdicts in 32-bit lanes, eight at a time, for an edge of a
  * narrow face (vp_loaded_face.narrow: |a| + |b| < 2^27).  The edge crosses
  * the cell, so at every point of it |h| <= hmax - hmin = 16 (|a| + |b|) <
@@ -716,6 +716,8 @@ split_below(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *c, v
             split_avx2(vp, w, fs, c, tm);
         return;
     }
+#else
+    (void)isa;
 #endif
     if (timed)
         split_base_timed(vp, w, fs, c, tm);
