@@ -39,7 +39,7 @@ TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools
 FW_SRC     := firmware/core.c firmware/crc32.c firmware/sim/board.c firmware/sim/transport.c
 EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cmd_render.c emu/cmd_compare.c emu/cmd_scene.c emu/cmd_stream.c emu/cmd_stability.c \
               emu/cli.c
-TEST_SRC   := $(wildcard tests/test_*.c) tests/t.c tests/gp_helpers.c
+TEST_SRC   := $(wildcard tests/test_*.c) tests/t.c tests/gp_helpers.c tests/refpacket.c
 
 # ---- libalbatros (docs/architecture.md): common, GP, VP, the timed and
 # cycle models, the sinks and the bridge host.  Its objects are position

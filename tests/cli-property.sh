@@ -26,7 +26,8 @@ prop() {
     printf 'the old file, which must survive\n' > old
     # under make memcheck (every run in valgrind) fewer points of the same paths
     local limits=(0 1 2 4 8 16 32 64 128) delays=(0 0.002 0.01 0.03 0.1)
-    [[ -n ${ALBATROS_UNWRAPPED:-} ]] && limits=(0 4) delays=(0.5)
+    # (not 0: valgrind itself cannot start without writing its own files)
+    [[ -n ${ALBATROS_UNWRAPPED:-} ]] && limits=(4 16) delays=(0.5)
     for limit in "${limits[@]}"; do
         cp old out
         # stderr through a pipe: the limit is the files' (a message in a file over it would be lost)

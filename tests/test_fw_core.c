@@ -4,47 +4,12 @@
  * built by the test's own encoder with a bit-by-bit CRC-32, and expected
  * counters are counted from what the test injected. */
 #include "t.h"
+#include "refpacket.h"
 #include "../firmware/core.h"
 
 #include <string.h>
 
-/* ---- an independent CRC-32 and packet encoder ---- */
-
-static uint32_t ref_crc32(const uint8_t *p, size_t n)
-{
-    uint32_t crc = 0xFFFFFFFFu;
-    while (n--) {
-        crc ^= *p++;
-        for (int k = 0; k < 8; k++)
-            crc = (crc & 1) ? (crc >> 1) ^ 0xEDB88320u : crc >> 1;
-    }
-    return ~crc;
-}
-
-static void le32(uint8_t *p, uint32_t v)
-{
-    for (int i = 0; i < 4; i++)
-        p[i] = (uint8_t)(v >> (8 * i));
-}
-
-static uint32_t rd32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-
-/* Appends a packet to out; returns its length. */
-static size_t enc(uint8_t *out, uint8_t type, uint32_t seq, const void *pay, uint32_t len)
-{
-    memcpy(out, "ALB1", 4);
-    out[4] = type;
-    out[5] = out[6] = out[7] = 0;
-    le32(out + 8, seq);
-    le32(out + 12, len);
-    if (len)
-        memcpy(out + 16, pay, len);
-    le32(out + 16 + len, ref_crc32(out, 16 + (size_t)len));
-    return 20 + (size_t)len;
-}
+/* the independent CRC-32 and packet encoder: refpacket.c */
 
 static size_t enc_u32(uint8_t *out, uint8_t type, uint32_t seq, uint32_t v)
 {

@@ -64,7 +64,8 @@ firmware-size: $(FX2_IHX)
 FX2_S51     := $(BUILD)/firmware/fx2/test/fx2_s51
 FX2_S51_SRC := $(addprefix firmware/fx2/test/,s51.c i8051.c listing.c fx2sim.c speed.c)
 FX2_S51_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(FX2_S51_SRC)) \
-               $(BUILD)/firmware/fx2/test/fx2_s51.o $(BUILD)/firmware/fx2/test/descriptors_host.o
+               $(BUILD)/firmware/fx2/test/fx2_s51.o $(BUILD)/firmware/fx2/test/descriptors_host.o \
+               $(BUILD)/tests/refpacket.o
 FX2_FASTPOLL := $(BUILD)/firmware/fx2/test/s51_fastpoll.so
 FX2_SPEED_STREAM := $(FX2_OUT)/s51/builtin.stream
 FX2_FPS     ?= 50

@@ -12,6 +12,7 @@
  *
  * The listings (*.rst) and .map are read from the image's directory. */
 #include "fx2sim.h"
+#include "../../../tests/refpacket.h"
 #include "i8051.h"
 #include "listing.h"
 #include "speed.h"
@@ -35,42 +36,7 @@
 #define BOARD_NAME    "FX2LP+FPGA VP"
 #define HID_PERIOD    100u   /* USB frames between COUNTERS input reports (main.c) */
 
-/* ---- an encoder of the test's own: bit-by-bit CRC-32 ---- */
-
-static uint32_t ref_crc32(const uint8_t *p, size_t n)
-{
-    uint32_t crc = 0xFFFFFFFFu;
-    while (n--) {
-        crc ^= *p++;
-        for (int k = 0; k < 8; k++)
-            crc = (crc & 1) ? (crc >> 1) ^ 0xEDB88320u : crc >> 1;
-    }
-    return ~crc;
-}
-
-static void le32(uint8_t *p, uint32_t v)
-{
-    for (int i = 0; i < 4; i++)
-        p[i] = (uint8_t)(v >> (8 * i));
-}
-
-static uint32_t rd32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-
-static size_t enc(uint8_t *out, uint8_t type, uint32_t seq, const void *pay, uint32_t len)
-{
-    memcpy(out, "ALB1", 4);
-    out[4] = type;
-    out[5] = out[6] = out[7] = 0;
-    le32(out + 8, seq);
-    le32(out + 12, len);
-    if (len)
-        memcpy(out + 16, pay, len);
-    le32(out + 16 + len, ref_crc32(out, 16 + (size_t)len));
-    return 20 + (size_t)len;
-}
+/* the test's own encoder and bit-by-bit CRC-32: tests/refpacket.c */
 
 /* ---- the host core: the reference ---- */
 
