@@ -239,19 +239,25 @@ TEST(gouraud_stretches_equal_the_units)
         p.recip_bits = 8 + (unsigned)(t_rand(&seed) % 9);
         p.shade_frac_bits = 8 + (unsigned)(t_rand(&seed) % 9);
         p.colour_bits = 4 + (unsigned)(t_rand(&seed) % 13);
-        alb_vp *vp[2] = {NULL, NULL};
+        /* every form the host runs: plain C, AVX2, AVX-512 */
+        const unsigned forms = 1 + vp_shade_isa_host();
+        alb_vp *vp[3] = {NULL, NULL, NULL};
         alb_diag d;
         alb_diag_init(&d, NULL);
-        for (unsigned k = 0; k < 2; k++) {
-            p.simd = k;
-            if (alb_vp_create(&vp[k], &p, &d))
-                CHECK_MSG(0, "alb_vp_create: %s", d.msg);
+        bool made = true;
+        for (unsigned k = 0; k < forms; k++) {
+            made &= alb_vp_create(&vp[k], &p, &d) == ALB_OK;
+            if (vp[k])
+                vp[k]->shade_isa = k;
         }
-        if (!vp[0] || !vp[1]) {
-            alb_vp_destroy(vp[0]);
-            alb_vp_destroy(vp[1]);
+        if (!made) {
+            CHECK_MSG(0, "alb_vp_create: %s", d.msg);
+            for (unsigned k = 0; k < forms; k++)
+                alb_vp_destroy(vp[k]);
             return;
         }
+        if (trial == 0)
+            printf("# Gouraud stretch forms: %u\n", forms);
         vp_face_setup fs;
         memset(&fs, 0, sizeof fs);
         fs.flags = ALB_WS_FACE_SHADE;
@@ -286,8 +292,8 @@ TEST(gouraud_stretches_equal_the_units)
             fb += fix_bitlen((uint64_t)(base + (int64_t)i * fs.depth.step_c)) !=
                   fix_bitlen((uint64_t)(base + (int64_t)(i + 1) * fs.depth.step_c));
         stretches += 1 + fb;
-        uint16_t got[2][3 * 90 + 8], want[3 * 90];
-        for (unsigned k = 0; k < 2; k++) {
+        uint16_t got[3][3 * 90 + 8], want[3 * 90];
+        for (unsigned k = 0; k < forms; k++) {
             for (unsigned i = 0; i < sizeof got[k] / sizeof *got[k]; i++)
                 got[k][i] = 0xBEEF;   /* nothing past the run may change */
             vp_shade_run(vp[k], &fs, 0, 0, n, got[k]);
@@ -302,16 +308,16 @@ TEST(gouraud_stretches_equal_the_units)
             zeros += want[3 * i] == 0 && fs.rgb[0] > 16;
             between += want[3 * i] > 0 && want[3 * i] < vp_scale_colour8(vp[0], fs.rgb[0]);
         }
-        for (unsigned k = 0; k < 2; k++)
+        for (unsigned k = 0; k < forms; k++)
             if (memcmp(got[k], want, 3 * n * sizeof *want) && bad++ < 5)
                 CHECK_MSG(0, "trial %u (%s): %u samples from N_z %lld step %lld, N_s %lld step %lld, "
                           "exps %d %d, recip %u, frac %u, colour %u: a sample differs", trial,
-                          k ? "the host's forms" : "plain C", n, (long long)base,
+                          k == 2 ? "AVX-512" : k ? "AVX2" : "plain C", n, (long long)base,
                           (long long)fs.depth.step_c, (long long)fs.shade.origin,
                           (long long)fs.shade.step_c, fs.depth.exp, fs.shade.exp, p.recip_bits,
                           p.shade_frac_bits, p.colour_bits);
-        alb_vp_destroy(vp[0]);
-        alb_vp_destroy(vp[1]);
+        for (unsigned k = 0; k < forms; k++)
+            alb_vp_destroy(vp[k]);
     }
     CHECK_EQ(bad, 0);
     /* not vacuous: runs across powers of two, intensities saturated and 0 */

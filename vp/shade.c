@@ -152,8 +152,8 @@ static inline vp_recip stretch_recip(const alb_vp *vp, int64_t nz, int rs)
  * multiplies (exact: it fits 63 bits, the profile's constraint), the ratio's
  * floor and clamp (units_ratio, fix_clamp), and the output stage's rounding
  * (units_output): floor(x / 65025) = x * 2164359683 >> 47 for every x <
- * 2^32 (the error 31747 x / 2^47 stays below 1/65025; shade.c's test
- * proves it for the largest x). */
+ * 2^32 (the error 31747 x / 2^47 stays below 1/65025;
+ * tests/test_vp_features.c proves it for the largest x). */
 #define DIV65025_MUL 2164359683u
 #define DIV65025_SHIFT 47
 
@@ -236,6 +236,76 @@ gouraud_stretch_avx2(const alb_vp *vp, const vp_face_setup *fs, int64_t nz, int6
     }
     return i;
 }
+
+/* The same eight samples a step in AVX-512 (F and BW): the clamp by an
+ * unsigned minimum and masks, the three channels of eight samples put
+ * together by one permutation and written by one masked store, and the
+ * stretch's last samples by masks too (the gather reads only their ROM
+ * entries). */
+__attribute__((target("avx512f,avx512bw"))) static inline __m512i
+channel_avx512(__m512i in, __m512i kc, __m512i den, __m128i vfi, __m512i mul)
+{
+    const __m512i m2 = _mm512_slli_epi64(_mm512_mul_epu32(in, kc), 1);
+    const __m512i x = _mm512_srl_epi64(_mm512_add_epi64(m2, den), vfi);
+    return _mm512_srli_epi64(_mm512_mul_epu32(x, mul), DIV65025_SHIFT);
+}
+
+__attribute__((target("avx512f,avx512bw"))) static uint32_t
+gouraud_stretch_avx512(const alb_vp *vp, const vp_face_setup *fs, int64_t nz, int64_t ns, uint32_t n,
+                       int rs, uint16_t *out)
+{
+    const unsigned rb = vp->prof.recip_bits, fi = vp->prof.shade_frac_bits;
+    const int64_t one = (int64_t)1 << fi, dz = fs->depth.step_c, ds = fs->shade.step_c;
+    const uint64_t top = (1u << vp->prof.colour_bits) - 1;
+    const int k = fs->shade.exp - fs->depth.exp - (2 * (int)rb - 1) - rs + (int)fi;
+    const __m512i zero = _mm512_setzero_si512(), vone = _mm512_set1_epi64(one);
+    const __m512i half = _mm512_set1_epi64((int64_t)1 << (rb - 1));
+    const __m512i thr = _mm512_set1_epi64(k >= 63 ? 0 : k >= 0 ? one >> k : 0);
+    const __m128i vrs = _mm_cvtsi32_si128(rs >= 0 ? rs : -rs);
+    const __m128i vk = _mm_cvtsi32_si128(k >= 0 ? (k > 63 ? 64 : k) : (-k > 63 ? 64 : -k));
+    const __m512i den = _mm512_set1_epi64((int64_t)((uint64_t)65025 << fi));
+    const __m128i vfi = _mm_cvtsi32_si128((int)fi + 1);
+    const __m512i mul = _mm512_set1_epi64(DIV65025_MUL);
+    __m512i kc[3];
+    for (int c = 0; c < 3; c++)
+        kc[c] = _mm512_set1_epi64((int64_t)((uint64_t)fs->rgb[c] * 255 * top));
+    __m512i vz = _mm512_set_epi64(nz + 7 * dz, nz + 6 * dz, nz + 5 * dz, nz + 4 * dz, nz + 3 * dz,
+                                  nz + 2 * dz, nz + dz, nz);
+    __m512i vs = _mm512_set_epi64(ns + 7 * ds, ns + 6 * ds, ns + 5 * ds, ns + 4 * ds, ns + 3 * ds,
+                                  ns + 2 * ds, ns + ds, ns);
+    const __m512i stz = _mm512_set1_epi64(8 * dz), sts = _mm512_set1_epi64(8 * ds);
+    /* the 16-bit words R, G, B of lane j are words 4j .. 4j + 2 */
+    const __m512i pack = _mm512_set_epi16(0, 0, 0, 0, 0, 0, 0, 0, 30, 29, 28, 26, 25, 24, 22, 21, 20,
+                                          18, 17, 16, 14, 13, 12, 10, 9, 8, 6, 5, 4, 2, 1, 0);
+    for (uint32_t i = 0; i < n; i += 8) {
+        const uint32_t left = n - i < 8 ? n - i : 8;
+        const __mmask8 lanes = (__mmask8)((1u << left) - 1);
+        const __m512i dm = rs >= 0 ? _mm512_srl_epi64(vz, vrs) : _mm512_sll_epi64(vz, vrs);
+        const __m512i rm = _mm512_cvtepu32_epi64(_mm512_mask_i64gather_epi32(
+            _mm256_setzero_si256(), lanes, _mm512_sub_epi64(dm, half),
+            (const void *)vp->recip_rom, 4));
+        const __m512i p = _mm512_add_epi64(
+            _mm512_mul_epu32(vs, rm), _mm512_slli_epi64(_mm512_mul_epi32(_mm512_srli_epi64(vs, 32), rm), 32));
+        __m512i in;
+        if (k < 0) {
+            in = _mm512_maskz_mov_epi64(_mm512_cmpge_epi64_mask(p, zero),
+                                        _mm512_min_epu64(_mm512_srl_epi64(p, vk), vone));
+        } else {
+            in = _mm512_maskz_mov_epi64(_mm512_cmpgt_epi64_mask(p, zero),
+                                        _mm512_mask_mov_epi64(_mm512_sll_epi64(p, vk),
+                                                              _mm512_cmpgt_epi64_mask(p, thr), vone));
+        }
+        const __m512i word = _mm512_or_si512(
+            _mm512_or_si512(channel_avx512(in, kc[0], den, vfi, mul),
+                            _mm512_slli_epi64(channel_avx512(in, kc[1], den, vfi, mul), 16)),
+            _mm512_slli_epi64(channel_avx512(in, kc[2], den, vfi, mul), 32));
+        _mm512_mask_storeu_epi16(out + 3 * i, (__mmask32)((1u << (3 * left)) - 1),
+                                 _mm512_permutexvar_epi16(pack, word));
+        vz = _mm512_add_epi64(vz, stz);
+        vs = _mm512_add_epi64(vs, sts);
+    }
+    return n;
+}
 #endif
 
 /* A stretch of a face that uses intensity and nothing else, in plain C from
@@ -257,7 +327,8 @@ static inline void gouraud_stretch(const alb_vp *vp, const vp_face_setup *fs, in
 }
 
 /* Samples [c0, c1) of row r of a Gouraud face through the ROM: stretch by
- * stretch, `isa` a constant (0: plain C, 1: AVX2 as far as it goes). */
+ * stretch, `isa` a constant (0: plain C, 1: AVX2 as far as it goes, 2:
+ * AVX-512). */
 static inline __attribute__((always_inline)) void
 gouraud_run(const alb_vp *vp, const vp_face_setup *fs, uint32_t r, uint32_t c0, uint32_t c1,
             uint16_t *out, const int isa)
@@ -269,7 +340,9 @@ gouraud_run(const alb_vp *vp, const vp_face_setup *fs, uint32_t r, uint32_t c0, 
         const int rs = (int)nb - (int)vp->prof.recip_bits;
         uint32_t done = 0;
 #if VP_AVX2
-        if (isa)
+        if (isa == 2)
+            done = gouraud_stretch_avx512(vp, fs, nz, ns, e - c, rs, out);
+        else if (isa == 1)
             done = gouraud_stretch_avx2(vp, fs, nz, ns, e - c, rs, out);
 #else
         (void)isa;
@@ -360,26 +433,35 @@ SHADE_UNITS(0) SHADE_UNITS(1) SHADE_UNITS(2) SHADE_UNITS(3)
 SHADE_UNITS(4) SHADE_UNITS(5) SHADE_UNITS(6) SHADE_UNITS(7)
 #undef SHADE_UNITS
 
-/* Gouraud faces with the AVX2 stretches (the other units have none). */
+/* Gouraud faces with the SIMD stretches (the other units have none). */
 static void shade_1_avx2(const alb_vp *vp, const vp_face_setup *fs, uint32_t r, uint32_t c0,
                          uint32_t c1, uint16_t *out)
 {
     shade_run(vp, fs, r, c0, c1, out, U_SHADE, 1);
 }
 
-static const shade_fn shade_for_units[2][8] = {
+static void shade_1_avx512(const alb_vp *vp, const vp_face_setup *fs, uint32_t r, uint32_t c0,
+                           uint32_t c1, uint16_t *out)
+{
+    shade_run(vp, fs, r, c0, c1, out, U_SHADE, 2);
+}
+
+static const shade_fn shade_for_units[3][8] = {
     {shade_0, shade_1, shade_2, shade_3, shade_4, shade_5, shade_6, shade_7},
     {shade_0, shade_1_avx2, shade_2, shade_3, shade_4, shade_5, shade_6, shade_7},
+    {shade_0, shade_1_avx512, shade_2, shade_3, shade_4, shade_5, shade_6, shade_7},
 };
 
-bool vp_shade_avx2_host(void)
+unsigned vp_shade_isa_host(void)
 {
 #if VP_AVX2
     __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2");
-#else
-    return false;
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw"))
+        return 2;
+    if (__builtin_cpu_supports("avx2"))
+        return 1;
 #endif
+    return 0;
 }
 
 void vp_shade_run(const alb_vp *vp, const vp_face_setup *fs, uint32_t r, uint32_t c0, uint32_t c1,
@@ -391,7 +473,7 @@ void vp_shade_run(const alb_vp *vp, const vp_face_setup *fs, uint32_t r, uint32_
     }
     /* fog is a frame's choice as well as the face's */
     unsigned units = fs->units & (vp->frame.fog ? 7u : (unsigned)~U_FOG & 7u);
-    shade_for_units[vp->shade_avx2][units](vp, fs, r, c0, c1, rgb);
+    shade_for_units[vp->shade_isa][units](vp, fs, r, c0, c1, rgb);
 }
 
 void vp_sample_colour(const alb_vp *vp, const vp_face_setup *fs, uint32_t c, uint32_t r,

@@ -30,7 +30,7 @@ alb_err alb_vp_create(alb_vp **out, const alb_profile *prof, alb_diag *d)
     unsigned nforms = vp_depth_forms(forms, names);
     vp->depth_forms = forms[prof->simd ? 0 : nforms - 1];
     vp->walk_avx2 = prof->simd && vp_walk_avx2_host();
-    vp->shade_avx2 = prof->simd && vp_shade_avx2_host();
+    vp->shade_isa = prof->simd ? vp_shade_isa_host() : 0;
     if (vp_store_init(vp) || vp_scratch_for(vp, 1) || vp_recip_rom_init(vp)) {
         alb_vp_destroy(vp);
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for a %ux%u sample store",

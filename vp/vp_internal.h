@@ -101,7 +101,8 @@ struct alb_vp {
     unsigned nold_tex, cap_old_tex;
     bool plain_fill;         /* tests: the fill's plain loops only, no fast path */
     bool walk_avx2;          /* the functional engine's AVX2 instantiation (vp.c) */
-    bool shade_avx2;         /* the output stage's AVX2 stretches (shade.c) */
+    unsigned shade_isa;      /* the output stage's stretches: 0 plain C, 1 AVX2, 2 AVX-512
+                                (shade.c) */
     vp_depth_forms_t depth_forms;   /* the fast loop's forms, the host's fastest */
     alb_ws_frame frame;
     uint16_t bg[3];          /* background in frame-store units */
@@ -191,8 +192,9 @@ void vp_walk_to_tiles(alb_vp *vp, const vp_loaded_face *f, unsigned tl, vp_tile_
 void vp_draw_below(alb_vp *vp, const vp_loaded_face *f, const vp_cell *k);
 /* Whether the host runs the engine's AVX2 instantiation (vp.c). */
 bool vp_walk_avx2_host(void);
-/* ... and the output stage's AVX2 shading (shade.c). */
-bool vp_shade_avx2_host(void);
+/* ... and the output stage's shading forms (shade.c): 0 plain C, 1 AVX2,
+ * 2 AVX-512, the best the host runs. */
+unsigned vp_shade_isa_host(void);
 /* What the timed model needs of a walk besides its fills: each step's
  * cycles, and at each hand-over of a FILL or SAMPLE_IN cell to the fill
  * unit, in the walk's order, the recurrences of the fill queue
