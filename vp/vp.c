@@ -450,15 +450,17 @@ edge_block8(const vp_edge_fn *f, int64_t c0, int64_t r0, block8_verdicts *v)
 
 #if VP_AVX2
 /* An edge's offsets for the 32-bit lanes (vp_lanes8), once per face. */
-static void narrow_lanes(const vp_edge_fn *f, vp_lanes8 *ln)
+ISA_AVX2_TARGET static void narrow_lanes(const vp_edge_fn *f, vp_lanes8 *ln)
 {
     const int32_t a = (int32_t)f->a, b = (int32_t)f->b, a4 = 4 * a, b4 = 4 * b, a8 = 8 * a, b8 = 8 * b;
-    for (int x = 0; x < 8; x++) {
-        ln->row0[x] = a * (2 * x + 1) + b;
-        ln->g01[x] = a4 * (x & 3) + b4 * (x >> 2);
-    }
-    for (int j = 0; j < 4; j++)
-        ln->t4[j] = a8 * (j & 1) + b8 * (j >> 1);
+    const __m256i va = _mm256_set1_epi32(a), vb = _mm256_set1_epi32(b);
+    /* a (2x + 1) + b; 4a gx + 4b gy */
+    _mm256_storeu_si256((__m256i *)(void *)ln->row0,
+                        _mm256_add_epi32(_mm256_mullo_epi32(va, _mm256_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15)), vb));
+    _mm256_storeu_si256((__m256i *)(void *)ln->g01,
+                        _mm256_add_epi32(_mm256_mullo_epi32(va, _mm256_setr_epi32(0, 4, 8, 12, 0, 4, 8, 12)),
+                                         _mm256_mullo_epi32(vb, _mm256_setr_epi32(0, 0, 0, 0, 4, 4, 4, 4))));
+    ln->t4[0] = 0, ln->t4[1] = a8, ln->t4[2] = b8, ln->t4[3] = a8 + b8;
     ln->up4 = (a8 > 0 ? a8 : 0) + (b8 > 0 ? b8 : 0);
     ln->down4 = (a8 < 0 ? a8 : 0) + (b8 < 0 ? b8 : 0);
     ln->up2 = (a4 > 0 ? a4 : 0) + (b4 > 0 ? b4 : 0);
