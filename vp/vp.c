@@ -615,6 +615,19 @@ time_split8_body(vp_timer *tm, const vp_cell *k, const block8_verdicts *v, unsig
             const unsigned edges = v->loose2[gy] >> 8 * gx & 0xFF;
             const uint64_t rows = fine >> (16 * gy + 2 * gx);
             const unsigned in = (unsigned)(rows & 3) | (unsigned)(rows >> 6 & 0xC);
+            if (unit && !charged) {
+                /* one cycle a sample step: only where the hand-overs fall
+                 * among the four matters */
+                unsigned done = 0;
+                for (unsigned m = in; m; m &= m - 1) {
+                    const unsigned q = (unsigned)__builtin_ctz(m);
+                    h.since += q + 1 - done;
+                    time_hand_over(tm, &h, k, 0, 0, 0, 0, false);
+                    done = q + 1;
+                }
+                h.since += 4 - done;
+                continue;
+            }
             for (unsigned q = 0; q < 4; q++) {
                 const uint32_t sx = 2 * gx + (q & 1), sy = 2 * gy + (q >> 1);
                 time_step(tm, &h, k, sx, sy, 0, (uint8_t)(l + 2), edges, unit, charged);
