@@ -16,6 +16,8 @@ typedef struct {
     alb_frame frame;
     /* words: the pop times of the last fifo_depth + 1 words, by index */
     int64_t *pop_ring;
+    unsigned word_slot;       /* words % (fifo_depth + 1): the next word's in pop_ring */
+    unsigned popped_slot;     /* popped % (fifo_depth + 1) */
     uint64_t words;           /* words pushed so far */
     uint64_t popped;          /* words counted as popped for the FIFO peak */
     int64_t last_push, last_pop;
@@ -70,36 +72,42 @@ static void word_times(timed *t, int64_t compute, int64_t ready)
 {
     const unsigned depth = t->p->fifo_depth;
     uint64_t i = t->words;
+    /* the ring's slots without divisions: word i - depth is in the slot
+     * after word i's (the ring holds depth + 1) */
+    const unsigned slot = t->word_slot, next = slot == depth ? 0 : slot + 1;
     int64_t want = t->last_push + 1;   /* GP free after its previous push */
-    if (compute >= 0) {
-        bins_add(&t->bins, CNT(gp_busy), want, want + compute);
-        want += compute;
-    }
     /* the FIFO held fewer than depth words at the start of the push cycle:
      * the word depth places back has been popped before it */
-    int64_t push = want;
+    int64_t push = want + (compute >= 0 ? compute : 0);
     if (i >= depth)
-        push = max64(push, t->pop_ring[(i - depth) % (depth + 1)] + 1);
-    bins_add(&t->bins, CNT(gp_stall), want, push);
-    bins_add(&t->bins, CNT(gp_busy), push, push + 1);
+        push = max64(push, t->pop_ring[next] + 1);
     /* the parser wants it from the cycle after its previous pop */
     int64_t asked = t->last_pop + 1;
     int64_t pop = max64(max64(asked, push + 1), ready);
     /* it starves until the word is in the FIFO, then waits for room */
     int64_t arrived = push + 1 < pop ? push + 1 : pop;
-    if (arrived > asked)
-        bins_add(&t->bins, CNT(parser_starve), asked, arrived);
-    bins_add(&t->bins, CNT(parser_blocked), arrived > asked ? arrived : asked, pop);
+    const int64_t waited = arrived > asked ? arrived : asked;
+    if (compute >= 0) {
+        bins_add(&t->bins, CNT(gp_busy), want, want + compute);
+        want += compute;
+    }
+    bins_add(&t->bins, CNT(gp_stall), want, push);
+    bins_add(&t->bins, CNT(gp_busy), push, push + 1);
+    bins_add(&t->bins, CNT(parser_starve), asked, waited);
+    bins_add(&t->bins, CNT(parser_blocked), waited, pop);
     bins_add(&t->bins, CNT(parser_busy), pop, pop + 1);
     /* occupancy: the word is in the FIFO at the start of push+1 .. pop */
     bins_add(&t->bins, CNT(fifo_sum), push + 1, pop + 1);
-    while (t->popped < i && t->pop_ring[t->popped % (depth + 1)] <= push)
+    while (t->popped < i && t->pop_ring[t->popped_slot] <= push) {
         t->popped++;
+        t->popped_slot = t->popped_slot == depth ? 0 : t->popped_slot + 1;
+    }
     alb_sim_counters *at = bins_at(&t->bins, push);
     uint64_t level = i + 1 - t->popped;
     if (level > at->fifo_peak)
         at->fifo_peak = level;
-    t->pop_ring[i % (depth + 1)] = pop;
+    t->pop_ring[slot] = pop;
+    t->word_slot = next;
     t->last_push = push;
     t->last_pop = pop;
     t->words++;

@@ -555,9 +555,10 @@ static inline uint64_t samples_of_children(unsigned c)
  * not depend on when.  Both are constants at each call. */
 typedef struct {
     uint32_t gap[4 + 16 + 64];   /* engine cycles before each hand-over */
-    uint8_t lg[4 + 16 + 64];     /* log2 of its cell's samples */
+    uint32_t fill[4 + 16 + 64];  /* its fill's cycles */
     unsigned n;
     uint32_t since;              /* cycles since the last */
+    uint64_t engine, filled;     /* the sums */
 } hand_over_list;
 
 static inline __attribute__((always_inline)) void
@@ -566,6 +567,7 @@ time_step(vp_timer *tm, hand_over_list *h, const vp_cell *k, uint32_t x, uint32_
 {
     const unsigned c = unit ? 1 : tm->step_cycles[edges];
     h->since += c;
+    h->engine += c;
     if (charged) {
         const vp_cell cell = {k->c0 + x, k->r0 + y, (uint8_t)(lg / 2), (uint8_t)(lg / 2), level, 0, 0};
         tm->charge(tm, &cell, c);
@@ -576,12 +578,14 @@ static inline __attribute__((always_inline)) void
 time_hand_over(vp_timer *tm, hand_over_list *h, const vp_cell *k, uint32_t x, uint32_t y, uint8_t lg,
                uint8_t level, const bool charged)
 {
+    const uint32_t f = (uint32_t)tm->fill_cycles[lg];
     if (charged) {
         const vp_cell cell = {k->c0 + x, k->r0 + y, (uint8_t)(lg / 2), (uint8_t)(lg / 2), level, 0, 0};
-        tm->charge(tm, &cell, tm->fill_cycles[lg]);
+        tm->charge(tm, &cell, f);
     }
     h->gap[h->n] = h->since;
-    h->lg[h->n++] = lg;
+    h->fill[h->n++] = f;
+    h->filled += f;
     h->since = 0;
 }
 
@@ -591,7 +595,7 @@ time_split8_body(vp_timer *tm, const vp_cell *k, const block8_verdicts *v, unsig
 {
     const uint8_t l = k->level + 1;
     hand_over_list h;
-    h.n = 0, h.since = 0;
+    h.n = 0, h.since = 0, h.engine = 0, h.filled = 0;
     for (unsigned j = 0; j < 4; j++) {
         const uint32_t cx = 4 * (j & 1), cy = 4 * (j >> 1);
         time_step(tm, &h, k, cx, cy, 4, l, k->edges, unit, charged);
@@ -626,6 +630,7 @@ time_split8_body(vp_timer *tm, const vp_cell *k, const block8_verdicts *v, unsig
                     done = q + 1;
                 }
                 h.since += 4 - done;
+                h.engine += 4;
                 continue;
             }
             for (unsigned q = 0; q < 4; q++) {
@@ -636,7 +641,7 @@ time_split8_body(vp_timer *tm, const vp_cell *k, const block8_verdicts *v, unsig
             }
         }
     }
-    vp_timer_hand_overs(tm, h.gap, h.lg, h.n, h.since);
+    vp_timer_hand_overs(tm, h.gap, h.fill, h.n, h.since, h.engine, h.filled);
 }
 
 static void time_split8(vp_timer *tm, const vp_cell *k, const block8_verdicts *v, unsigned in4,

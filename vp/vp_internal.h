@@ -225,50 +225,51 @@ typedef struct vp_timer {
 void vp_timer_init(vp_timer *tm, const alb_profile *p, int64_t *take_ring);
 
 /* Cells handed over to the fill unit, each in the last cycle of the
- * engine's step: cell i of 2^lg[i] samples after gap[i] engine cycles (the
- * first after the timer's pending ones too), then `after` cycles of steps.
- * The queue held fewer than fill_queue cells at the start of a hand-over's
- * cycle (the cell fill_queue back had been taken), or the engine stalls
- * until it does; the fill unit takes the cell when it is free.  (The
- * per-pixel map's charges are the caller's.) */
-static inline void vp_timer_hand_overs(vp_timer *tm, const uint32_t *gap, const uint8_t *lg,
-                                       unsigned n, uint64_t after)
+ * engine's step: cell i taking fill[i] cycles after gap[i] engine cycles
+ * (the first after the timer's pending ones too), then `after` cycles of
+ * steps; `engine` and `filled` are the sums of the gaps with `after` and of
+ * the fills.  Engine cycles count when a hand-over ends them; those after
+ * the last stay pending.  The queue held fewer than fill_queue cells at the start of a
+ * hand-over's cycle (the cell fill_queue back had been taken), or the
+ * engine stalls until it does; the fill unit takes the cell when it is
+ * free.  (The per-pixel map's charges are the caller's.) */
+static inline void vp_timer_hand_overs(vp_timer *tm, const uint32_t *gap, const uint32_t *fill,
+                                       unsigned n, uint64_t after, uint64_t engine, uint64_t filled)
 {
-    int64_t now = tm->now, fill_free = tm->fill_free, *const ring = tm->take_ring;
-    const uint64_t *const dur = tm->fill_cycles;
+    /* e: the engine's last cycle so far; the ring starts far in the past,
+     * so the first fill_queue cells wait for none */
+    int64_t e = tm->now - 1 + (int64_t)tm->pending, fill_free = tm->fill_free, *const ring = tm->take_ring;
     const unsigned queue = tm->fill_queue;
-    uint64_t cycles = tm->pending, stall = 0, fill = 0, engine = 0;
+    uint64_t stall = 0;
     unsigned slot = tm->take_slot;
-    /* (the ring starts far in the past: the first fill_queue cells wait
-     * for none) */
     for (unsigned i = 0; i < n; i++) {
-        cycles += gap[i];
-        const int64_t end = now + (int64_t)cycles - 1, room = ring[slot] + 1;
+        const int64_t end = e + gap[i], room = ring[slot] + 1;
         const int64_t put = room > end ? room : end;
         const int64_t take = put + 1 > fill_free ? put + 1 : fill_free;
-        const uint64_t f = dur[lg[i]];
-        engine += cycles;
         stall += (uint64_t)(put - end);
-        fill += f;
-        fill_free = take + (int64_t)f;
+        fill_free = take + fill[i];
         ring[slot] = take;
         slot = slot + 1 == queue ? 0 : slot + 1;
-        cycles = 0;
-        now = put + 1;
+        e = put;
     }
-    tm->now = now, tm->fill_free = fill_free, tm->take_slot = slot, tm->cells += n;
-    tm->engine += engine, tm->stall += stall, tm->fill += fill;
-    tm->pending = cycles + after;
+    if (n) {   /* the engine's cycles up to the last hand-over are counted */
+        tm->now = e + 1;
+        tm->engine += tm->pending + engine - after;
+        tm->pending = after;
+    } else {
+        tm->pending += after;
+    }
+    tm->fill_free = fill_free, tm->take_slot = slot, tm->cells += n;
+    tm->stall += stall, tm->fill += filled;
 }
 
 /* One cell k handed over after the timer's pending cycles. */
 static inline void vp_timer_hand_over(vp_timer *tm, const vp_cell *k)
 {
-    const uint32_t none = 0;
-    const uint8_t lg = (uint8_t)(k->wl + k->hl);
+    const uint32_t none = 0, f = (uint32_t)tm->fill_cycles[k->wl + k->hl];
     if (tm->charge)
-        tm->charge(tm, k, tm->fill_cycles[lg]);
-    vp_timer_hand_overs(tm, &none, &lg, 1, 0);
+        tm->charge(tm, k, f);
+    vp_timer_hand_overs(tm, &none, &f, 1, 0, 0, f);
 }
 /* vp_draw_face with a timer: the same fills and statistics, and the timer
  * called as vp_walk_next's steps would have it. */
