@@ -244,14 +244,37 @@ row8_avx2(uint32_t *dp, uint32_t *tp, __m256i dv, __m256i in, __m256i tv, size_t
     }
 }
 
+/* Eight samples of a whole cell's row: every lane takes part, so the new
+ * depth is the maximum itself and the samples that lost are counted in
+ * lanes (`lost`, -1 a sample), summed once for the cell. */
+__attribute__((target("avx2,popcnt"))) static inline void
+whole8_avx2(uint32_t *dp, uint32_t *tp, __m256i dv, __m256i tv, size_t at, __m256i *best,
+            __m256i *lost, vp_rect_result *res)
+{
+    __m256i *d = (__m256i *)(void *)dp, *g = (__m256i *)(void *)tp;
+    const __m256i old = _mm256_loadu_si256(d), nearer = _mm256_max_epu32(dv, old);
+    const __m256i kept = _mm256_cmpeq_epi32(nearer, old);
+    _mm256_storeu_si256(d, nearer);
+    _mm256_storeu_si256(g, _mm256_blendv_epi8(tv, _mm256_loadu_si256(g), kept));
+    *best = _mm256_max_epu32(*best, _mm256_andnot_si256(kept, dv));
+    *lost = _mm256_add_epi32(*lost, kept);
+    const unsigned tie = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(dv, old)));
+    if (tie) {
+        if (!res->ties)
+            res->first_tie = at + (unsigned)__builtin_ctz(tie);
+        res->ties += (unsigned)__builtin_popcount(tie);
+    }
+}
+
 __attribute__((target("avx2,popcnt"))) static vp_rect_result
 rect_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
           int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
 {
     vp_rect_result res = {0, 0, 0, 0};
     const __m256i step = _mm256_set1_epi64x(8 * dc), four = _mm256_set1_epi64x(4 * dc),
-                  down = _mm256_set1_epi64x(dr), vt = _mm256_set1_epi32((int)t),
-                  all = _mm256_set1_epi32(-1);
+                  down = _mm256_set1_epi64x(dr), vt = _mm256_set1_epi32((int)t);
+    __m256i lost = _mm256_setzero_si256();   /* -1 a lane per sample that did not win */
+    uint32_t whole = 0;                      /* samples in the whole-register steps */
     const __m128i vsr = _mm_cvtsi32_si128((int)sr), vsl = _mm_cvtsi32_si128((int)sl);
     /* lanes four apart hold one short row's samples in their low half */
     const __m256i in4 = _mm256_setr_epi32(-1, -1, -1, -1, 0, 0, 0, 0);
@@ -261,9 +284,11 @@ rect_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h,
         __m256i lo = row, hi = _mm256_add_epi64(row, four);
         uint32_t i = 0;
         for (; i + 8 <= w; i += 8) {
-            row8_avx2(dp + i, tp + i, narrow8(lo, hi, vsr, vsl), all, vt, y * stride + i, &best, &res);
+            whole8_avx2(dp + i, tp + i, narrow8(lo, hi, vsr, vsl), vt, y * stride + i, &best, &lost,
+                        &res);
             lo = _mm256_add_epi64(lo, step);
             hi = _mm256_add_epi64(hi, step);
+            whole += 8;
         }
         if (i + 4 <= w) {   /* four more (a cell four samples wide): half a register */
             __m256i dv = narrow8(lo, hi, vsr, vsl);
@@ -289,6 +314,11 @@ rect_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h,
     }
     unsigned m = hmax8(best);
     res.nearest = m > res.nearest ? m : res.nearest;
+    /* the lanes' losses summed: the samples of the whole steps that won */
+    __m128i l4 = _mm_add_epi32(_mm256_castsi256_si128(lost), _mm256_extracti128_si256(lost, 1));
+    l4 = _mm_add_epi32(l4, _mm_shuffle_epi32(l4, _MM_SHUFFLE(1, 0, 3, 2)));
+    l4 = _mm_add_epi32(l4, _mm_shuffle_epi32(l4, _MM_SHUFFLE(2, 3, 0, 1)));
+    res.written += whole + (uint32_t)_mm_cvtsi128_si32(l4);
     return res;
 }
 
