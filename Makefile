@@ -93,6 +93,8 @@ BENCH_MODEL := $(BUILD)/tools/bench-model
         usb-bench
 # libFuzzer harnesses and their replay over the seeds and regressions
 include fuzz/fuzz.mk
+# the reference RTL and its co-simulation against the model: make cosim
+include rtl/rtl.mk
 
 # the replay harnesses too, so a warning in them fails CI's -Werror build
 all: $(ALBATROS) $(LIBALB_SO) $(UNIT) $(USB_DESC) $(USB_BOARD) $(USB_SHIM) $(USB_ROGUE) $(USB_BENCH) $(REPLAYS) $(DPI_TB)
@@ -116,11 +118,12 @@ help:
 	@echo "make firmware   the FX2LP board firmware (sdcc); make firmware-size checks it fits"
 	@echo "make firmware-check  that image on the s51 simulator against the host core (in make test)"
 	@echo "make firmware-speed  its parsing speed on the bridge's stream, from s51's cycle counts"
+	@echo "make cosim      the reference RTL (rtl/) against the cycle model, everything (rtl/README.md)"
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----
 DEB_PKGS := build-essential pkg-config libpng-dev zlib1g-dev libopenexr-dev openexr libusb-1.0-0-dev \
-            libhidapi-dev gnuplot-nox sdcc sdcc-ucsim umockdev libumockdev-dev verilator iverilog python3 man-db \
+            libhidapi-dev gnuplot-nox sdcc sdcc-ucsim umockdev libumockdev-dev verilator iverilog yosys python3 man-db \
             musl-tools valgrind openimageio-tools libosmesa6-dev
 setup: deps
 	$(MAKE) all

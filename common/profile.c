@@ -12,9 +12,10 @@
  * six bits below the pixel in edge intercepts (docs/profiles.md). */
 /* The clocked parameters (docs/microarchitecture.md): a 40 MHz VP with 8
  * edge units and a 4-sample fill for 512x512, twice the clock and fill rate
- * for 1024x1024, a 512-word FIFO, two face slots, a 4-cell fill queue, an
- * 8-stage divider; the GP spends 24 + 6 per edge clocks per face. */
-#define CLOCKED(khz, fill) khz, 512, 2, 8, fill, 4, 8, 4, 24, 6, 16, 16777215, 0, 1
+ * for 1024x1024, a 512-word FIFO, two face slots, a 4-cell fill queue, the
+ * registers of 16 frames, an 8-stage divider; the GP spends 24 + 6 per edge clocks per face;
+ * all_units off, the host's SIMD forms on. */
+#define CLOCKED(khz, fill) khz, 512, 2, 8, fill, 4, 16, 8, 4, 24, 6, 16, 16777215, 0, 1
 static const alb_profile builtin[] = {
     {"a512", 512, 512, 0, 14, 24, 24, 8, 16, 12, ALB_BOUND_ALBATROS, true, CLOCKED(40000, 4)},
     {"a1024", 1024, 1024, 0, 15, 24, 24, 8, 16, 12, ALB_BOUND_ALBATROS, true, CLOCKED(80000, 8)},
@@ -88,6 +89,7 @@ static const uint_field uint_fields[] = {
     FIELD(edge_frac_bits), FIELD(coef_bits), FIELD(depth_bits),
     FIELD(colour_bits), FIELD(recip_bits), FIELD(shade_frac_bits), FIELD(clock_khz),
     FIELD(fifo_depth), FIELD(face_slots), FIELD(edge_units), FIELD(fill_rate), FIELD(fill_queue),
+    FIELD(frame_queue),
     FIELD(divider_latency), FIELD(shade_latency), FIELD(gp_face_cycles), FIELD(gp_edge_cycles),
     FIELD(gp_frame_cycles), FIELD(frame_faces), FIELD(all_units), FIELD(simd),
 };
@@ -196,6 +198,8 @@ int alb_profile_check(const alb_profile *p, char *err, size_t errlen)
         BAD("fill_rate=%u: must be in 1..256 samples per clock", p->fill_rate);
     if (p->fill_queue < 1 || p->fill_queue > 1024)
         BAD("fill_queue=%u: must be in 1..1024 cells", p->fill_queue);
+    if (p->frame_queue < 1 || p->frame_queue > 1024)
+        BAD("frame_queue=%u: must be in 1..1024 frames", p->frame_queue);
     if (p->divider_latency > 1000 || p->shade_latency > 1000 || p->gp_face_cycles > 1000000 ||
         p->gp_edge_cycles > 1000000 || p->gp_frame_cycles > 1000000)
         BAD("latencies must be at most 1000 (divider, shade) and 1000000 (GP)");
@@ -216,13 +220,13 @@ void alb_profile_describe(const alb_profile *p, char *buf, size_t len)
              "profile=%s\nwidth=%u\nheight=%u\naa=%u\nedge_frac_bits=%u\n"
              "coef_bits=%u\ndepth_bits=%u\ncolour_bits=%u\nrecip_bits=%u\n"
              "shade_frac_bits=%u\nbound=%s\nbackface=%d\nclock_khz=%u\nfifo_depth=%u\n"
-             "face_slots=%u\nedge_units=%u\nfill_rate=%u\nfill_queue=%u\n"
+             "face_slots=%u\nedge_units=%u\nfill_rate=%u\nfill_queue=%u\nframe_queue=%u\n"
              "divider_latency=%u\nshade_latency=%u\ngp_face_cycles=%u\ngp_edge_cycles=%u\n"
              "gp_frame_cycles=%u\nframe_faces=%u\nall_units=%u\nsimd=%u\n",
              p->name, p->width, p->height, p->aa_levels, p->edge_frac_bits,
              p->coef_bits, p->depth_bits, p->colour_bits, p->recip_bits,
              p->shade_frac_bits, alb_bound_method_name(p->bound), p->cull_backfaces, p->clock_khz,
-             p->fifo_depth, p->face_slots, p->edge_units, p->fill_rate, p->fill_queue,
+             p->fifo_depth, p->face_slots, p->edge_units, p->fill_rate, p->fill_queue, p->frame_queue,
              p->divider_latency, p->shade_latency, p->gp_face_cycles, p->gp_edge_cycles,
              p->gp_frame_cycles, p->frame_faces, p->all_units, p->simd);
 }

@@ -292,17 +292,36 @@ int cmd_profiles(int argc, char **argv)
 {
     static const char *const spec[] = {"help", NULL};
     gp_args a = {0};
+    run_opts o;
+    run_opts_init(&o);
     const char *pos[1];
     int npos;
-    int parsed = cli_parse("profiles", argc, argv, spec, gp_opt, &a, NULL, pos, 0, &npos);
+    int parsed = cli_parse("profiles", argc, argv, spec, gp_opt, &a, &o, pos, 1, &npos);
     if (parsed || a.help) {
         if (a.help)
-            printf("usage: albatros profiles\n\nList the built-in profiles (docs/profiles.md).\n");
+            printf("usage: albatros profiles [NAME] [--set KEY=VALUE ...] [--size WxH]\n\n"
+                   "List the built-in profiles (docs/profiles.md), one key=value line a field;\n"
+                   "with NAME (or --profile NAME) that profile alone, with the overrides\n"
+                   "applied and checked, as the other subcommands would run it (what an RTL\n"
+                   "build takes its parameters from: rtl/profile-params.sh).\n");
         return parsed ? CLI_PARSE_EXIT(parsed) : 0;
+    }
+    char buf[1024];
+    if (npos || o.noverrides || strcmp(o.prof.name, "a512")) {
+        char err[300];
+        /* a NAME re-applies every --set and --size after it, as --profile does */
+        if (npos && run_opts_apply(&o, "profile", pos[0], err, sizeof err) < 0) {
+            fprintf(stderr, "albatros profiles: %s\n", err);
+            return 2;
+        }
+        if (cli_check_profile(&o.prof))
+            return 2;
+        alb_profile_describe(&o.prof, buf, sizeof buf);
+        printf("%s\n", buf);
+        return 0;
     }
     for (const char *const *n = alb_profile_names(); *n; n++) {
         alb_profile p;
-        char buf[1024];
         alb_profile_lookup(*n, &p);
         alb_profile_describe(&p, buf, sizeof buf);
         printf("%s\n", buf);

@@ -257,6 +257,8 @@ static bool has_room(const sim_cycle *m, alb_ws_event_kind kind, int64_t t)
     case ALB_WS_EV_TEXTURE:
     case ALB_WS_EV_END:
         return drained(m, t);
+    case ALB_WS_EV_FRAME:   /* a register set free: the open frame's and the waiting ones */
+        return m->frames_taken - m->frame_open < m->p->frame_queue;
     default:
         return true;
     }

@@ -61,6 +61,12 @@ static int64_t room(timed *t, const alb_ws_event *ev)
     case ALB_WS_EV_TEXTURE:
     case ALB_WS_EV_END:
         return t->drain + 1;   /* wait until every earlier face retired */
+    case ALB_WS_EV_FRAME: {
+        /* frame k (every earlier one retired in the model's order) needs a
+         * free register set: frame k - frame_queue retired before the cycle */
+        unsigned k = t->bins.nretired, q = t->p->frame_queue;
+        return k >= q ? t->bins.retire[k - q] + 1 : 0;
+    }
     default:
         return 0;
     }

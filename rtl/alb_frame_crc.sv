@@ -72,7 +72,7 @@ module alb_frame_crc #(
     function automatic [47:0] resolve(input [NS*SD-1:0] s, input [3*COLB-1:0] b,
                                       input [TAG_BITS-1:0] tg);
         logic [COLB+2*AA:0] sum [0:2];
-        logic [COLB+2*AA:0] rounded;
+        logic [COLB-1:0] mean;
         logic [COLB-1:0] v;
         logic [15:0] ch [0:2];
         for (int c = 0; c < 3; c++)
@@ -84,8 +84,8 @@ module alb_frame_crc #(
                 sum[c] = sum[c] + (COLB + 2 * AA + 1)'(v);
             end
         for (int c = 0; c < 3; c++) begin
-            rounded = (sum[c] + (COLB + 2 * AA + 1)'(NS / 2)) >> (2 * AA);
-            ch[c] = 16'(rounded);
+            mean = COLB'((sum[c] + (COLB + 2 * AA + 1)'(NS / 2)) >> (2 * AA));
+            ch[c] = 16'(mean);
         end
         resolve = {ch[0], ch[1], ch[2]};
     endfunction

@@ -29,7 +29,7 @@ module alb_frame_store #(
     parameter int DB = 24,
     parameter int COLB = 8,
     parameter int TAG_BITS = 8,
-    parameter int FRAME_QUEUE = 4
+    parameter int FRAME_QUEUE = 16
 ) (
     input  logic                     clk,
     input  logic                     rst,

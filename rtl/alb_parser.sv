@@ -29,6 +29,7 @@ module alb_parser #(
     // where words go, as held at the start of the cycle
     input  logic                 slot_free,      // the next slot to fill is free
     input  logic                 drained,        // everything earlier has retired
+    input  logic                 frame_room,     // a FRAME register set is free
     input  logic [15:0]          frames_taken,   // FRAME packets taken so far
     // an edge's set-up, into the slot being filled
     output logic                 ew_en,
@@ -125,8 +126,10 @@ module alb_parser #(
 
     wire [2:0] pkind = in_pkt ? kind : kind_of(op);
     // room for the word (docs/microarchitecture.md): a FACE's words wait for
-    // a free slot, TEXTURE and END for retirement
+    // a free slot, a FRAME's for a free set of FRAME registers, TEXTURE and
+    // END for retirement
     wire room = pkind == `K_FACE ? slot_free
+              : pkind == `K_FRAME ? frame_room
               : (pkind == `K_TEXTURE || pkind == `K_END) ? drained : 1'b1;
     assign pop = !ended && !err && !fifo_empty && room;
     assign pop_index = nwords;

@@ -16,6 +16,7 @@
 
 module alb_pipe #(
     parameter int RATE = 4,
+    parameter int CB = 24,              // coef_bits
     parameter int LW = 5,
     parameter int LH = 5,
     parameter int DB = 24,              // depth_bits
@@ -71,6 +72,11 @@ module alb_pipe #(
     // errs by e = MAGIC 65025 - 2^52 < 65025, and x e < 2^52 keeps the floor.
     localparam logic [63:0] MAGIC = ((64'd1 << 52) + 64'd65024) / 64'd65025;
     localparam int LD = 1 + 16 + 16 + DB + 3 * COLB;        // a lane through the stages
+    // a form at a sample: |N| < 3 2^(CB-1+P) < 2^(CB+P+1) (docs/vp.md §4), with the sign
+    localparam int FW = CB + P + 3;
+    // a form times a reciprocal: below 2^(FW+RB), at most 64 bits by the
+    // profile's constraint coef_bits + levels + recip_bits <= 60
+    localparam int PW = FW + RB + 1;
 
     // ---- the reciprocal ROM: rm = floor(2^(2RB-1) / dm), dm in [2^(RB-1), 2^RB) ----
     logic [RB:0] recip_rom [0:ROM_N-1];
@@ -86,21 +92,25 @@ module alb_pipe #(
             tex_mem[tw_addr] <= tw_data;
 
     // ---- the units (vp/units.h) ----
-    // N of a form at sample (x, y); f is the form without its exponent
-    function automatic [63:0] form_at(input [`FORM_W-9:0] f, input [15:0] x, input [15:0] y);
-        logic signed [63:0] o, sc, sr;
-        o = f[`FORM_ORIGIN - 8 +: 64];
-        sc = f[`FORM_STEP_C - 8 +: 64];
-        sr = f[`FORM_STEP_R - 8 +: 64];
-        form_at = o + $signed({48'd0, x}) * sc + $signed({48'd0, y}) * sr;
+    // N of a form at sample (x, y), exact in FW bits (the form's terms, 64 bits
+    // in the set-up, are below 2^(FW-1) too: the set-up's high bits are copies
+    // of the sign)
+    function automatic [FW-1:0] form_at(input [3*FW-1:0] f, input [15:0] x, input [15:0] y);
+        logic signed [FW-1:0] o, sc, sr, cx, ry;
+        {sr, sc, o} = f;
+        cx = FW'($signed({1'b0, x}));
+        ry = FW'($signed({1'b0, y}));
+        form_at = o + cx * sc + ry * sr;
     endfunction
+
 
     // the depth store value: near/Z as unsigned 0.DB, truncated, saturated
     // (nearer than near), 0 behind the observer (docs/vp.md §4)
-    function automatic [DB-1:0] depth_of(input [63:0] nu, input signed [15:0] sh);
-        logic signed [63:0] n;
-        logic [63:0] v;
-        n = nu;
+    function automatic [DB-1:0] depth_of(input [FW-1:0] nf, input signed [15:0] sh);
+        logic signed [FW-1:0] n;
+        logic [63:0] nu, v;
+        n = nf;
+        nu = 64'(nf);
         if (n <= 0)
             v = 64'd0;
         else if (sh >= 0) begin
@@ -118,46 +128,48 @@ module alb_pipe #(
     endfunction
 
     // the number of significant bits: a priority encoder
-    function automatic [6:0] bitlen(input [63:0] v);
+    function automatic [6:0] bitlen(input [FW-1:0] v);
         logic [6:0] n;
         n = 7'd0;
-        for (int k = 0; k < 64; k++)
+        for (int k = 0; k < FW; k++)
             if (v[k])
                 n = 7'(k + 1);
         bitlen = n;
     endfunction
 
     // floor(num 2^k) clamped to [0, ONE]: the intensity of eq. (7)
-    function automatic [16:0] intensity_of(input [63:0] pu, input signed [15:0] k);
-        logic signed [63:0] p;
-        logic [79:0] wide;
-        logic [63:0] v;
+    function automatic [16:0] intensity_of(input [PW-1:0] pu, input signed [15:0] k);
+        logic signed [PW-1:0] p;
+        logic [33:0] wide;
+        logic [PW-1:0] v;
         p = pu;
         if (p <= 0)
             intensity_of = 17'd0;
         else if (k >= 0) begin
-            if (k >= 16'sd17)
+            // p 2^k >= 2^17 > ONE when p or k is that large
+            if (k >= 16'sd17 || pu[PW-1:17] != '0)
                 intensity_of = ONE;
             else begin
-                wide = {16'd0, pu} << k;
-                intensity_of = wide > 80'(ONE) ? ONE : wide[16:0];
+                wide = 34'(pu[16:0]) << k;
+                intensity_of = wide > 34'(ONE) ? ONE : wide[16:0];
             end
         end else begin
-            v = -k >= 16'sd63 ? 64'd0 : pu >> (-k);
-            intensity_of = v > 64'(ONE) ? ONE : v[16:0];
+            v = -k >= 16'sd63 ? '0 : pu >> (-k);
+            intensity_of = v > PW'(ONE) ? ONE : v[16:0];
         end
     endfunction
 
     // floor(num 2^k) mod 2^lg: a texture coordinate's fraction (units_fraction)
-    function automatic [9:0] fraction_of(input [63:0] pu, input signed [15:0] k, input [3:0] lg);
-        logic signed [63:0] p;
+    function automatic [9:0] fraction_of(input [PW-1:0] pu, input signed [15:0] k, input [3:0] lg);
+        logic signed [PW-1:0] p;
         logic signed [15:0] s;
         p = pu;
         s = -k > 16'sd63 ? 16'sd63 : -k;
-        if (k >= 16'sd64)
+        // only the low 10 bits of p 2^k matter, so k >= 10 gives 0
+        if (k >= 16'sd10)
             fraction_of = 10'd0;
         else if (k >= 0)
-            fraction_of = 10'(pu << k) & ((10'd1 << lg) - 10'd1);
+            fraction_of = (pu[9:0] << k) & ((10'd1 << lg) - 10'd1);
         else
             fraction_of = 10'(p >>> s) & ((10'd1 << lg) - 10'd1);
     endfunction
@@ -175,15 +187,34 @@ module alb_pipe #(
             fog_distance = -k >= 16'sd63 ? 64'd0 : r >> (-k);
     endfunction
 
-    // base x texel x intensity to the frame store, round half up (units_output)
+    // base x texel x intensity to the frame store, round half up (units_output):
+    // m < 65025 2^FI, so x = (2 m TOP + 65025 2^FI) >> (FI + 1) < 65025 2^16 < 2^34
     function automatic [COLB-1:0] colour_out(input [7:0] base, input [7:0] texel,
                                              input [16:0] inten);
-        logic [63:0] m, x;
-        logic [127:0] q;
-        m = 64'(base) * 64'(texel) * 64'(inten);
-        x = (64'd2 * m * 64'(TOP) + (64'd65025 << FI)) >> (FI + 1);
-        q = 128'(x) * 128'(MAGIC);
+        logic [32:0] m;
+        logic [50:0] num;
+        logic [33:0] x;
+        logic [70:0] q;
+        m = 33'(16'(base) * 16'(texel)) * 33'(inten);
+        num = 51'(m) * 51'(TOP) * 51'd2 + (51'd65025 << FI);
+        x = 34'(num >> (FI + 1));
+        q = 71'(x) * 71'(MAGIC[36:0]);
         colour_out = COLB'(q >> 52);
+    endfunction
+
+    // floor(a / b) for a quotient below 2^16: fog visibility, (far - zq) 2^FI /
+    // (far - near) with zq inside (near, far), by sixteen compare-subtracts
+    function automatic [16:0] vis_div(input [47:0] a, input [31:0] b);
+        logic [48:0] r;
+        logic [16:0] q;
+        r = 49'(a);
+        q = '0;
+        for (int k = 15; k >= 0; k--)
+            if (r >= (49'(b) << k)) begin
+                r = r - (49'(b) << k);
+                q[k] = 1'b1;
+            end
+        vis_div = q;
     endfunction
 
     function automatic [COLB-1:0] fog_blend(input [COLB-1:0] c, input [COLB-1:0] f,
@@ -208,6 +239,16 @@ module alb_pipe #(
     wire signed [15:0] ev = 16'($signed(fv[`FORM_EXP +: 8]));
     wire signed [15:0] zshift = ez - $signed(16'(P)) + $signed(16'(DB));
     wire        fogged = fog_on && flags[2];
+    wire [3*FW-1:0] tz = {fz[`FORM_STEP_R +: FW], fz[`FORM_STEP_C +: FW], fz[`FORM_ORIGIN +: FW]};
+    wire [3*FW-1:0] ts = {fs[`FORM_STEP_R +: FW], fs[`FORM_STEP_C +: FW], fs[`FORM_ORIGIN +: FW]};
+    wire [3*FW-1:0] tu = {fu[`FORM_STEP_R +: FW], fu[`FORM_STEP_C +: FW], fu[`FORM_ORIGIN +: FW]};
+    wire [3*FW-1:0] tv = {fv[`FORM_STEP_R +: FW], fv[`FORM_STEP_C +: FW], fv[`FORM_ORIGIN +: FW]};
+    wire unused_form_sign_copies = ^{fz[`FORM_ORIGIN+FW +: 64-FW], fz[`FORM_STEP_C+FW +: 64-FW],
+                                     fz[`FORM_STEP_R+FW +: 64-FW], fs[`FORM_ORIGIN+FW +: 64-FW],
+                                     fs[`FORM_STEP_C+FW +: 64-FW], fs[`FORM_STEP_R+FW +: 64-FW],
+                                     fu[`FORM_ORIGIN+FW +: 64-FW], fu[`FORM_STEP_C+FW +: 64-FW],
+                                     fu[`FORM_STEP_R+FW +: 64-FW], fv[`FORM_ORIGIN+FW +: 64-FW],
+                                     fv[`FORM_STEP_C+FW +: 64-FW], fv[`FORM_STEP_R+FW +: 64-FW]};
 
     logic [RATE-1:0]        s1_win;
     logic [RATE*DB-1:0]     s1_depth;
@@ -216,7 +257,7 @@ module alb_pipe #(
         for (genvar j = 0; j < RATE; j++) begin : g_lane
             wire [15:0] x = lane_x[j*16 +: 16];
             wire [15:0] y = lane_y[j*16 +: 16];
-            wire [63:0] nz = form_at(fz[`FORM_W-1:8], x, y);
+            wire [FW-1:0] nz = form_at(tz, x, y);
             wire [DB-1:0] d = depth_of(nz, zshift);
             // the reciprocal unit: N_z normalised to RB bits, then the ROM
             wire [6:0] nb = bitlen(nz);
@@ -224,15 +265,18 @@ module alb_pipe #(
             wire [RB:0] rm = recip_rom[idx];
             wire signed [15:0] rsh = 16'(nb) - $signed(16'(RB));
             // eq. (7): intensity = shade / depth, clamped to [0, 1]
-            wire [63:0] ns = form_at(fs[`FORM_W-1:8], x, y);
+            wire [FW-1:0] ns = form_at(ts, x, y);
             wire signed [15:0] ks = es - ez - $signed(16'(2 * RB - 1)) - rsh + $signed(16'(FI));
-            wire [16:0] inten = flags[0] ? intensity_of(ns * 64'(rm), ks) : ONE;
+            wire [PW-1:0] ps = PW'($signed(ns)) * PW'(rm);
+            wire [16:0] inten = flags[0] ? intensity_of(ps, ks) : ONE;
             // texture: the fractions of u and v address the nearest texel
-            wire [63:0] nu = form_at(fu[`FORM_W-1:8], x, y);
-            wire [63:0] nv = form_at(fv[`FORM_W-1:8], x, y);
+            wire [FW-1:0] nu = form_at(tu, x, y);
+            wire [FW-1:0] nv = form_at(tv, x, y);
+            wire [PW-1:0] pu = PW'($signed(nu)) * PW'(rm);
+            wire [PW-1:0] pv = PW'($signed(nv)) * PW'(rm);
             wire signed [15:0] kt = -ez - $signed(16'(2 * RB - 1)) - rsh + 16'(tlg);
-            wire [9:0] u = fraction_of(nu * 64'(rm), eu + kt, tlg);
-            wire [9:0] v = fraction_of(nv * 64'(rm), ev + kt, tlg);
+            wire [9:0] u = fraction_of(pu, eu + kt, tlg);
+            wire [9:0] v = fraction_of(pv, ev + kt, tlg);
             wire [TA-1:0] taddr = TA'(tbase + ((24'(v) << tlg) + 24'(u)));
             wire [23:0] fetched = tex_mem[taddr];
             wire [23:0] texel = flags[1] ? fetched : 24'hFFFFFF;
@@ -248,7 +292,7 @@ module alb_pipe #(
                 else if (zq >= 64'(fog_far))
                     vis = 17'd0;
                 else
-                    vis = 17'((64'(fog_far) - zq) * 64'(ONE) / (64'(fog_far) - 64'(fog_near)));
+                    vis = vis_div(48'(32'(64'(fog_far) - zq)) << FI, fog_far - fog_near);
                 for (int c = 0; c < 3; c++) begin
                     rgb[(2-c)*COLB +: COLB] = colour_out(base_rgb[(2-c)*8 +: 8],
                                                          texel[(2-c)*8 +: 8], inten);

@@ -35,7 +35,7 @@ module alb_vp #(
     // sizes the profile does not bound (rtl/README.md)
     parameter int MAX_EDGES = 64,       // edges a face may have (the word format's limit)
     parameter int TEX_WORDS = 65536,    // texture memory, texels
-    parameter int FRAME_QUEUE = 4,      // FRAME packets taken ahead of a draining frame
+    parameter int FRAME_QUEUE = 16,     // FRAME register sets (profile frame_queue)
     parameter int SCAN_PIXELS = 1,      // pixels the output stage resolves a cycle
     parameter int TAG_BITS = 8,         // frame tag of a stored depth (alb_frame_store)
     // derived
@@ -131,10 +131,13 @@ module alb_vp #(
     logic [23:0]         tw_data;
     logic [7:0]          parse_err_code;
     logic                slot_free, drained;
+    // frame_queue register sets: the open frame's and the waiting ones
+    wire frame_room = 16'(frames_taken - frame_open) < 16'(FRAME_QUEUE);
     alb_parser #(.F(EDGE_FRAC_BITS), .CB(COEF_BITS), .COLB(COLOUR_BITS), .LW(LW), .LH(LH),
                  .EW(EW), .MAX_EDGES(MAX_EDGES), .TEX_WORDS(TEX_WORDS),
                  .FRAME_FACES(FRAME_FACES)) u_parser (
-        .clk, .rst, .fifo_empty, .fifo_head, .pop, .slot_free, .drained, .frames_taken,
+        .clk, .rst, .fifo_empty, .fifo_head, .pop, .slot_free, .drained, .frame_room,
+        .frames_taken,
         .ew_en, .ew_idx, .ew_c, .ew_da, .ew_db, .fc_en, .fc_setup, .fc_edges, .fc_frame,
         .fr_en, .fr_number, .fr_bg, .fr_fog, .fr_fog_rgb, .fr_fog_near, .fr_fog_far,
         .end_taken, .ended, .tw_en, .tw_addr, .tw_data, .pop_index,
@@ -192,7 +195,7 @@ module alb_vp #(
     logic [31:0]                  fog_near, fog_far;
     logic [FILL_RATE*DEPTH_BITS-1:0] zr_data, zw_data;
     logic [FILL_RATE-1:0]         zw_en;
-    alb_pipe #(.RATE(FILL_RATE), .LW(LW), .LH(LH), .DB(DEPTH_BITS), .COLB(COLOUR_BITS),
+    alb_pipe #(.RATE(FILL_RATE), .CB(COEF_BITS), .LW(LW), .LH(LH), .DB(DEPTH_BITS), .COLB(COLOUR_BITS),
                .RB(RECIP_BITS), .FI(SHADE_FRAC_BITS), .DIV_LAT(DIVIDER_LATENCY),
                .SHADE_LAT(SHADE_LATENCY), .TEX_WORDS(TEX_WORDS)) u_pipe (
         .clk, .rst, .lane_v, .lane_x, .lane_y, .setup(fill_setup), .level(fill_level), .fog_on,

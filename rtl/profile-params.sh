@@ -10,7 +10,7 @@
 # verilator: -GNAME=VALUE options; icarus: -PMODULE.NAME=VALUE options; svh:
 # `define ALB_NAME VALUE lines; shell: NAME=VALUE lines.  --set goes to
 # `albatros profiles`, which checks it; --rtl sets a parameter the profile does
-# not have (TEX_WORDS, FRAME_QUEUE, SCAN_PIXELS, MAX_EDGES).
+# not have (TEX_WORDS, SCAN_PIXELS, MAX_EDGES).
 set -eu
 format=verilator
 top=alb_vp
@@ -64,7 +64,7 @@ emit() {
 # the fields the VP uses, in the order of docs/profiles.md
 for key in width height aa edge_frac_bits coef_bits depth_bits colour_bits recip_bits \
            shade_frac_bits fifo_depth face_slots edge_units fill_rate fill_queue \
-           divider_latency shade_latency frame_faces; do
+           frame_queue divider_latency shade_latency frame_faces; do
     value=$(echo "$kv" | sed -n "s/^$key=//p")
     [ -n "$value" ] || die "profile $profile has no field $key"
     emit "$(echo "$key" | tr a-z A-Z)" "$value"

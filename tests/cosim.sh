@@ -1,22 +1,25 @@
 #!/usr/bin/env bash
-# cosim.sh [BUILD] [--all] — the reference RTL (rtl/) held against the cycle
-# model: lint and synthesis checks, then streams through both, every event of
+# cosim.sh [BUILD] [--all | --synth] — the reference RTL (rtl/) held against the
+# cycle model: lint and synthesis checks, then streams through both, every event of
 # docs/cosim.md compared cycle by cycle (rtl/bench/cosim.cpp), and the Icarus
 # bench.  Without --all a fast subset (make test); --all is make cosim: every
 # golden vector, 200+ random scenes over the odd parameter sets, the stress
-# families, three profiles, and the planted mutations.  Ends with
+# families, three profiles, and the planted mutations; --synth is make
+# rtl-synth, yosys's generic synthesis of the whole VP alone.  Ends with
 # "N passed, N failed".  A divergence leaves its waveform in BUILD/cosim/.
 set -u
-build=build all=0
+build=build all=0 synth=0
 for a in "$@"; do
     case $a in
         --all) all=1 ;;
-        -*) echo "usage: cosim.sh [BUILD] [--all]" >&2; exit 2 ;;
+        --synth) synth=1 ;;
+        -*) echo "usage: cosim.sh [BUILD] [--all | --synth]" >&2; exit 2 ;;
         *) build=$a ;;
     esac
 done
 bin=$build/albatros
 out=$build/cosim
+export ALB_LIB=$build/lib     # the benches link this build's libalbatros
 mkdir -p "$out"
 pass=0 fail=0
 ok() { pass=$((pass + 1)); echo "ok   $1"; }
@@ -49,27 +52,43 @@ lint() {   # NAME PROFILE-ARGS...
     fi
 }
 
-synth_check() {   # yosys: no latches anywhere, no multiplier in the classifier
-    local log=$out/yosys.log
-    # a small member: the checks are about structure, not size
+synth_check() {   # FULL: yosys: no latches anywhere, no multiplier in the classifier
+    local full=$1 log=$out/yosys.log script what
+    # a small member: the checks are about structure, not size; -defer, so
+    # yosys never elaborates the default 2^15-word reciprocal ROM
     local chp="-chparam RECIP_BITS 8 -chparam TEX_WORDS 64 -chparam FIFO_DEPTH 4 -chparam FILL_RATE 2"
-    if yosys -q -l "$log" -p "read_verilog -sv -Irtl ${rtl_files[*]};
-            hierarchy -top alb_vp $chp; synth -top alb_vp;
-            select -assert-none t:\$dlatch t:\$adlatch t:\$dlatchsr t:\$_DLATCH_* t:\$_DLATCHSR_*" \
-        > /dev/null 2>&1; then
-        ok "yosys synth: no latches"
+    local latches="select -assert-none t:\$dlatch t:\$adlatch t:\$dlatchsr t:\$_DLATCH_* t:\$_DLATCHSR_*"
+    if ((full)); then
+        script="synth -top alb_vp; $latches"   # generic synthesis, to gates
+        what="yosys synth (generic): no latches"
     else
-        bad "yosys synth: no latches" "$log"
+        script="proc; opt -fast; $latches"     # where latches are inferred
+        what="yosys proc: no latches"
+    fi
+    if yosys -q -l "$log" -p "read_verilog -defer -sv -Irtl ${rtl_files[*]};
+            hierarchy -top alb_vp $chp; $script; tee -o $out/yosys.stat stat -top alb_vp" \
+        > /dev/null 2>&1; then
+        ok "$what"
+    else
+        bad "$what" "$log"
     fi
     log=$out/yosys-engine.log
     if yosys -q -l "$log" -p "read_verilog -sv -Irtl rtl/alb_engine.sv;
-            hierarchy -top alb_engine; proc; opt; wreduce; alumacc;
-            select -assert-none t:\$mul t:\$macc t:\$div t:\$mod t:\$pow" > /dev/null 2>&1; then
-        ok "yosys: the classifier (alb_engine) has no multiplier"
+            hierarchy -top alb_engine; proc; opt; wreduce;
+            select -assert-count 0 t:\$mul t:\$div t:\$mod t:\$divfloor t:\$modfloor t:\$pow;
+            select -assert-min 1 t:\$add" > /dev/null 2>&1; then
+        ok "yosys: the classifier (alb_engine) has adders and no multiplier"
     else
-        bad "yosys: the classifier (alb_engine) has no multiplier" "$log"
+        bad "yosys: the classifier (alb_engine) has adders and no multiplier" "$log"
     fi
 }
+
+if ((synth)); then   # make rtl-synth: the generic synthesis alone
+    synth_check 1
+    echo "$pass passed, $fail failed"
+    [[ $fail -eq 0 ]]
+    exit
+fi
 
 # ---- co-simulation ----
 
@@ -169,20 +188,58 @@ lint a512 a512
 lint odd t32 --set aa=2 --set fill_rate=1 --set edge_units=1 --set face_slots=1 \
     --set fifo_depth=2 --set divider_latency=0 --set shade_latency=0 --set fill_queue=1
 lint wide a256 --set width=512 --set height=128 --set fill_rate=8 --set edge_units=3
-synth_check
+synth_check 0
 
 if model t32 t32; then
     cosim_scene ties t32 rtl/bench/scenes/ties.scene --profile t32
+    cosim_scene empty-frames t32 rtl/bench/scenes/empty-frames.scene --profile t32
     cosim_random t32-random-1 t32 1 30 -- --profile t32
     cosim_random t32-random-2-flat t32 2 30 --flat -- --profile t32
     mkdir -p "$out/t32-builtin"
     "$bin" gp --profile t32 -o "$out/t32-builtin/s.stream" > /dev/null 2>&1 &&
         cosim_stream t32-builtin t32 "$out/t32-builtin/s.stream" --profile t32
 fi
+# the RTL's resolved frames (its frame store dumped as docs/cosim.md lays it
+# out) against the model's, with anti-aliasing: the built-in scene's 4 frames
+if model t32-aa1 t32 --set aa=1; then
+    d=$out/dump-t32-aa1
+    mkdir -p "$d"
+    if "$bin" gp --profile t32 --set aa=1 -o "$d/s.stream" > /dev/null 2>&1 &&
+        "$bin" vp "$d/s.stream" --profile t32 --set aa=1 --fidelity cycle --events "$d/model.log" \
+            --dump "$d/model.memh" -q > /dev/null 2>&1 &&
+        "$build/rtl/t32-aa1/cosim" --events "$d/model.log" --dump "$d/rtl" > "$d/cosim.out" 2>&1; then
+        same=0
+        for f in "$d"/model.*.memh; do
+            r=$d/rtl.${f#"$d"/model.}
+            cmp -s <(grep -v '^//' "$f") <(grep -v '^//' "$r") &&
+                "$bin" compare "$r" "$f" --profile t32 --set aa=1 > /dev/null 2>&1 && same=$((same + 1))
+        done
+        if ((same == 4)); then
+            ok "dump-t32-aa1: the RTL's 4 resolved frames equal the model's (albatros compare)"
+        else
+            bad "dump-t32-aa1: $same of 4 frames equal the model's" "$d/cosim.out"
+        fi
+    else
+        bad "dump-t32-aa1" "$d/cosim.out"
+    fi
+fi
 for v in shared-edges textured-far-plane moving-lit; do
     cosim_vector vector- "$v"
 done
 icarus icarus-ties rtl/bench/scenes/ties.scene --profile t32
+
+# malformed streams: the RTL's error output names the error and its word
+while IFS='|' read -r file prof want; do
+    file=$(echo $file) prof=$(echo $prof) want=$(echo $want)
+    [[ -z $file || $file == \#* ]] && continue
+    model "$prof" "$prof" || continue
+    if "$build/rtl/$prof/cosim" --stream "tests/data/malformed/$file" --expect-error "$want" \
+        > "$out/malformed-$file.out" 2>&1; then
+        ok "malformed $file: $(sed 's/^cosim: //' "$out/malformed-$file.out")"
+    else
+        bad "malformed $file" "$out/malformed-$file.out"
+    fi
+done < rtl/bench/malformed.txt
 
 if ((all)); then
     # every golden vector (three profiles: a256, a512, a1024x512)
@@ -232,7 +289,20 @@ if ((all)); then
             done
         done
     fi
+    # the FRAME registers full (profile frame_queue): with 2 sets, the FRAMEs
+    # of the empty frames wait for retirements, blocked, in both
+    if model t32-fq2 t32 --set frame_queue=2; then
+        cosim_scene empty-frames-fq2 t32-fq2 rtl/bench/scenes/empty-frames.scene --profile t32 \
+            --set frame_queue=2
+    fi
     icarus icarus-random "$out/t32-random-1/s.scene" --profile t32
+    # the second simulator on the small golden vectors (a256, one frame each
+    # but moving-lit's four)
+    for v in sliver-none sliver-albatros sliver-box sliver-bisector shared-edges obj-cube \
+             bound-at-most-two textured-far-plane moving-lit; do
+        mapfile -t prof < <(vector_profile "$v")
+        icarus "icarus-$v" "test-vectors/$v/expected.stream" "${prof[@]}"
+    done
     # the planted bugs: each must make the bench fail at its event
     if bash rtl/bench/mutations.sh --albatros "$bin" --dir "$out/mutations" > "$out/mutations.out" 2>&1; then
         ok "mutations: $(tail -n 1 "$out/mutations.out")"

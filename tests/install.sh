@@ -37,6 +37,12 @@ cc -std=c11 -Wall -Wextra -Werror $san replay.c $(pkg-config --cflags albatros) 
 ! ldd ./replay-static | grep -q libalbatros && ok || bad "replay-static needs the shared library"
 out=$(./replay-static a512 "$vec/expected.stream" "$vec/expected.frames" 2>&1)
 [[ $? -eq 0 && $out != *MISMATCH* ]] && ok || bad "replay (static): $out"
+# a C++ bench (Verilator's, say) includes the headers as they are
+printf '#include <albatros/albatros.h>\n#include <cstdio>\nint main() {\n  alb_model *m; alb_diag d;\n  if (alb_model_open(&m, "t32", nullptr, nullptr, &d)) return 1;\n  std::printf("%%s\\n", alb_version());\n  alb_model_destroy(m);\n}\n' > bench.cpp
+if command -v g++ >/dev/null; then
+    g++ -std=c++17 -Wall -Wextra -Werror -pedantic $san bench.cpp $flags -o bench-cpp 2> cxx.log \
+        && [[ $(LD_LIBRARY_PATH=$root/lib ./bench-cpp) == 0.1.0 ]] && ok || bad "C++ bench: $(cat cxx.log)"
+fi
 # a planted difference is caught: a CRC off by one in the expected frames
 awk 'NR == 3 {$2 += 1} {print}' "$vec/expected.frames" > wrong.frames
 LD_LIBRARY_PATH=$root/lib ./replay a512 "$vec/expected.stream" wrong.frames > wrong.out 2>&1

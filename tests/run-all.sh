@@ -52,5 +52,6 @@ run dpi bash tests/dpi.sh "$build"
 run python bash tests/python.sh "$build"
 run install bash tests/install.sh "$build"
 run usb-umockdev bash tests/usb-umockdev.sh "$build" "$bin"
+run cosim bash tests/cosim.sh "$build"
 echo "$total_pass passed, $total_fail failed"
 [[ $status -eq 0 && $total_fail -eq 0 ]]

@@ -528,3 +528,78 @@ TEST(model_errors_are_located)
     alb_model_destroy(m);
     alb_ws_buf_free(&b);
 }
+
+/* A heavy frame (whole-screen faces) and then `empty` empty frames, taken
+ * while it drains as far as the FRAME registers allow (frame_queue). */
+static void frames_behind_a_heavy_one(alb_profile *p, alb_ws_buf *b, unsigned empty)
+{
+    alb_profile_lookup("t32", p);
+    alb_ws_buf_init(b);
+    alb_ws_config cfg = {p->edge_frac_bits, p->coef_bits, 1.0f};
+    alb_ws_put_config(b, &cfg);
+    for (unsigned k = 0; k <= empty; k++) {
+        alb_ws_frame fr = {k, 0x101010, false, 0, 0, 0};
+        alb_ws_put_frame(b, &fr);
+        unsigned faces = k ? 0 : 3;
+        for (unsigned i = 0; i < faces; i++) {
+            alb_ws_face f;
+            memset(&f, 0, sizeof f);
+            f.id = i;
+            f.rgb = 0x808080;
+            f.depth = (alb_ws_form){-1, {0, 0, 1}};
+            alb_ws_put_face(b, &f);
+        }
+        alb_ws_put_frame_end(b, faces);
+    }
+    alb_ws_put_end(b);
+}
+
+static bool counters_same(const alb_sim_counters *a, const alb_sim_counters *b)
+{
+#define SAME(field) if (a->field != b->field) return false;
+    ALB_SIM_COUNTER_FIELDS(SAME)
+#undef SAME
+    return true;
+}
+
+/* The FRAME registers (docs/microarchitecture.md, "VP input parser"): with
+ * one set a FRAME waits for the frame before it to retire, so each empty
+ * frame after the heavy one takes its 6 words' pops (5 of FRAME, 1 of
+ * FRAME_END) from the retirement before it; with 16, the next 15 are taken
+ * while the heavy frame drains and retire one a cycle after it.  Timed and
+ * cycle agree on every counter at every queue size. */
+TEST(model_frame_registers_hold_frame_queue_frames)
+{
+    static const unsigned queues[] = {1, 2, 3, 16};
+    for (size_t qi = 0; qi < sizeof queues / sizeof *queues; qi++) {
+        alb_profile p;
+        alb_ws_buf b;
+        frames_behind_a_heavy_one(&p, &b, 24);
+        p.frame_queue = queues[qi];
+        ev_log lc = {0}, lt = {0};
+        alb_model *c = model(&p, ALB_FIDELITY_CYCLE, ALB_PRODUCER_GP, ALB_EV_FRAME);
+        alb_model *t = model(&p, ALB_FIDELITY_TIMED, ALB_PRODUCER_GP, ALB_EV_FRAME);
+        CHECK(c && run_all(c, &b, 1000, &lc) == 0);
+        CHECK(t && run_all(t, &b, 1000, &lt) == 0);
+        CHECK_EQ(lc.n, 25);
+        CHECK(events_equal(&lc, &lt, ALB_EV_FRAME));
+        for (unsigned k = 0; k < lc.n; k++) {
+            const alb_sim_counters *cc = alb_model_counters(c, k), *ct = alb_model_counters(t, k);
+            CHECK_MSG(cc && ct && counters_same(cc, ct), "frame_queue=%u frame %u: counters",
+                      queues[qi], k);
+        }
+        uint64_t r0 = lc.n ? lc.e[0].cycle : 0;
+        for (unsigned k = 1; k < lc.n; k++) {
+            uint64_t want = queues[qi] == 1 ? r0 + 6 * k : queues[qi] == 16 && k <= 15 ? r0 + k : 0;
+            if (want)
+                CHECK_MSG(lc.e[k].cycle == want, "frame_queue=%u: frame %u retired in %llu, "
+                          "expected %llu", queues[qi], k, (unsigned long long)lc.e[k].cycle,
+                          (unsigned long long)want);
+        }
+        if (queues[qi] == 1)   /* FRAME 1 waited, in frame 0's cycles: blocked */
+            CHECK(alb_model_counters(c, 0) && alb_model_counters(c, 0)->parser_blocked > 0);
+        free(lc.e), free(lt.e);
+        alb_model_destroy(c), alb_model_destroy(t);
+        alb_ws_buf_free(&b);
+    }
+}

@@ -35,7 +35,13 @@
 #define ALB_VERSION_STRING "0.1.0"
 
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 const char *alb_version(void);
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

@@ -8,6 +8,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef enum {
     ALB_OK = 0,
@@ -55,6 +58,9 @@ int alb_diag_format(const alb_diag *d, char *buf, size_t len);
 /* "file:line:col: error: msg" (or "file: offset N: ...") on f. */
 void alb_diag_print(const alb_diag *d, FILE *f);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

@@ -7,6 +7,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* The fields of the current event (alb_dpi_field), as albatros_pkg.sv
  * numbers them. */
@@ -41,6 +44,9 @@ int alb_dpi_done(void *m);
 /* The last error ("" if none). */
 const char *alb_dpi_error(void *m);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

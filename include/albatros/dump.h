@@ -15,6 +15,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef enum {
     ALB_DUMP_MEMH,            /* $writememh text */
@@ -33,6 +36,9 @@ alb_err alb_dump_read(const char *path, const alb_frame *shape, alb_frame *out, 
 /* Whether the file's first bytes are an OpenEXR file's (else a dump). */
 bool alb_dump_is_exr(const char *path);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

@@ -9,6 +9,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* Channels written (OpenEXR stores them sorted by name):
  *   R, G, B      HALF   frame store value / (2^colour_bits - 1)
@@ -68,6 +71,9 @@ alb_err alb_exr_write(const char *path, const alb_frame *f, const alb_exr_option
  * truncated or unsuitable file; the message names what), ALB_ERR_NOMEM. */
 alb_err alb_exr_read_frame(const char *path, alb_frame *f, alb_diag *d);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

@@ -14,6 +14,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* ---- inputs ---- */
 
@@ -116,6 +119,9 @@ void alb_file_id_free(alb_file_id *id);
  * out of memory. */
 char *alb_strprintf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

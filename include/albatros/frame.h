@@ -12,6 +12,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define ALB_FRAME_NO_FACE  0xFFFFFFFFu  /* face.id where no face covers the pixel */
 #define ALB_FRAME_NO_LEVEL 0xFFu        /* vp.level where no face covers the pixel */
@@ -80,6 +83,9 @@ size_t alb_frame_count_differences(const alb_frame *a, const alb_frame *b);
  * then the size and formats (emu/frame_out.c; docs/golden-vectors.md). */
 uint32_t alb_frame_digest(const alb_frame *f);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

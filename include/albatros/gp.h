@@ -10,6 +10,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef struct alb_gp alb_gp;
 
@@ -60,6 +63,9 @@ void alb_gp_stats_add(alb_gp_stats *sum, const alb_gp_stats *s);
 alb_err alb_gp_compile_file(const char *scene, const char *profile, const char *const *sets,
                             uint32_t **w, size_t *n, alb_diag *d);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

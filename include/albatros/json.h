@@ -13,6 +13,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define ALB_JSON_MAX_DEPTH 16
 
@@ -59,6 +62,9 @@ void alb_json_kv_int(alb_json *j, const char *key, long long v);
 void alb_json_kv_fixed(alb_json *j, const char *key, double v, int decimals);
 void alb_json_kv_bool(alb_json *j, const char *key, bool v);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

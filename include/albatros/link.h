@@ -12,6 +12,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* Encode one packet into out (PROTO_HEADER + len + PROTO_TRAILER bytes). */
 size_t alb_link_encode(uint8_t *out, uint8_t type, uint32_t seq, const uint8_t *payload, uint32_t len);
@@ -66,6 +69,9 @@ int alb_link_info_decode(const uint8_t *rep, alb_link_info *out);
 const char *alb_link_error_name(uint32_t code);
 const char *alb_link_error_key(uint32_t code);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

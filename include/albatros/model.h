@@ -18,6 +18,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef struct alb_model alb_model;
 
@@ -94,6 +97,9 @@ const alb_sim_counters *alb_model_counters(const alb_model *m, unsigned k);
 /* What went wrong last ("" if nothing): file, offset and message. */
 const char *alb_model_error(const alb_model *m);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

@@ -9,6 +9,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef enum {
     ALB_PREVIEW_COLOUR,    /* frame store scaled to 8 bits, rounded */
@@ -42,6 +45,9 @@ const char *alb_preview_view_name(alb_preview_view view);
 alb_err alb_preview_write_diff(const char *path, const alb_frame *a, const alb_frame *b,
                        unsigned *face_diff, unsigned *colour_diff, alb_diag *d);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

@@ -11,6 +11,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef enum {
     ALB_BOUND_NONE = 0,   /* no bounding edges */
@@ -43,6 +46,8 @@ typedef struct {
     unsigned edge_units;      /* edges the engine evaluates per clock */
     unsigned fill_rate;       /* samples the fill unit issues per clock */
     unsigned fill_queue;      /* cells between engine and fill unit */
+    unsigned frame_queue;     /* FRAME registers held: the open frame's and those
+                                 taken while it drains */
     unsigned divider_latency; /* reciprocal unit pipeline stages */
     unsigned shade_latency;   /* shading, texture, fog, write stages */
     unsigned gp_face_cycles;  /* GP time per face packet, before its words */
@@ -78,6 +83,9 @@ int alb_bound_method_parse(const char *s, alb_bound_method *m);
 unsigned alb_profile_levels(const alb_profile *p);        /* log2(max(w,h)) + aa */
 unsigned alb_profile_sample_shift(const alb_profile *p);  /* == alb_profile_levels */
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

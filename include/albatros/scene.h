@@ -14,6 +14,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define ALB_SCENE_MAX_FACE_VERTICES 32
 /* The narrowest view (degrees, vertical) and the smallest aspect the GP's
@@ -208,6 +211,9 @@ alb_err alb_scene_load_obj(const char *path, const alb_scene_camera *cam, alb_sc
  * line checks before any file is read.  The messages name the options. */
 alb_err alb_scene_camera_check(const alb_scene_camera *cam, alb_diag *d);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

@@ -14,6 +14,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef enum { ALB_FIDELITY_FUNCTIONAL, ALB_FIDELITY_TIMED, ALB_FIDELITY_CYCLE } alb_fidelity;
 
@@ -144,6 +147,9 @@ typedef enum {
 void alb_sim_counters_json(alb_json *j, const alb_sim_counters *c, const alb_profile *p);
 void alb_sim_counters_text(FILE *f, const alb_sim_counters *c, const alb_profile *p);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

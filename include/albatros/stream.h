@@ -13,6 +13,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* What the emulator says a frame must be, and what the board said. */
 typedef struct {
@@ -101,6 +104,9 @@ typedef struct {
 int alb_stream_tiles(alb_transport *t, const alb_stream_tiles_frame *frames, unsigned nframes,
                  const alb_stream_opts *o, alb_stream_report *r);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

@@ -14,6 +14,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef struct alb_transport alb_transport;
 
@@ -147,6 +150,9 @@ typedef struct {
 } alb_tr_faults;
 alb_transport *alb_transport_faulty(alb_transport *inner, const alb_tr_faults *f);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

@@ -10,6 +10,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef struct alb_vcd alb_vcd;
 
@@ -48,6 +51,9 @@ int alb_vcd_close(alb_vcd *v);
 /* Give up before the run: nothing is written, an old trace stays. */
 void alb_vcd_abort(alb_vcd *v);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

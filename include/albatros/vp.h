@@ -13,6 +13,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define ALB_VP_MAX_LEVELS 17   /* 8192 pixels x 8 samples = 2^16: levels 0..16 */
 
@@ -87,6 +90,9 @@ alb_err alb_vp_feed_open(alb_vp_feed **f, alb_vp *vp, const char *name, alb_vp_f
 alb_err alb_vp_feed_words(alb_vp_feed *f, const uint32_t *w, size_t n, alb_diag *d);
 void alb_vp_feed_close(alb_vp_feed *f);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

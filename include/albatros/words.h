@@ -14,6 +14,9 @@
 
 /* The library exports what its public headers declare, nothing else. */
 #pragma GCC visibility push(default)
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define ALB_WS_VERSION          1
 #define ALB_WS_MAX_EDGES        64    /* VP edge store per face */
@@ -178,6 +181,9 @@ void alb_ws_writer_abort(alb_ws_writer *wr);
 /* Value of a form at screen point (x, y), in double: for tools and tests. */
 double alb_ws_form_eval(const alb_ws_form *f, double x, double y);
 
+#ifdef __cplusplus
+}
+#endif
 #pragma GCC visibility pop
 
 #endif

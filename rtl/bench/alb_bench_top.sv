@@ -24,7 +24,7 @@ module alb_bench_top #(
     parameter int FRAME_FACES = 16777215,
     parameter int MAX_EDGES = 64,
     parameter int TEX_WORDS = 65536,
-    parameter int FRAME_QUEUE = 4,
+    parameter int FRAME_QUEUE = 16,
     parameter int SCAN_PIXELS = 1,
     parameter int TAG_BITS = 8
 ) (
@@ -40,6 +40,9 @@ module alb_bench_top #(
     output logic [31:0]                     p_depth_bits,
     output logic [31:0]                     p_colour_bits,
     output logic [31:0]                     p_scan_pixels,
+    output logic [31:0]                     p_tag_bits,
+    // the retiring frame's background (frame-store units), for a dump
+    output logic [3*COLOUR_BITS-1:0]        dbg_retire_bg,
     output logic [63:0]                     cycle,
     output logic                            ev_pop,
     output logic [31:0]                     ev_pop_index,
@@ -91,6 +94,8 @@ module alb_bench_top #(
     assign p_depth_bits = DEPTH_BITS;
     assign p_colour_bits = COLOUR_BITS;
     assign p_scan_pixels = SCAN_PIXELS;
+    assign p_tag_bits = TAG_BITS;
+    assign dbg_retire_bg = u_vp.retire_bg;
 
     logic [FILL_RATE*AW-1:0]         zr_addr, zw_addr, cw_addr;
     logic [FILL_RATE*ZW-1:0]         zr_data, zw_data;

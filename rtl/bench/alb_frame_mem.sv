@@ -36,8 +36,9 @@ module alb_frame_mem #(
     localparam int SN = SCAN_PIXELS << (2 * AA);
     localparam int SD = TAG_BITS + 1 + 3 * COLB;
 
-    logic [ZW-1:0]  depth [0:N-1];
-    logic [CWD-1:0] colour [0:N-1];
+    // public: the Verilator bench reads them to dump a frame (cosim --dump)
+    logic [ZW-1:0]  depth [0:N-1] /* verilator public */;
+    logic [CWD-1:0] colour [0:N-1] /* verilator public */;
 
     initial begin
         for (int i = 0; i < N; i++) begin

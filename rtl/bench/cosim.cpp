@@ -1,21 +1,31 @@
 // cosim.cpp — the Verilator bench of the VP RTL (rtl/README.md): drives the
 // RTL's FIFO write port at the cycles of the model's `push` events, emulates
 // the external frame-store memory (rtl/bench/alb_frame_mem.sv), and compares
-// the RTL's events with the model's event log (albatros vp STREAM --fidelity
-// cycle --events FILE) cycle by cycle through the scoreboard.  At the first
-// divergence it prints the cycle, unit, event, expected and actual, and runs
-// again with a waveform of the cycles before it.
+// the RTL's events with the model's cycle by cycle through the scoreboard.
+// The model's events come from its event log (albatros vp STREAM --fidelity
+// cycle --events FILE), or from libalbatros in this process, stepped a clock
+// at a time beside the RTL (docs/cosim.md).  At the first divergence it prints
+// the cycle, unit, event, expected and actual, and runs again with a waveform
+// of the cycles before it.
 //
-//   cosim --events MODEL.log [--stream S.stream] [--log RTL.log] [--vcd F.vcd]
-//         [--window N] [--trace-all F.vcd] [--json]
+//   cosim --events MODEL.log [--stream S.stream] [options]
+//   cosim --model PROFILE [--set KEY=VALUE ...] --stream S.stream [options]
+//   cosim --stream S.stream --expect-error CODE@WORD      (a malformed stream)
+//   options: [--log RTL.log] [--dump PREFIX] [--vcd F.vcd] [--window N]
+//            [--trace-all F.vcd] [--json]
 //
 // Exit status: 0 every event and CRC matched, 1 a divergence (or an RTL
 // error), 2 bad usage or input.
 #include "Valb_bench_top.h"
+#include "Valb_bench_top__Syms.h"   // the memory model's arrays, for --dump
 #include "events.h"
 #include "scoreboard.h"
 #include "verilated.h"
 #include "verilated_vcd_c.h"
+
+extern "C" {   // the public headers have no C++ guards of their own
+#include <albatros/model.h>
+}
 
 #include <cerrno>
 #include <chrono>
@@ -45,8 +55,21 @@ template <typename T> uint64_t bits(const T &v, unsigned lo, unsigned w)
     return w >= 64 ? r : r & ((1ull << w) - 1);
 }
 
-// The model's event log, read a cycle at a time.
-class LogReader {
+// Where the model's events come from, a cycle at a time.
+class EventSource {
+public:
+    virtual ~EventSource() = default;
+    virtual bool failed() const = 0;
+    virtual const std::string &error() const = 0;
+    // No event after the last one taken.
+    virtual bool done() const = 0;
+    virtual uint64_t last_cycle() const = 0;
+    // The events of cycle t, pushes included (cycles before t taken already).
+    virtual void take(uint64_t t, std::vector<Event> &out) = 0;
+};
+
+// The model's event log (albatros ... --events FILE).
+class LogReader : public EventSource {
 public:
     bool open(const char *path)
     {
@@ -57,13 +80,11 @@ public:
         advance();
         return true;
     }
-    bool failed() const { return !error_.empty(); }
-    const std::string &error() const { return error_; }
-    bool done() const { return eof_; }
-    uint64_t next_cycle() const { return next_.cycle; }
-    uint64_t last_cycle() const { return last_; }
-    // The events of cycle t (those before it must have been taken).
-    void take(uint64_t t, std::vector<Event> &out)
+    bool failed() const override { return !error_.empty(); }
+    const std::string &error() const override { return error_; }
+    bool done() const override { return eof_; }
+    uint64_t last_cycle() const override { return last_; }
+    void take(uint64_t t, std::vector<Event> &out) override
     {
         out.clear();
         while (!eof_ && !failed() && next_.cycle == t) {
@@ -105,6 +126,87 @@ private:
     Event next_;
     uint64_t last_ = 0, lineno_ = 0;
     bool eof_ = false, have_ = false;
+};
+
+// The cycle model of libalbatros in this process (include/albatros/model.h):
+// its GP output stage is the producer, every event recorded, one clock a call.
+class ModelSource : public EventSource {
+public:
+    ~ModelSource() override { alb_model_destroy(m_); }
+    bool open(const char *profile, const std::vector<const char *> &sets,
+              const std::vector<uint32_t> &words)
+    {
+        alb_model_config c;
+        alb_model_config_default(&c);
+        c.events = ALB_EV_ALL;
+        c.name = "the stream";
+        std::vector<const char *> ov(sets);
+        ov.push_back(nullptr);
+        alb_diag d;
+        alb_diag_init(&d, nullptr);
+        if (alb_model_open(&m_, profile, ov.data(), &c, &d)) {
+            error_ = std::string("the model: ") + d.msg;
+            return false;
+        }
+        if (alb_model_push(m_, words.data(), words.size()) != words.size()) {
+            error_ = std::string("the model took only part of the stream: ") +
+                     alb_model_error(m_);
+            return false;
+        }
+        return true;
+    }
+    bool failed() const override { return !error_.empty(); }
+    const std::string &error() const override { return error_; }
+    bool done() const override { return alb_model_done(m_); }
+    uint64_t last_cycle() const override { return last_; }
+    void take(uint64_t t, std::vector<Event> &out) override
+    {
+        out.clear();
+        if (alb_model_done(m_))
+            return;
+        if (alb_model_cycle(m_) != t || alb_model_step(m_, 1)) {
+            error_ = std::string("the model at cycle ") + std::to_string(t) + ": " +
+                     alb_model_error(m_);
+            return;
+        }
+        const alb_event *ev;
+        size_t n = alb_model_events(m_, &ev);
+        for (size_t i = 0; i < n; i++)
+            out.push_back(convert(ev[i]));
+        alb_model_consume(m_, n);
+        if (n)
+            last_ = t;
+    }
+
+private:
+    static Event convert(const alb_event &a)
+    {
+        Event e;
+        e.cycle = a.cycle;
+        e.kind = __builtin_ctz(a.kind);      // ALB_EV_PUSH ... ALB_EV_FRAME: bits 0 .. 8
+        auto set = [&](std::initializer_list<uint64_t> f) {
+            int i = 0;
+            for (uint64_t x : f)
+                e.f[i++] = x;
+        };
+        switch (e.kind) {
+        case EV_PUSH:
+        case EV_POP: set({a.index, a.word}); break;
+        case EV_LOAD: set({a.face, a.slot, a.edges}); break;
+        case EV_START:
+        case EV_END: set({a.face, a.slot}); break;
+        case EV_CELL: set({a.face, a.x, a.y, a.wl, a.hl, a.level, a.result, a.edges}); break;
+        case EV_FILL: set({a.face, a.x, a.y, a.wl, a.hl, a.level}); break;
+        case EV_WRITE:
+            set({a.x, a.y, a.depth, a.rgb[0], a.rgb[1], a.rgb[2], a.face, a.level});
+            break;
+        default: set({a.number, a.cycles, a.crc}); break;
+        }
+        return e;
+    }
+    alb_model *m_ = nullptr;
+    std::string error_;
+    uint64_t last_ = 0;
 };
 
 // The RTL's log in the model's format: lines held back from a frame event
@@ -167,9 +269,57 @@ private:
     size_t next_crc_ = 0, flushed_ = 0;
 };
 
+// The RTL's frame k as docs/cosim.md's frame-store dump (`$writememh` text,
+// one 128-bit record a pixel, row 0 first): the display store resolved as the
+// output stage does (docs/vp.md §6) — colour the mean of the pixel's samples,
+// a sample of another frame's tag or of depth 0 having the background; depth,
+// face and level those of the nearest sample, ties the first in raster order.
+// Read from the memory model right after the frame's retirement, before the
+// scan-out clears it.
+bool dump_frame(const Valb_bench_top &v, uint64_t k, uint64_t bg, const std::string &path)
+{
+    const unsigned w = v.p_width, h = v.p_height, aa = v.p_aa, cb = v.p_colour_bits;
+    const unsigned db = v.p_depth_bits, tb = v.p_tag_bits;
+    const unsigned lw = (unsigned)__builtin_ctz(w) + aa, lh = (unsigned)__builtin_ctz(h) + aa;
+    const uint64_t ns = 1ull << (2 * aa), store = (k & 1) << (lw + lh);
+    const uint64_t tag = k & ((1ull << tb) - 1), dmask = (1ull << db) - 1;
+    const auto *mem = v.alb_bench_top->u_mem;
+    std::FILE *f = std::fopen(path.c_str(), "w");
+    if (!f)
+        return false;
+    std::fprintf(f, "// RTL frame %" PRIu64 ", %ux%u: face depth R G B level coverage (docs/cosim.md)\n",
+                 k, w, h);
+    for (uint64_t p = 0; p < (uint64_t)w * h; p++) {
+        uint64_t sum[3] = {0, 0, 0}, best = 0, face = 0xFFFFFFFF, level = 255, covered = 0;
+        for (uint64_t s = 0; s < ns; s++) {
+            uint64_t a = store | p << (2 * aa) | s;
+            uint64_t z = bits(mem->depth[a], 0, db + tb), d = z & dmask;
+            bool in = d != 0 && z >> db == tag;
+            const auto &c = mem->colour[a];
+            for (unsigned ch = 0; ch < 3; ch++)
+                sum[ch] += in ? bits(c, 40 + (2 - ch) * cb, cb) : bg >> (2 - ch) * cb & ((1u << cb) - 1);
+            covered += in;
+            if (in && d > best) {
+                best = d;
+                face = bits(c, 8, 32);
+                level = bits(c, 0, 8);
+            }
+        }
+        uint64_t rgb[3];
+        for (unsigned ch = 0; ch < 3; ch++)
+            rgb[ch] = (sum[ch] + ns / 2) >> (2 * aa);
+        std::fprintf(f, "%08" PRIx64 "%08" PRIx64 "%04" PRIx64 "%04" PRIx64 "%04" PRIx64 "%02" PRIx64
+                     "%02" PRIx64 "\n", face, best, rgb[0], rgb[1], rgb[2], level, covered);
+    }
+    bool ok = !std::ferror(f);
+    return std::fclose(f) == 0 && ok;
+}
+
 struct Options {
     const char *events = nullptr, *stream = nullptr, *log = nullptr, *vcd = nullptr;
-    const char *trace_all = nullptr;
+    const char *trace_all = nullptr, *profile = nullptr, *expect_error = nullptr;
+    const char *dump = nullptr;         // PREFIX: PREFIX.NNNN.memh a frame
+    std::vector<const char *> sets;
     uint64_t window = 200;
     bool json = false;
 };
@@ -179,7 +329,7 @@ struct Result {
     Mismatch m;
     std::string message;
     uint64_t cycles = 0, frames = 0, events = 0, crcs = 0, lost = 0;
-    double seconds = 0;
+    double seconds = 0, rtl_seconds = 0;     // the whole run; the RTL's evaluations alone
 };
 
 std::vector<uint32_t> read_stream(const char *path, std::string &err)
@@ -268,12 +418,25 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
            uint64_t to, bool write_log)
 {
     Result r;
-    LogReader model;
-    if (!model.open(o.events)) {
-        r.status = Result::INPUT;
-        r.message = std::string(o.events) + ": cannot open: " + std::strerror(errno);
-        return r;
+    std::unique_ptr<EventSource> source;
+    if (o.profile) {
+        auto ms = std::make_unique<ModelSource>();
+        if (!ms->open(o.profile, o.sets, *stream)) {
+            r.status = Result::INPUT;
+            r.message = ms->error();
+            return r;
+        }
+        source = std::move(ms);
+    } else {
+        auto log = std::make_unique<LogReader>();
+        if (!log->open(o.events)) {
+            r.status = Result::INPUT;
+            r.message = std::string(o.events) + ": cannot open: " + std::strerror(errno);
+            return r;
+        }
+        source = std::move(log);
     }
+    EventSource &model = *source;
     LogWriter log;
     if (write_log && !log.open(o.log)) {
         r.status = Result::INPUT;
@@ -306,6 +469,13 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
     const uint64_t scan = pixels / top->p_scan_pixels + 16;   // the last CRC after the last frame
     std::vector<Event> expected, actual, mine;
     size_t next_word = 0;
+    uint64_t frames_retired = 0;
+    std::chrono::steady_clock::duration in_rtl{};
+    auto eval = [&]() {
+        auto e0 = std::chrono::steady_clock::now();
+        top->eval();
+        in_rtl += std::chrono::steady_clock::now() - e0;
+    };
     auto t0 = std::chrono::steady_clock::now();
     uint64_t t = 0;
     for (;; t++) {
@@ -337,7 +507,7 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
         if (r.status != Result::OK)
             break;
         top->clk = 0;
-        top->eval();
+        eval();
         if (tfp && t >= from && t <= to)
             tfp->dump(2 * t);
         if (top->cycle != t) {
@@ -375,10 +545,22 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
                         ") at word " + std::to_string(top->error_word);
             break;
         }
+        const bool retired = top->ev_frame;
+        const uint64_t bg = top->dbg_retire_bg;
         top->clk = 1;
-        top->eval();
+        eval();
         if (tfp && t >= from && t <= to)
             tfp->dump(2 * t + 1);
+        if (retired && write_log && o.dump) {
+            char name[32];
+            std::snprintf(name, sizeof name, ".%04" PRIu64 ".memh", frames_retired);
+            if (!dump_frame(*top, frames_retired, bg, o.dump + std::string(name))) {
+                r.status = Result::INPUT;
+                r.message = std::string(o.dump) + name + ": cannot write: " + std::strerror(errno);
+                break;
+            }
+        }
+        frames_retired += retired;
         if (model.done() && t >= model.last_cycle()) {
             if (!sb.crcs_pending())
                 break;
@@ -391,6 +573,7 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
         }
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.rtl_seconds = std::chrono::duration<double>(in_rtl).count();
     r.cycles = t + 1;
     r.events = sb.matched();
     r.frames = sb.matched(EV_FRAME);
@@ -406,11 +589,60 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
     return r;
 }
 
+// --expect-error CODE@WORD: the stream pushed as fast as the FIFO takes it,
+// no model; the RTL must report error CODE at word WORD (a malformed stream).
+int expect_error(const std::vector<uint32_t> &words, unsigned code, uint64_t word)
+{
+    auto ctx = std::make_unique<VerilatedContext>();
+    auto top = std::make_unique<Valb_bench_top>(ctx.get());
+    top->clk = 0;
+    top->rst = 1;
+    top->in_valid = 0;
+    top->eval();
+    for (int i = 0; i < 2; i++) {
+        top->clk = 1;
+        top->eval();
+        top->clk = 0;
+        top->eval();
+    }
+    top->rst = 0;
+    size_t next = 0;
+    uint64_t t = 0, idle = 0;
+    for (; !top->error && idle < 100000; t++) {
+        top->eval();
+        top->in_valid = next < words.size() && !top->in_full;
+        top->in_data = top->in_valid ? words[next] : 0;
+        top->eval();
+        if (top->error)
+            break;
+        next += top->in_valid;
+        idle = next < words.size() ? 0 : idle + 1;
+        top->clk = 1;
+        top->eval();
+        top->clk = 0;
+    }
+    top->final();
+    if (!top->error) {
+        std::printf("cosim: no error in %" PRIu64 " cycles; expected error %u (%s) at word %" PRIu64
+                    "\n", t, code, error_name(code), word);
+        return 1;
+    }
+    bool ok = top->error_code == code && top->error_word == word;
+    std::printf("cosim: error %u (%s) at word %u in cycle %" PRIu64 "%s\n", top->error_code,
+                error_name(top->error_code), top->error_word, t,
+                ok ? "" : (", expected error " + std::to_string(code) + " at word " +
+                           std::to_string(word)).c_str());
+    return ok ? 0 : 1;
+}
+
 int usage()
 {
     std::fprintf(stderr,
-                 "usage: cosim --events MODEL.log [--stream S.stream] [--log RTL.log]\n"
-                 "             [--vcd FAIL.vcd] [--window N] [--trace-all T.vcd] [--json]\n");
+                 "usage: cosim --events MODEL.log [--stream S.stream] [options]\n"
+                 "       cosim --model PROFILE [--set KEY=VALUE ...] --stream S.stream [options]\n"
+                 "       cosim --stream S.stream --expect-error CODE@WORD\n"
+                 "options: [--log RTL.log] [--dump PREFIX] [--vcd FAIL.vcd] [--window N]\n"
+                 "         [--trace-all T.vcd] [--json]\n");
     return 2;
 }
 
@@ -435,6 +667,14 @@ int main(int argc, char **argv)
             o.trace_all = v;
         else if (a == "--window" && (v = value()))
             o.window = std::strtoull(v, nullptr, 10);
+        else if (a == "--model" && (v = value()))
+            o.profile = v;
+        else if (a == "--set" && (v = value()))
+            o.sets.push_back(v);
+        else if (a == "--dump" && (v = value()))
+            o.dump = v;
+        else if (a == "--expect-error" && (v = value()))
+            o.expect_error = v;
         else if (a == "--json")
             o.json = true;
         else {
@@ -442,7 +682,9 @@ int main(int argc, char **argv)
             return usage();
         }
     }
-    if (!o.events)
+    if (o.expect_error ? (o.events || o.profile || !o.stream)
+                       : (!o.events == !o.profile || (o.profile && !o.stream)) ||
+        (!o.sets.empty() && !o.profile))
         return usage();
     std::vector<uint32_t> words;
     if (o.stream) {
@@ -452,6 +694,16 @@ int main(int argc, char **argv)
             std::fprintf(stderr, "cosim: %s\n", err.c_str());
             return 2;
         }
+    }
+    if (o.expect_error) {
+        unsigned code;
+        unsigned long long word;
+        char extra;
+        if (std::sscanf(o.expect_error, "%u@%llu%c", &code, &word, &extra) != 2) {
+            std::fprintf(stderr, "cosim: --expect-error %s: expected CODE@WORD\n", o.expect_error);
+            return 2;
+        }
+        return expect_error(words, code, word);
     }
     const std::vector<uint32_t> *stream = o.stream ? &words : nullptr;
     Result r = run(o, stream, o.trace_all, 0, UINT64_MAX, true);
@@ -463,16 +715,17 @@ int main(int argc, char **argv)
         if (o.json)
             std::printf("{\"status\": \"ok\", \"cycles\": %" PRIu64 ", \"events\": %" PRIu64
                         ", \"frames\": %" PRIu64 ", \"crcs\": %" PRIu64 ", \"crcs_unchecked\": %"
-                        PRIu64 ", \"seconds\": %.3f, \"cycles_per_second\": %.0f}\n",
+                        PRIu64 ", \"seconds\": %.3f, \"cycles_per_second\": %.0f, "
+                        "\"rtl_seconds\": %.3f, \"rtl_cycles_per_second\": %.0f}\n",
                         r.cycles, r.events, r.frames, r.crcs, r.lost, r.seconds,
-                        r.cycles / r.seconds);
+                        r.cycles / r.seconds, r.rtl_seconds, r.cycles / r.rtl_seconds);
         else
             std::printf("cosim: %" PRIu64 " cycles, %" PRIu64 " events and %" PRIu64
-                        " frame CRCs match%s (%.2f s, %.0f cycles/s)\n",
+                        " frame CRCs match%s (%.2f s, %.0f cycles/s; the RTL alone %.0f cycles/s)\n",
                         r.cycles, r.events, r.crcs,
                         r.lost ? (", " + std::to_string(r.lost) + " CRCs unchecked: the scan-out "
                                   "overran (rtl/README.md)").c_str() : "",
-                        r.seconds, r.cycles / r.seconds);
+                        r.seconds, r.cycles / r.seconds, r.cycles / r.rtl_seconds);
         return 0;
     }
     uint64_t at = r.status == Result::DIVERGED ? r.m.cycle : r.cycles - 1;

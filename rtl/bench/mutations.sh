@@ -20,6 +20,8 @@ rtl=$(dirname "$here")
 [[ -n $dir ]] || dir=$(mktemp -d)
 mkdir -p "$dir"
 albatros=$(realpath "$albatros")
+# the mutants' benches link this tree's library and headers
+export ALB_ROOT=$(dirname "$rtl") ALB_LIB=$(dirname "$albatros")/lib
 
 # name | file | sed script | profile --set ... | scene | expected unit/event
 mutations=(
@@ -59,7 +61,8 @@ for m in "${mutations[@]}"; do
     fi
     "$albatros" gp "$dir/$scene.scene" --profile "${prof[@]}" -o "$work/s.stream" > /dev/null 2>&1 &&
         "$albatros" vp "$work/s.stream" --profile "${prof[@]}" --fidelity cycle \
-            --events "$work/model.log" -q || { echo "mutation $name: the model failed"; continue; }
+            --events "$work/model.log" -q 2> "$work/vp.out" ||
+        { echo "mutation $name: the model failed"; continue; }
     "$work/model/cosim" --events "$work/model.log" --stream "$work/s.stream" \
         --vcd "$work/divergence.vcd" --window 50 > "$work/cosim.out" 2>&1
     rc=$?
