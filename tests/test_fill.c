@@ -34,7 +34,10 @@ TEST(fill_depth_range_is_the_depth_units)
         for (int sh = -70; sh <= 70; sh++) {
             int64_t lo, hi;
             units_depth_range(sh, max, &lo, &hi);
-            int64_t probe[12] = {lo - 1, lo, lo + 1, hi - 1, hi, hi + 1, 0, -1, INT64_MAX, 1};
+            /* one past a bound that is INT64_MIN or INT64_MAX does not exist (skipped
+             * below): the bound itself stands in, never an overflowing lo - 1, hi + 1 */
+            const int64_t below = lo == INT64_MIN ? lo : lo - 1, above = hi == INT64_MAX ? hi : hi + 1;
+            int64_t probe[12] = {below, lo, lo + 1, hi - 1, hi, above, 0, -1, INT64_MAX, 1};
             probe[10] = (int64_t)(t_rand(&seed) >> (t_rand(&seed) % 63));
             probe[11] = (int64_t)(t_rand(&seed) >> 1);
             for (unsigned k = 0; k < 12; k++) {

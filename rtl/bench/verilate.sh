@@ -22,7 +22,10 @@ lib=${ALB_LIB:-$top/build/lib}
          "build the library first (make), or set ALB_ROOT and ALB_LIB" >&2; exit 1; }
 lib=$(realpath "$lib")
 mkdir -p "$dir"
-params=$(printf '%s\n' "$lib" "$@")
+# EXTRA_LDLIBS: what make's sanitizer builds link with (make asan), so a bench
+# over a sanitized libalbatros has the sanitizers' runtime first
+xlibs=${EXTRA_LDLIBS:-}
+params=$(printf '%s\n' "$lib" "$xlibs" "$@")
 if [ -x "$dir/cosim" ] && [ -f "$dir/params" ] && [ "$(cat "$dir/params")" = "$params" ] &&
    [ -z "$(find "$rtl" "$here" -newer "$dir/cosim" \( -name '*.sv' -o -name '*.svh' -o \
            -name '*.cpp' -o -name '*.h' -o -name verilate.sh \) 2>/dev/null)" ]; then
@@ -34,7 +37,7 @@ printf '%s\n' "$params" > "$dir/params"
 verilator --cc --exe --build -j 2 --trace -Wall -Wno-fatal --top-module alb_bench_top \
     -I"$rtl" -I"$here" -Mdir "$dir/obj" -o ../cosim "$@" \
     -CFLAGS "-O1 -std=c++17 -Wno-unused -I$top/include" \
-    -LDFLAGS "-L$lib -lalbatros -Wl,-rpath,$lib" \
+    -LDFLAGS "-L$lib -lalbatros -Wl,-rpath,$lib $xlibs" \
     "$here/alb_bench_top.sv" "$here/alb_frame_mem.sv" $(ls "$rtl"/alb_*.sv) \
     "$here/cosim.cpp" "$here/events.cpp" "$here/scoreboard.cpp" > "$dir/build.log" 2>&1 || {
     tail -30 "$dir/build.log" >&2
