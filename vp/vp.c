@@ -671,6 +671,17 @@ draw_split8(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k, v
     const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
     /* every step one cycle (the step table is monotone): no edge counts */
     const bool unit = timed && tm->step_cycles[w->n] == 1;
+    /* the block's rows of the depth and tag store are asked for now, so the
+     * edges' verdicts run while they come: small faces scattered over the
+     * screen find them outside the caches, and the fill waited for them
+     * (docs/performance.md); a hint only, no value depends on it */
+    {
+        const size_t at = (size_t)k->r0 * vp->sw + k->c0;
+        for (unsigned y = 0; y < 8; y++) {
+            __builtin_prefetch(vp->s_depth + at + y * vp->sw, 1);
+            __builtin_prefetch(vp->s_tag + at + y * vp->sw, 1);
+        }
+    }
 #if VP_AVX2
     if (isa == ISA_AVX2 && w->narrow) {
         if (!w->lanes_ready) {   /* the face's first 8 x 8 cell that splits */
