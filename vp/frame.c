@@ -3,6 +3,7 @@
  * stage's floating point (the EXR Z distance, compare's error measures) is
  * in emu/frame_out.c (docs/number-formats.md §0). */
 #include "albatros/frame.h"
+#include "vp_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -14,17 +15,17 @@ int alb_frame_alloc_planes(alb_frame *f, unsigned width, unsigned height, unsign
     f->width = width;
     f->height = height;
     if (planes & ALB_FRAME_RGB)
-        f->rgb = calloc(n * 3, sizeof *f->rgb);
+        f->rgb = vp_plane_alloc(n * 3, sizeof *f->rgb, true);
     if (planes & ALB_FRAME_DEPTH)
-        f->depth = calloc(n, sizeof *f->depth);
+        f->depth = vp_plane_alloc(n, sizeof *f->depth, true);
     if (planes & ALB_FRAME_FACE)
-        f->face = calloc(n, sizeof *f->face);
+        f->face = vp_plane_alloc(n, sizeof *f->face, true);
     if (planes & ALB_FRAME_LEVEL)
-        f->level = calloc(n, sizeof *f->level);
+        f->level = vp_plane_alloc(n, sizeof *f->level, true);
     if (planes & ALB_FRAME_COVERAGE)
-        f->coverage = calloc(n, sizeof *f->coverage);
+        f->coverage = vp_plane_alloc(n, sizeof *f->coverage, true);
     if (planes & ALB_FRAME_CYCLES)
-        f->cycles = calloc(n, sizeof *f->cycles);
+        f->cycles = vp_plane_alloc(n, sizeof *f->cycles, true);
     if (alb_frame_planes(f) != (planes & (ALB_FRAME_PLANES | ALB_FRAME_CYCLES))) {
         alb_frame_free(f);
         return -1;

@@ -291,6 +291,10 @@ unsigned vp_depth_forms(vp_depth_forms_t forms[3], const char *name[3]);
  * where `fine` has them (fill.c). */
 void vp_fill_block8(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r0, uint64_t mask,
                     uint64_t mid, uint64_t fine, uint8_t l);
+/* count x size bytes for a plane of the sample store or of a frame, zeroed
+ * if asked, in huge pages where the host offers them (store.c); NULL if
+ * out of memory; free() frees it. */
+void *vp_plane_alloc(size_t count, size_t size, bool zeroed);
 /* Clear the tiles of cell k that no fill has touched yet this frame
  * (store.c); vp_touch is the same, quicker for a cell within one tile. */
 void vp_touch_tiles(alb_vp *vp, const vp_cell *k);
