@@ -338,6 +338,19 @@ static int count(void *ctx, const alb_frame *f, const alb_vp_stats *vs, const al
 }
 
 /* Seconds per whole run of the stream (best of three). */
+/* One whole run of the stream, timed. */
+static double time_run_once(const alb_profile *p, const alb_ws_buf *b, const alb_sim_options *o,
+                            totals *t)
+{
+    alb_diag d;
+    alb_diag_init(&d, stderr);
+    memset(t, 0, sizeof *t);
+    double t0 = now();
+    if (alb_sim_run(p, b->w, b->n, "bench", o, count, t, &d))
+        die(&d);
+    return now() - t0;
+}
+
 static double time_run(const alb_profile *p, const alb_ws_buf *b, const alb_sim_options *o,
                        totals *t)
 {
@@ -378,9 +391,19 @@ static void bench_fidelities(const char *label, const alb_scene *s, const alb_pr
     alb_sim_options of = {.fid = ALB_FIDELITY_FUNCTIONAL, .threads = 1};
     alb_sim_options ot = {.fid = ALB_FIDELITY_TIMED}, oto = {.fid = ALB_FIDELITY_TIMED, .counters_only = true};
     alb_sim_options oc = {.fid = ALB_FIDELITY_CYCLE}, oco = {.fid = ALB_FIDELITY_CYCLE, .counters_only = true};
-    double sf = time_run(p, &b, &of, &tf);
-    double st = time_run(p, &b, &ot, &tt), sto = time_run(p, &b, &oto, &tto);
-    double sc = time_run(p, &b, &oc, &tc), sco = time_run(p, &b, &oco, &tco);
+    /* the five timed in turn, round after round, each its best: a change
+     * in the machine's load between them moves all alike, as the ratios
+     * timed / cycle need (one run of each after the other moved them from
+     * 4.1x to 6.6x from one make bench to the next) */
+    const alb_sim_options *const opts[5] = {&of, &ot, &oto, &oc, &oco};
+    totals *const tots[5] = {&tf, &tt, &tto, &tc, &tco};
+    double best[5] = {1e9, 1e9, 1e9, 1e9, 1e9};
+    for (int rep = 0; rep < 5; rep++)
+        for (int k = 0; k < 5; k++) {
+            const double dt = time_run_once(p, &b, opts[k], tots[k]);
+            best[k] = dt < best[k] ? dt : best[k];
+        }
+    const double sf = best[0], st = best[1], sto = best[2], sc = best[3], sco = best[4];
     printf("| %s | %u | %llu | %.1f | %.1f M/s | %.1f M/s | %.1f M/s | %.1f M/s | %.1fx | %.1fx |\n",
            label, tf.frames, (unsigned long long)tc.cycles, tf.frames / sf,
            (double)tto.cycles / sto / 1e6, (double)tt.cycles / st / 1e6,
