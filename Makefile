@@ -36,7 +36,8 @@ BRIDGE_SRC := emu/bridge/link.c emu/bridge/stream.c emu/bridge/transport_fault.c
               emu/bridge/transport_usb.c
 TOOLS_SRC  := tools/ref.c tools/scenegen.c tools/accuracy.c tools/stress.c tools/methods.c tools/sweep.c \
               $(wildcard tools/methods/*.c)
-FW_SRC     := firmware/core.c firmware/crc32.c firmware/sim/board.c firmware/sim/transport.c
+FW_SRC     := firmware/core.c firmware/crc32.c firmware/sim/board.c firmware/sim/transport.c \
+              firmware/sim/rtl_load.c
 EMU_SRC    := emu/main.c emu/cmd_gp.c emu/cmd_vectors.c emu/cmd_render.c emu/cmd_compare.c emu/cmd_scene.c emu/cmd_stream.c emu/cmd_stability.c \
               emu/cli.c
 TEST_SRC   := $(wildcard tests/test_*.c) tests/t.c tests/gp_helpers.c tests/refpacket.c
@@ -137,11 +138,21 @@ deps:
 	else echo "all build dependencies present"; fi
 
 # ---- build ----
-$(BUILD)/%.o: %.c
+# The compiler and its flags as last used in $(BUILD): rewritten when they
+# change, and every object depends on it, so a build with other flags
+# (EXTRA_CFLAGS=-Werror, CC=clang, OPT=-O0) never links objects of the last.
+FLAGS_STAMP := $(BUILD)/.flags
+FLAGS_NOW    = $(CC) $(ALL_CFLAGS) | $(LIB_CFLAGS)
+ifeq ($(filter clean help,$(MAKECMDGOALS)),)
+$(shell mkdir -p $(BUILD) && printf '%s\n' '$(subst ','\'',$(FLAGS_NOW))' > $(FLAGS_STAMP).new && \
+  { cmp -s $(FLAGS_STAMP).new $(FLAGS_STAMP) && rm -f $(FLAGS_STAMP).new || mv -f $(FLAGS_STAMP).new $(FLAGS_STAMP); })
+endif
+
+$(BUILD)/%.o: %.c $(FLAGS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $(OBJ_CFLAGS) -MMD -MP -c $< -o $@
 
-$(BUILD)/gen/%.o: $(BUILD)/gen/%.c
+$(BUILD)/gen/%.o: $(BUILD)/gen/%.c $(FLAGS_STAMP)
 	$(CC) $(ALL_CFLAGS) $(OBJ_CFLAGS) -I. -c $< -o $@
 
 $(BUILD)/tools/embed: tools/embed.c

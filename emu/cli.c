@@ -204,16 +204,17 @@ int run_opts_apply(run_opts *o, const char *name, const char *value, char *err, 
 static const char *const common_spec[] = {"profile=", "set=", "eye=", "at=", "up=",
                                            "fov=", "size=", "near=", NULL};
 
-/* Does spec contain name, and does it take a value? 0 = absent, 1 = flag, 2 = value. */
+/* Does spec contain name, and does it take a value? 0 = absent, 1 = flag,
+ * 2 = value, 3 = a value only as --name=VALUE ("name=?": --sim, --sim=rtl). */
 static int spec_kind(const char *const *spec, const char *name, size_t nlen)
 {
     for (; spec && *spec; spec++) {
         size_t l = strlen(*spec);
-        bool val = l && (*spec)[l - 1] == '=';
-        if (val)
-            l--;
+        bool opt = l > 2 && !strcmp(*spec + l - 2, "=?");
+        bool val = !opt && l && (*spec)[l - 1] == '=';
+        l -= opt ? 2 : val;
         if (l == nlen && strncmp(*spec, name, nlen) == 0)
-            return val ? 2 : 1;
+            return opt ? 3 : val ? 2 : 1;
     }
     return 0;
 }
@@ -267,6 +268,8 @@ int cli_parse(const char *cmd, int argc, char **argv, const char *const *spec, o
                 fprintf(stderr, "albatros %s: option '--%s' needs a value\n", cmd, namebuf);
                 return -1;
             }
+        } else if (kind == 3) {
+            value = eq ? eq + 1 : NULL;
         } else if (eq) {
             fprintf(stderr, "albatros %s: option '--%s' takes no value\n", cmd, namebuf);
             return -1;

@@ -37,6 +37,9 @@ static void on_stop(int sig) { stream_stop = sig; }
 
 typedef struct {
     bool sim, json, quiet, help, no_readback, frames;
+    bool rtl;                 /* --sim=rtl: the RTL board (firmware/sim/rtl_vp.h) */
+    const char *rtl_board;    /* --rtl-board FILE|DIR; NULL: the one built for the profile */
+    sim_rtl_tally *tally;     /* what the RTL boards opened clocked, for the report */
     unsigned vid, pid, wait_ms, timeout_ms, sim_payload;
     unsigned usb_transfers;   /* 0: the transport's defaults */
     size_t usb_buffer;
@@ -137,7 +140,18 @@ static int link_opt(void *ctx, const char *name, const char *value)
 {
     link_args *a = ctx;
     unsigned long long v;
-    if (!strcmp(name, "sim")) a->sim = true;
+    if (!strcmp(name, "sim")) {
+        /* --sim and --sim=model: the C model behind the firmware core;
+         * --sim=rtl: the verilated reference RTL */
+        a->sim = true;
+        a->rtl = value && !strcmp(value, "rtl");
+        if (value && !a->rtl && strcmp(value, "model")) {
+            fprintf(stderr, "albatros %s: --sim=%s: expected --sim, --sim=model (the C model) or "
+                            "--sim=rtl (the verilated RTL)\n", a->cmd, value);
+            return -1;
+        }
+    }
+    else if (!strcmp(name, "rtl-board")) a->rtl_board = value;
     else if (!strcmp(name, "json")) a->json = true;
     else if (!strcmp(name, "quiet") || !strcmp(name, "q")) a->quiet = true;
     else if (!strcmp(name, "help")) a->help = true;
@@ -176,7 +190,10 @@ static alb_transport *open_link(const link_args *a, const alb_profile *p, sim_bo
     char err[600];
     /* the board may NAK as long as a RESULT may take (--timeout) */
     alb_tr_usb_tuning tune = {a->usb_transfers, a->usb_buffer, a->timeout_ms};
-    alb_transport *t = a->sim ? sim_board_transport(p, a->sim_payload, err, sizeof err)
+    char warn[600] = "";
+    alb_transport *t = a->sim && a->rtl ? sim_board_transport_rtl(p, a->sim_payload, a->rtl_board,
+                                                                  warn, sizeof warn, err, sizeof err)
+                     : a->sim ? sim_board_transport(p, a->sim_payload, err, sizeof err)
                      : hid_only ? alb_transport_hid_open((uint16_t)a->vid, (uint16_t)a->pid, a->serial,
                                                      a->wait_ms, err, sizeof err)
                                 : alb_transport_usb_open_tuned((uint16_t)a->vid, (uint16_t)a->pid,
@@ -186,6 +203,10 @@ static alb_transport *open_link(const link_args *a, const alb_profile *p, sim_bo
         fprintf(stderr, "albatros %s: %s\n", a->cmd, err);
         return NULL;
     }
+    if (warn[0])
+        fprintf(stderr, "albatros %s: warning: %s\n", a->cmd, warn);
+    if (a->sim && a->rtl && a->tally)
+        sim_board_rtl_tally(sim_board_of(t), a->tally);
     if (board)
         *board = a->sim ? sim_board_of(t) : NULL;
     alb_transport_usb_set_stop(t, &stream_stop);   /* before a fault wrapper hides it */
@@ -392,8 +413,28 @@ static const char *result_name(int rc, const char *ok)
            : rc == EXIT_INTERRUPTED ? "interrupted" : "failed";
 }
 
+/* The RTL board's line: its object and how fast its RTL ran (clocks
+ * evaluated, restarts included, against the time spent evaluating them). */
+static void rtl_text(const sim_rtl_tally *t)
+{
+    fprintf(stderr, "  RTL board %s: %llu cycles clocked in %.3f s (%.0f cycles/s)\n", t->file,
+            (unsigned long long)t->cycles, t->seconds, t->seconds > 0 ? t->cycles / t->seconds : 0);
+}
+
+static void rtl_json(alb_json *j, const sim_rtl_tally *t)
+{
+    alb_json_key(j, "rtl_board");
+    alb_json_begin_object(j);
+    alb_json_kv_string(j, "file", t->file);
+    alb_json_kv_uint(j, "cycles", t->cycles);
+    alb_json_kv_fixed(j, "seconds", t->seconds, 3);
+    alb_json_kv_uint(j, "cycles_per_second",
+                     (uint64_t)(t->seconds > 0 ? t->cycles / t->seconds : 0));
+    alb_json_end_object(j);
+}
+
 static void report_text(const alb_stream_report *r, const alb_stream_frame *f, unsigned nf, int rc,
-                        const alb_tr_usb_link *usb)
+                        const alb_tr_usb_link *usb, const sim_rtl_tally *rtl)
 {
     if (r->interrupted)
         fprintf(stderr, "stream: interrupted: %u of %u frames confirmed by the board\n", r->frames,
@@ -418,6 +459,8 @@ static void report_text(const alb_stream_report *r, const alb_stream_frame *f, u
                         "over each time\n", r->reattaches, r->reattaches > 1 ? "s" : "");
     if (usb)
         usb_text(usb);
+    if (rtl)
+        rtl_text(rtl);
     link_text(r);
     if (r->first_problem[0])
         fprintf(stderr, "  first problem: %s\n", r->first_problem);
@@ -426,7 +469,7 @@ static void report_text(const alb_stream_report *r, const alb_stream_frame *f, u
 }
 
 static void report_json(const alb_stream_report *r, const alb_stream_frame *f, unsigned nf, int rc,
-                        const alb_tr_usb_link *usb)
+                        const alb_tr_usb_link *usb, const sim_rtl_tally *rtl)
 {
     alb_json j;
     alb_json_init(&j, stdout);
@@ -455,6 +498,8 @@ static void report_json(const alb_stream_report *r, const alb_stream_frame *f, u
     alb_json_kv_uint(&j, "reattaches", r->reattaches);
     if (usb)
         usb_json(&j, usb);
+    if (rtl)
+        rtl_json(&j, rtl);
     link_json(&j, r);
     alb_json_end_object(&j);
     alb_json_end_line(&j);
@@ -561,14 +606,21 @@ out:
 }
 
 static const char stream_help[] =
-    "usage: albatros stream [SCENE] [--sim | --vid V --pid P --serial S --wait MS]\n"
+    "usage: albatros stream [SCENE] [--sim[=rtl] | --vid V --pid P --serial S --wait MS]\n"
     "                       [--stream FILE] [--timeout MS] [--json] [options]\n\n"
     "Send SCENE's word stream (or a stream FILE) to a board that runs the VP, and\n"
     "check each frame's CRC and cycle count against the emulator (timed model).\n"
     "Link errors are reported, counted and recovered from by resending frames.\n"
     "With --frames, send the emulator's finished frames instead, as tiles for a\n"
     "board that displays them (frames mode, docs/usb-protocol.md).\n\n"
-    "  --sim              the simulated board in this process (no hardware)\n"
+    "  --sim              the simulated board in this process (no hardware), the C\n"
+    "                     model behind the firmware core (also --sim=model)\n"
+    "  --sim=rtl          the same board with the verilated reference RTL as its VP:\n"
+    "                     the RTL's own CRCs and cycles (make rtl-board PROFILE=P\n"
+    "                     builds it for a profile; Verilator)\n"
+    "  --rtl-board PATH   that RTL board's shared object, or its directory (default:\n"
+    "                     rtl-board/PROFILE/ beside this program); one built for\n"
+    "                     other parameters is run with a warning\n"
     "  --sim-payload N    the simulated board accepts payloads up to N bytes (default\n"
     "                     16384; the FX2 firmware takes 492)\n"
     "  --vid, --pid       USB ids in hexadecimal as lsusb shows them, 0x optional\n"
@@ -596,7 +648,8 @@ static const char stream_help[] =
     "                       swap=N           send packets N and N+1 in reverse order\n"
     "                       silence=N        the board falls silent after N bytes received\n"
     "                       disconnect=N     the device vanishes after N bytes sent\n"
-    "                       flip=FRAME       (sim) a wrong VP bit in frame FRAME (from 0)\n"
+    "                       flip=FRAME       (sim) a wrong VP bit in frame FRAME (from 0);\n"
+    "                                        --sim=rtl: a bit of the frame store's RAM\n"
     "  --json             the report as JSON on stdout\n\n"
     "Payloads are as long as the board's INFO report allows.  Ctrl-C stops the\n"
     "stream and reports the frames confirmed so far.\n\n"
@@ -608,11 +661,14 @@ static const char stream_help[] =
 
 int cmd_stream(int argc, char **argv)
 {
-    static const char *const spec[] = {"sim", "json", "quiet", "q", "help", "no-readback", "vid=",
+    static const char *const spec[] = {"sim=?", "rtl-board=", "json", "quiet", "q", "help",
+                                       "no-readback", "vid=",
                                        "pid=", "serial=", "wait=", "timeout=", "stream=",
                                        "fault=", "frames", "sim-payload=", "usb-transfers=",
                                        "usb-buffer=", NULL};
+    static sim_rtl_tally tally;   /* static: 4 KiB of path off the stack */
     link_args a = {.vid = PROTO_VID, .pid = PROTO_PID, .wait_ms = 2000, .timeout_ms = 2000,
+                   .tally = &tally,
                    .flip_frame = -1, .cmd = "stream"};
     run_opts o;
     run_opts_init(&o);
@@ -694,7 +750,8 @@ int cmd_stream(int argc, char **argv)
     stop_handlers h;
     catch_stop(&h);
     if (sopt.log)   /* also the sign, for a test, that Ctrl-C is now caught */
-        fprintf(stderr, "stream: %u frames to send to %s\n", nf, a.sim ? "the simulated board" :
+        fprintf(stderr, "stream: %u frames to send to %s\n", nf, a.sim && a.rtl ? "the RTL board"
+                : a.sim ? "the simulated board" :
                 "the board");
     usb_note(t, sopt.log);
     alb_stream_report r;
@@ -706,9 +763,9 @@ int cmd_stream(int argc, char **argv)
         t->ops->close(t);   /* cancels the transfers in flight, before a long report */
     t = NULL;
     if (a.json)
-        report_json(&r, frames, nf, rc, have_usb ? &usb : NULL);
+        report_json(&r, frames, nf, rc, have_usb ? &usb : NULL, a.rtl ? &tally : NULL);
     else if (!a.quiet || rc)
-        report_text(&r, frames, nf, rc, have_usb ? &usb : NULL);
+        report_text(&r, frames, nf, rc, have_usb ? &usb : NULL, a.rtl ? &tally : NULL);
     release_stop(&h);
 out:
     if (t)
@@ -846,7 +903,8 @@ static int board_list(const link_args *a, const alb_profile *p)
 
 int cmd_board(int argc, char **argv)
 {
-    static const char *const spec[] = {"sim", "json", "help", "vid=", "pid=", "serial=", "wait=",
+    static const char *const spec[] = {"sim=?", "rtl-board=", "json", "help", "vid=", "pid=",
+                                       "serial=", "wait=",
                                        "sim-payload=", NULL};
     link_args a = {.vid = PROTO_VID, .pid = PROTO_PID, .wait_ms = 0, .flip_frame = -1,
                    .cmd = "board"};

@@ -20,3 +20,14 @@ rtl-lint:
 # latches: slow (tens of minutes), so not part of make cosim
 rtl-synth:
 	@bash tests/cosim.sh $(BUILD) --synth
+
+# the RTL board of `albatros stream --sim=rtl` for one profile (rtl/board/,
+# docs/usb-protocol.md): make rtl-board PROFILE=a256 [SET='edge_units=3 ...']
+# [RTL_BOARD_DIR=DIR]; without SET it goes where albatros looks for it
+PROFILE ?= t32
+RTL_BOARD_DIR ?= $(BUILD)/rtl-board/$(PROFILE)
+.PHONY: rtl-board
+rtl-board: $(ALBATROS) $(LIBALB_SO)
+	@ALBATROS=$(ALBATROS) ALB_LIB=$(BUILD)/lib bash rtl/board/build.sh $(RTL_BOARD_DIR) $(PROFILE) \
+	  $(foreach s,$(SET),--set $(s))
+	@echo "rtl-board: $(RTL_BOARD_DIR)/albatros-rtl-board.so"

@@ -20,6 +20,11 @@ done
 bin=$build/albatros
 out=$build/cosim
 export ALB_LIB=$build/lib     # the benches link this build's libalbatros
+# a library built under ASan/UBSan (make asan) needs their runtime first in
+# the bench: linked in, the bench's own code uninstrumented
+if ldd "$build/lib/libalbatros.so" 2>/dev/null | grep -q 'libasan'; then
+    export ALB_BENCH_LDFLAGS="-fsanitize=address,undefined"
+fi
 mkdir -p "$out"
 pass=0 fail=0
 ok() { pass=$((pass + 1)); echo "ok   $1"; }

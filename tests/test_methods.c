@@ -13,6 +13,7 @@
 #include "../tools/stress.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -1022,4 +1023,21 @@ TEST(stress_coords_same_picture_at_every_scale)
     }
     alb_frame_free(&f0);
     alb_scene_free(&s0);
+}
+
+/* The coords family's 10^e: the whole powers exactly those strtod rounds
+ * from "1eN" (correctly rounded), the rest within 4 ulps of the C library's
+ * pow, which it replaces so the scene text is the same under any libm. */
+TEST(stress_pow10_is_ten_to_the_severity)
+{
+    for (int n = -300; n <= 300; n++) {
+        char text[16];
+        snprintf(text, sizeof text, "1e%d", n);
+        CHECK_MSG(stress_pow10(n) == strtod(text, NULL), "10^%d: %.17g", n, stress_pow10(n));
+    }
+    for (int k = -600; k <= 600; k++) {
+        double e = k / 10.0 + 0.037, want = pow(10, e), got = stress_pow10(e);
+        CHECK_MSG(fabs(got - want) <= 4 * (nextafter(want, INFINITY) - want),
+                  "10^%g: %.17g, pow says %.17g", e, got, want);
+    }
 }

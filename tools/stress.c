@@ -301,12 +301,30 @@ static void gen_deep(st_buf *b, unsigned k, uint64_t *s)
     }
 }
 
+/* 10^e for the coords family, the same bits under any C library (pow's last
+ * bit is the library's choice): 10^n of the nearest whole n by strtod of
+ * "1en", correctly rounded by glibc and musl alike, times 10^f of the rest
+ * (|f| <= 1/2) as e^(f ln 10) by 30 terms of its Taylor series in plain double arithmetic
+ * (the build allows no contraction, docs/number-formats.md); within a few
+ * ulps of the true value (tests/test_methods.c). */
+double stress_pow10(double e)
+{
+    double n = floor(e + 0.5), x = (e - n) * 2.30258509299404568402, term = 1, frac = 1;
+    char text[16];
+    snprintf(text, sizeof text, "1e%d", (int)n);
+    for (int k = 1; k <= 30; k++) {
+        term *= x / k;
+        frac += term;
+    }
+    return strtod(text, NULL) * frac;
+}
+
 /* Six tilted pentagons (one layout per seed, overlapping and, as they fall,
  * interpenetrating), every coordinate and `near` times 10^e: the same
  * picture at any scale. */
 static void gen_coords(st_buf *b, double e, uint64_t *s)
 {
-    double scale = pow(10, e);
+    double scale = stress_pow10(e);
     put(b, "near %.17g\n", 0.1 * scale);
     for (unsigned k = 0; k < 6; k++) {
         double z = uniform(s, 4, 10), cx = uniform(s, -0.4, 0.4) * z, cy = uniform(s, -0.4, 0.4) * z;

@@ -34,6 +34,10 @@
  * is unknown, the severity is NaN, or out of memory. */
 char *stress_scene(const char *family, double severity, uint64_t seed);
 
+/* 10^e as the coords family scales (|e| <= 300): the same bits under any C
+ * library, unlike pow(10, e). */
+double stress_pow10(double e);
+
 /* The family names, NULL-terminated. */
 const char *const *stress_families(void);
 

@@ -4,9 +4,13 @@
  * reports each frame's CRC and cycle count back through the core at its
  * FRAME_END.  The model keeps its state between packets (alb_sim_feed), so a
  * frame's cycles are those of the whole stream up to it at the cost of the
- * frame alone; a RESUME runs the kept part of the stream again. */
+ * frame alone; a RESUME runs the kept part of the stream again.  The RTL
+ * board is the same board with the verilated reference RTL as its VP
+ * (rtl_vp.h): its RESULTs are the RTL's frame CRCs and cycle counts, each
+ * reported when the RTL's output stage has scanned the frame out. */
 #include "board.h"
 #include "../core.h"
+#include "rtl_load.h"
 #include "albatros/words.h"
 #include "albatros/link.h"
 #include "albatros/sim.h"
@@ -29,6 +33,14 @@ struct sim_board {
     uint32_t *w;
     size_t n, cap;
     alb_sim_feed *feed;           /* the VP, fed w[0, n) so far; NULL before a RESET */
+    /* the RTL board: the verilated RTL instead of feed (rtl.api not NULL) */
+    sim_rtl rtl;
+    alb_rtl_vp *rtl_vp;           /* fed w[0, n) so far; NULL before a RESET */
+    uint32_t rtl_skip;            /* results of the replayed frames, not reported again */
+    bool rtl_hung;
+    uint64_t rtl_cycles;          /* clocked by the RTLs closed so far, and the time */
+    double rtl_seconds;
+    sim_rtl_tally *tally;         /* where they go when the board is destroyed */
     bool replaying;           /* RESUME: the kept stream again, no results */
     bool in_error;
     /* the last frame, for a flipped-bit fault */
@@ -109,12 +121,74 @@ static int board_frame(void *ctx, const alb_frame *f, const alb_vp_stats *vs, co
     return 0;
 }
 
+/* A frame the RTL scanned out: its RESULT to the host (the RTL's CRC, cycles
+ * and faces), its store kept for READBACK. */
+static void rtl_frame(sim_board *b, const alb_rtl_vp_frame *f)
+{
+    if (b->rtl_skip) {   /* a frame of the kept stream, reported before the RESUME */
+        b->rtl_skip--;
+        return;
+    }
+    size_t npix = (size_t)b->prof.width * b->prof.height;
+    struct kept_frame *k = &b->kept[b->next_kept];
+    uint16_t *rgb = realloc(k->rgb, 3 * npix * sizeof *rgb);
+    if (!rgb)
+        return;   /* the host sees no RESULT: a QUERY, then "stopped answering" */
+    memcpy(rgb, f->rgb, 3 * npix * sizeof *rgb);
+    *k = (struct kept_frame){f->number, rgb, npix};
+    uint32_t crc = f->crc;
+    if (!f->crc_from_rtl) {
+        /* the next retirement cut the scan-out off (rtl/README.md): no CRC
+         * left the output stage, so the board's resolve of the store stands in */
+        crc = alb_link_frame_crc(rgb, npix);
+        fprintf(stderr, "rtl board: frame %u: the next frame retired before its scan-out "
+                "ended: its CRC is the board's resolve of the store, not the RTL's output "
+                "stage\n", f->number);
+    }
+    fw_result r = {f->number, crc, (uint32_t)f->cycles, (uint32_t)(f->cycles >> 32), f->faces};
+    b->next_kept = (b->next_kept + 1) % 4;
+    fw_frame_done(&b->core, &r);
+}
+
+/* The words received so far through the RTL, clocked as far as they go;
+ * the frames it finished to the host.  An RTL error is the stream's (ERROR
+ * STREAM names the word); an RTL that stopped is a board that hangs: it
+ * says why on stderr and answers nothing more, as a hung board would. */
+static void feed_rtl(sim_board *b)
+{
+    const alb_rtl_vp_api *api = b->rtl.api;
+    char err[400] = "";
+    if (b->rtl_hung)
+        return;
+    int rc = b->rtl_vp ? api->run(b->rtl_vp, b->w, b->n, err, sizeof err) : -1;
+    if (b->replaying && b->rtl_vp)
+        b->rtl_skip = api->frames_given(b->rtl_vp);
+    alb_rtl_vp_frame f;
+    while (b->rtl_vp && api->next_frame(b->rtl_vp, &f))
+        rtl_frame(b, &f);
+    if (!rc)
+        return;
+    uint32_t word = 0;
+    unsigned code = b->rtl_vp ? api->error(b->rtl_vp, &word) : 0;
+    if (code) {
+        fw_vp_error(&b->core, word);
+        b->in_error = true;
+    } else {
+        fprintf(stderr, "rtl board: %s\n", b->rtl_vp ? err : "the RTL could not be started");
+        b->rtl_hung = true;
+    }
+}
+
 /* The words received so far through the VP; an error stops it until the
  * host restarts the stream (ERROR STREAM names the word). */
 static void feed(sim_board *b)
 {
     if (b->in_error)
         return;
+    if (b->rtl.api) {
+        feed_rtl(b);
+        return;
+    }
     alb_diag d;
     alb_diag_init(&d, NULL);
     if (!b->feed || alb_sim_feed_words(b->feed, b->w, b->n, &d)) {
@@ -123,18 +197,54 @@ static void feed(sim_board *b)
     }
 }
 
+/* The clocking of the RTL about to be closed, into the board's totals. */
+static void add_speed(sim_board *b)
+{
+    if (!b->rtl_vp)
+        return;
+    uint64_t cycles;
+    double seconds;
+    b->rtl.api->speed(b->rtl_vp, &cycles, &seconds);
+    b->rtl_cycles += cycles;
+    b->rtl_seconds += seconds;
+}
+
+/* The RTL board's restart: a new RTL (reset, both stores clear) that runs
+ * the kept words again. */
+static void restart_rtl(sim_board *b, uint8_t full)
+{
+    const alb_rtl_vp_api *api = b->rtl.api;
+    b->n = full || !b->rtl_vp ? 0 : api->frame_start(b->rtl_vp, b->core.resume_frame);
+    add_speed(b);
+    api->close(b->rtl_vp);
+    alb_rtl_vp_config c = {b->prof.gp_face_cycles, b->prof.gp_edge_cycles,
+                           b->prof.gp_frame_cycles};
+    char err[400];
+    b->rtl_vp = api->open(&c, err, sizeof err);
+    if (!b->rtl_vp)
+        fprintf(stderr, "rtl board: %s\n", err);
+    else if (b->flip)
+        api->flip(b->rtl_vp, b->flip_frame, b->flip_x, b->flip_y, b->flip_ch, b->flip_bit);
+    b->rtl_skip = 0;
+    b->rtl_hung = false;
+}
+
 /* RESUME: keep the stream up to its last whole frame (configuration and
  * textures stay loaded: the kept words run through a new VP again); RESET:
  * a new stream from its CONFIG. */
 static void hal_restart(void *ctx, uint8_t full)
 {
     sim_board *b = ctx;
-    b->n = full || !b->feed ? 0 : alb_sim_feed_frame_start(b->feed);
-    alb_sim_feed_close(b->feed);
-    alb_diag d;
-    alb_diag_init(&d, NULL);
-    if (alb_sim_feed_open(&b->feed, &b->prof, "board", board_frame, b, &d))
-        b->feed = NULL;
+    if (b->rtl.api) {
+        restart_rtl(b, full);
+    } else {
+        b->n = full || !b->feed ? 0 : alb_sim_feed_frame_start(b->feed);
+        alb_sim_feed_close(b->feed);
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        if (alb_sim_feed_open(&b->feed, &b->prof, "board", board_frame, b, &d))
+            b->feed = NULL;
+    }
     b->in_error = false;
     b->replaying = true;
     feed(b);
@@ -248,6 +358,17 @@ void sim_board_destroy(sim_board *b)
     free(b->tx);
     free(b->w);
     alb_sim_feed_close(b->feed);
+    if (b->rtl.api) {
+        add_speed(b);
+        b->rtl.api->close(b->rtl_vp);
+        b->rtl_vp = NULL;
+        if (b->tally) {
+            b->tally->cycles += b->rtl_cycles;
+            b->tally->seconds += b->rtl_seconds;
+            snprintf(b->tally->file, sizeof b->tally->file, "%s", b->rtl.file);
+        }
+    }
+    sim_rtl_unload(&b->rtl);
     for (unsigned i = 0; i < 4; i++)
         free(b->kept[i].rgb);
     free(b);
@@ -291,4 +412,27 @@ void sim_board_flip(sim_board *b, uint32_t frame, unsigned x, unsigned y, unsign
     b->flip = true;
     b->flip_frame = frame;
     b->flip_x = x, b->flip_y = y, b->flip_ch = ch, b->flip_bit = bit;
+    if (b->rtl.api && b->rtl_vp)
+        b->rtl.api->flip(b->rtl_vp, frame, x, y, ch, bit);
+}
+
+sim_board *sim_board_create_rtl(const alb_profile *p, const char *path, char *warn,
+                                size_t warnlen, char *err, size_t errlen)
+{
+    sim_rtl r;
+    if (sim_rtl_load(&r, p, path, warn, warnlen, err, errlen))
+        return NULL;
+    sim_board *b = sim_board_create(p, err, errlen);
+    if (!b) {
+        sim_rtl_unload(&r);
+        return NULL;
+    }
+    b->rtl = r;
+    memcpy(b->core.name, "albatros-rtl", 13);
+    return b;
+}
+
+void sim_board_rtl_tally(sim_board *b, sim_rtl_tally *t)
+{
+    b->tally = t;
 }

@@ -15,6 +15,21 @@
 typedef struct sim_board sim_board;
 
 sim_board *sim_board_create(const alb_profile *p, char *err, size_t errlen);
+/* The RTL board: the verilated reference RTL as the VP (rtl_vp.h, loaded by
+ * rtl_load.c: path NULL for the one `make rtl-board` built for p's profile,
+ * or an object or its directory, whose parameters differing from p's are
+ * then described in warn).  Its INFO name is "albatros-rtl". */
+sim_board *sim_board_create_rtl(const alb_profile *p, const char *path, char *warn,
+                                size_t warnlen, char *err, size_t errlen);
+/* What RTL boards clocked, for a report: a board given one adds to it, when
+ * destroyed, the cycles its RTLs clocked (every restart included), the time
+ * that took, and its object's file. */
+typedef struct {
+    uint64_t cycles;
+    double seconds;
+    char file[4200];
+} sim_rtl_tally;
+void sim_board_rtl_tally(sim_board *b, sim_rtl_tally *t);
 void sim_board_destroy(sim_board *b);
 /* The largest payload the board accepts (and announces in INFO), at most
  * PROTO_MAX_PAYLOAD: a board like the FX2, which takes 492 bytes.  Longer
@@ -45,6 +60,9 @@ void sim_board_flip(sim_board *b, uint32_t frame, unsigned x, unsigned y, unsign
  * header and CRC). */
 alb_transport *sim_board_transport(const alb_profile *p, size_t max_payload, char *err,
                                    size_t errlen);
+/* The same with the RTL board (sim_board_create_rtl's path and warn). */
+alb_transport *sim_board_transport_rtl(const alb_profile *p, size_t max_payload, const char *path,
+                                       char *warn, size_t warnlen, char *err, size_t errlen);
 /* The simulated board behind such a transport (fault injection); NULL for
  * any other transport. */
 sim_board *sim_board_of(alb_transport *t);

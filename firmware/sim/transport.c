@@ -54,29 +54,48 @@ static void sim_close(alb_transport *t)
 static const alb_transport_ops sim_ops = {"sim", sim_write, sim_flush, sim_read, sim_hid_get,
                                       sim_hid_set, sim_close};
 
-alb_transport *sim_board_transport(const alb_profile *p, size_t max_payload, char *err,
-                                   size_t errlen)
+static alb_transport *wrap(sim_board *b, size_t max_payload, char *err, size_t errlen)
+{
+    alb_transport *t = b ? calloc(1, sizeof *t) : NULL;
+    if (!t) {
+        if (b)
+            snprintf(err, errlen, "out of memory");
+        sim_board_destroy(b);
+        return NULL;
+    }
+    t->ops = &sim_ops;
+    t->impl = b;
+    t->max_payload = PROTO_MAX_PAYLOAD;
+    if (max_payload)
+        sim_board_set_max_payload(b, (uint16_t)max_payload);
+    return t;
+}
+
+static int payload_ok(size_t max_payload, char *err, size_t errlen)
 {
     if (max_payload > PROTO_MAX_PAYLOAD) {
         snprintf(err, errlen, "simulated board: a payload of %zu bytes is above the protocol's "
                  "%u", max_payload, PROTO_MAX_PAYLOAD);
-        return NULL;
+        return -1;
     }
-    alb_transport *t = calloc(1, sizeof *t);
-    if (!t) {
-        snprintf(err, errlen, "out of memory");
+    return 0;
+}
+
+alb_transport *sim_board_transport_rtl(const alb_profile *p, size_t max_payload, const char *path,
+                                       char *warn, size_t warnlen, char *err, size_t errlen)
+{
+    if (payload_ok(max_payload, err, errlen))
         return NULL;
-    }
-    t->ops = &sim_ops;
-    t->impl = sim_board_create(p, err, errlen);
-    if (!t->impl) {
-        free(t);
+    return wrap(sim_board_create_rtl(p, path, warn, warnlen, err, errlen), max_payload, err,
+                errlen);
+}
+
+alb_transport *sim_board_transport(const alb_profile *p, size_t max_payload, char *err,
+                                   size_t errlen)
+{
+    if (payload_ok(max_payload, err, errlen))
         return NULL;
-    }
-    t->max_payload = PROTO_MAX_PAYLOAD;
-    if (max_payload)
-        sim_board_set_max_payload(t->impl, (uint16_t)max_payload);
-    return t;
+    return wrap(sim_board_create(p, err, errlen), max_payload, err, errlen);
 }
 
 sim_board *sim_board_of(alb_transport *t)
