@@ -123,7 +123,7 @@ help:
 	@echo "make cosim      the reference RTL (rtl/) against the cycle model, everything (rtl/README.md)"
 	@echo "make fpga       the VP for an iCE40 HX8K board: bitstream and nextpnr report (docs/fpga.md)"
 	@echo "make fpga-check make fpga, then: does it fit and meet its clock"
-	@echo "make -j fpga-sweep  the design-space view: cells per unit against cycles per frame (docs/fpga.md)"
+	@echo "make -j2 fpga-sweep  the design-space view: cells per unit against cycles per frame (docs/fpga.md)"
 	@echo "make clean"
 
 # ---- set-up: install what pkg-config cannot find (Debian 12) ----

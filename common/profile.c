@@ -13,8 +13,9 @@
 /* The clocked parameters (docs/microarchitecture.md): a 40 MHz VP with 8
  * edge units and a 4-sample fill for 512x512, twice the clock and fill rate
  * for 1024x1024, a 512-word FIFO, two face slots, a 4-cell fill queue, the
- * registers of 16 frames, an 8-stage divider; the GP spends 24 + 6 per edge clocks per face. */
-#define CLOCKED(khz, fill) khz, 512, 2, 8, fill, 4, 16, 8, 4, 24, 6, 16, 16777215, 0
+ * registers of 16 frames, an 8-stage divider; the GP spends 24 + 6 per edge clocks per face;
+ * all_units off, the host's SIMD forms on. */
+#define CLOCKED(khz, fill) khz, 512, 2, 8, fill, 4, 16, 8, 4, 24, 6, 16, 16777215, 0, 1
 static const alb_profile builtin[] = {
     {"a512", 512, 512, 0, 14, 24, 24, 8, 16, 12, ALB_BOUND_ALBATROS, true, CLOCKED(40000, 4)},
     {"a1024", 1024, 1024, 0, 15, 24, 24, 8, 16, 12, ALB_BOUND_ALBATROS, true, CLOCKED(80000, 8)},
@@ -28,7 +29,7 @@ static const alb_profile builtin[] = {
      * a 16-word FIFO, one face slot, two FRAME register sets, the board's
      * 12 MHz clock.  Even so the RTL is 1.7 times the part (docs/fpga.md). */
     {"up5k", 16, 16, 0, 7, 8, 16, 4, 8, 8, ALB_BOUND_ALBATROS, true,
-     12000, 16, 1, 1, 1, 1, 2, 4, 4, 24, 6, 16, 4095, 0},
+     12000, 16, 1, 1, 1, 1, 2, 4, 4, 24, 6, 16, 4095, 0, 1},
 };
 
 static const char *const names[] = {"a512", "a1024", "a1024x512", "a256", "t32", "up5k", NULL};
@@ -98,7 +99,7 @@ static const uint_field uint_fields[] = {
     FIELD(fifo_depth), FIELD(face_slots), FIELD(edge_units), FIELD(fill_rate), FIELD(fill_queue),
     FIELD(frame_queue),
     FIELD(divider_latency), FIELD(shade_latency), FIELD(gp_face_cycles), FIELD(gp_edge_cycles),
-    FIELD(gp_frame_cycles), FIELD(frame_faces), FIELD(all_units),
+    FIELD(gp_frame_cycles), FIELD(frame_faces), FIELD(all_units), FIELD(simd),
 };
 
 int alb_profile_set(alb_profile *p, const char *assignment, char *err, size_t errlen)
@@ -215,6 +216,8 @@ int alb_profile_check(const alb_profile *p, char *err, size_t errlen)
             p->frame_faces);
     if (p->all_units > 1)
         BAD("all_units=%u: must be 0 (the units a face uses) or 1 (every unit)", p->all_units);
+    if (p->simd > 1)
+        BAD("simd=%u: must be 1 (the host's fastest forms) or 0 (the plain ones)", p->simd);
     return 0;
 #undef BAD
 }
@@ -227,13 +230,13 @@ void alb_profile_describe(const alb_profile *p, char *buf, size_t len)
              "shade_frac_bits=%u\nbound=%s\nbackface=%d\nclock_khz=%u\nfifo_depth=%u\n"
              "face_slots=%u\nedge_units=%u\nfill_rate=%u\nfill_queue=%u\nframe_queue=%u\n"
              "divider_latency=%u\nshade_latency=%u\ngp_face_cycles=%u\ngp_edge_cycles=%u\n"
-             "gp_frame_cycles=%u\nframe_faces=%u\nall_units=%u\n",
+             "gp_frame_cycles=%u\nframe_faces=%u\nall_units=%u\nsimd=%u\n",
              p->name, p->width, p->height, p->aa_levels, p->edge_frac_bits,
              p->coef_bits, p->depth_bits, p->colour_bits, p->recip_bits,
              p->shade_frac_bits, alb_bound_method_name(p->bound), p->cull_backfaces, p->clock_khz,
              p->fifo_depth, p->face_slots, p->edge_units, p->fill_rate, p->fill_queue, p->frame_queue,
              p->divider_latency, p->shade_latency, p->gp_face_cycles, p->gp_edge_cycles,
-             p->gp_frame_cycles, p->frame_faces, p->all_units);
+             p->gp_frame_cycles, p->frame_faces, p->all_units, p->simd);
 }
 
 alb_err alb_profile_open(alb_profile *p, const char *name, const char *const *sets, alb_diag *d)

@@ -146,7 +146,7 @@ int cycle_map_init(cycle_map *m, const alb_vp *vp)
     while (m->fine_from < m->levels &&
            lvl_wl(vp, m->fine_from) + lvl_hl(vp, m->fine_from) > FINE_LOG2)
         m->fine_from++;
-    m->fine = calloc((size_t)vp->sw * vp->sh, sizeof *m->fine);
+    m->fine = vp_plane_alloc((size_t)vp->sw * vp->sh, sizeof *m->fine, true);   /* huge pages, as the store */
     if (!m->fine)
         return -1;
     for (unsigned l = 0; l < m->fine_from; l++) {

@@ -625,7 +625,6 @@ static void retire_check(sim_cycle *m, int64_t t)
         alb_vp_frame_end(m->vp, &m->frame);
         cycle_map_resolve(&m->map, m->vp, &m->frame);
     } else {
-        vp_store_finish(m->vp);
         m->frame.number = m->vp->frame.number;
         m->frame.near = m->vp->cfg.near;
     }

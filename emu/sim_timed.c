@@ -16,6 +16,8 @@ typedef struct {
     alb_frame frame;
     /* words: the pop times of the last fifo_depth + 1 words, by index */
     int64_t *pop_ring;
+    unsigned word_slot;       /* words % (fifo_depth + 1): the next word's in pop_ring */
+    unsigned popped_slot;     /* popped % (fifo_depth + 1) */
     uint64_t words;           /* words pushed so far */
     uint64_t popped;          /* words counted as popped for the FIFO peak */
     int64_t last_push, last_pop;
@@ -24,12 +26,9 @@ typedef struct {
     uint64_t faces;
     int64_t engine_free;      /* first cycle the engine can start a face */
     int64_t *take_ring;       /* fill_queue last cells: cycle the fill unit took them */
-    unsigned take_slot;       /* cells % fill_queue: the oldest of them, the next to write */
-    sim_durations dur;
-    uint64_t cells;
-    int64_t fill_free;        /* first cycle the fill unit can take a cell */
-    int64_t now;              /* the engine's next cycle in the face being walked */
-    vp_timer timer;           /* the walk's steps and hand-overs (hand_over) */
+    /* the walk's steps and hand-overs, the engine's next cycle (now) and the
+     * fill queue (vp_timer_hand_over) */
+    vp_timer timer;
     int64_t drain;            /* last cycle of any face's activity so far */
     int64_t frame_last;       /* last activity of the current frame's faces */
     int64_t frame_start;      /* first cycle a face of the current frame may start */
@@ -79,68 +78,45 @@ static void word_times(timed *t, int64_t compute, int64_t ready)
 {
     const unsigned depth = t->p->fifo_depth;
     uint64_t i = t->words;
+    /* the ring's slots without divisions: word i - depth is in the slot
+     * after word i's (the ring holds depth + 1) */
+    const unsigned slot = t->word_slot, next = slot == depth ? 0 : slot + 1;
     int64_t want = t->last_push + 1;   /* GP free after its previous push */
-    if (compute >= 0) {
-        bins_add(&t->bins, CNT(gp_busy), want, want + compute);
-        want += compute;
-    }
     /* the FIFO held fewer than depth words at the start of the push cycle:
      * the word depth places back has been popped before it */
-    int64_t push = want;
+    int64_t push = want + (compute >= 0 ? compute : 0);
     if (i >= depth)
-        push = max64(push, t->pop_ring[(i - depth) % (depth + 1)] + 1);
-    bins_add(&t->bins, CNT(gp_stall), want, push);
-    bins_add(&t->bins, CNT(gp_busy), push, push + 1);
+        push = max64(push, t->pop_ring[next] + 1);
     /* the parser wants it from the cycle after its previous pop */
     int64_t asked = t->last_pop + 1;
     int64_t pop = max64(max64(asked, push + 1), ready);
     /* it starves until the word is in the FIFO, then waits for room */
     int64_t arrived = push + 1 < pop ? push + 1 : pop;
-    if (arrived > asked)
-        bins_add(&t->bins, CNT(parser_starve), asked, arrived);
-    bins_add(&t->bins, CNT(parser_blocked), arrived > asked ? arrived : asked, pop);
+    const int64_t waited = arrived > asked ? arrived : asked;
+    if (compute >= 0) {
+        bins_add(&t->bins, CNT(gp_busy), want, want + compute);
+        want += compute;
+    }
+    bins_add(&t->bins, CNT(gp_stall), want, push);
+    bins_add(&t->bins, CNT(gp_busy), push, push + 1);
+    bins_add(&t->bins, CNT(parser_starve), asked, waited);
+    bins_add(&t->bins, CNT(parser_blocked), waited, pop);
     bins_add(&t->bins, CNT(parser_busy), pop, pop + 1);
     /* occupancy: the word is in the FIFO at the start of push+1 .. pop */
     bins_add(&t->bins, CNT(fifo_sum), push + 1, pop + 1);
-    while (t->popped < i && t->pop_ring[t->popped % (depth + 1)] <= push)
+    while (t->popped < i && t->pop_ring[t->popped_slot] <= push) {
         t->popped++;
+        t->popped_slot = t->popped_slot == depth ? 0 : t->popped_slot + 1;
+    }
     alb_sim_counters *at = bins_at(&t->bins, push);
     uint64_t level = i + 1 - t->popped;
     if (level > at->fifo_peak)
         at->fifo_peak = level;
-    t->pop_ring[i % (depth + 1)] = pop;
+    t->pop_ring[slot] = pop;
+    t->word_slot = next;
     t->last_push = push;
     t->last_pop = pop;
     t->words++;
-}
-
-/* A cell handed over to the fill unit in the last cycle of the engine's
- * step: `cycles` are the engine's since the previous hand-over, this step's
- * included (the walk's timer, vp_draw_face_timed). */
-static void hand_over(vp_timer *tm, const vp_cell *k, uint64_t cycles)
-{
-    timed *t = tm->ctx;
-    const alb_profile *p = t->p;
-    bins_add(&t->bins, CNT(engine_busy), t->now, t->now + (int64_t)cycles);
-    int64_t end = t->now + (int64_t)cycles - 1;
-    /* the queue held fewer than fill_queue cells at the start of the cycle:
-     * the cell fill_queue back (the ring's oldest) had been taken */
-    int64_t put = end;
-    if (t->cells >= p->fill_queue)
-        put = max64(put, t->take_ring[t->take_slot] + 1);
-    bins_add(&t->bins, CNT(engine_stall), end + 1, put + 1);
-    int64_t take = max64(put + 1, t->fill_free);
-    uint64_t f = t->dur.fill[k->wl + k->hl];
-    if (t->frames)
-        cycle_map_charge(&t->map, t->vp, k, f);
-    bins_add(&t->bins, CNT(fill_busy), take, take + (int64_t)f);
-    t->fill_free = take + (int64_t)f;
-    t->take_ring[t->take_slot] = take;
-    t->take_slot = t->take_slot + 1 == p->fill_queue ? 0 : t->take_slot + 1;
-    t->cells++;
-    int64_t written = take + (int64_t)f - 1 + t->latency - 1;
-    t->frame_last = max64(t->frame_last, written);
-    t->now = put + 1;
 }
 
 /* Each step's cycles on the per-pixel cycle map (frames wanted). */
@@ -154,20 +130,34 @@ static void charge(vp_timer *tm, const vp_cell *k, uint64_t cycles)
 static alb_err run_face(timed *t, vp_loaded_face *lf, int64_t loaded, alb_diag *d)
 {
     const alb_profile *p = t->p;
-    t->now = max64(max64(loaded + 1, t->engine_free), t->first_face_of_frame ? t->frame_start : 0);
+    vp_timer *tm = &t->timer;
+    const int64_t start =
+        max64(max64(loaded + 1, t->engine_free), t->first_face_of_frame ? t->frame_start : 0);
     t->first_face_of_frame = false;
     alb_err e = vp_begin_face(t->vp, lf, d);
     if (e)
         return e;
-    t->timer.pending = 0;
-    vp_draw_face_timed(t->vp, lf, &t->timer);
+    tm->now = start;
+    tm->pending = 0;
+    tm->engine = tm->stall = tm->fill = 0;
+    const uint64_t cells = tm->cells;
+    vp_draw_face_timed(t->vp, lf, tm);
     /* the steps after the last hand-over */
-    bins_add(&t->bins, CNT(engine_busy), t->now, t->now + (int64_t)t->timer.pending);
-    t->now += (int64_t)t->timer.pending;
+    tm->engine += tm->pending;
+    tm->now += (int64_t)tm->pending;
+    /* every cycle of the face follows the last retirement (its first is at
+     * least the frame's start): the face's sums go to the open bin at once */
+    bins_add(&t->bins, CNT(engine_busy), start, start + (int64_t)tm->engine);
+    bins_add(&t->bins, CNT(engine_stall), start, start + (int64_t)tm->stall);
+    bins_add(&t->bins, CNT(fill_busy), start, start + (int64_t)tm->fill);
+    /* a cell's last sample is written latency - 1 cycles after its last
+     * fill cycle; fill_free only grows, so the face's last cell is latest */
+    if (tm->cells != cells)
+        t->frame_last = max64(t->frame_last, tm->fill_free - 1 + (int64_t)t->latency - 1);
     /* the face is finished in its last step's cycle; its slot is free next */
-    t->engine_free = t->now;
-    t->frame_last = max64(t->frame_last, t->now - 1);
-    t->slot_free[t->faces % p->face_slots] = t->now;
+    t->engine_free = tm->now;
+    t->frame_last = max64(t->frame_last, tm->now - 1);
+    t->slot_free[t->faces % p->face_slots] = tm->now;
     t->faces++;
     t->drain = max64(t->drain, t->frame_last);
     return ALB_OK;
@@ -208,7 +198,6 @@ static alb_err frame_end(timed *t, int64_t popped, alb_diag *d)
         alb_vp_frame_end(t->vp, &t->frame);
         cycle_map_resolve(&t->map, t->vp, &t->frame);
     } else {
-        vp_store_finish(t->vp);
         t->frame.number = t->vp->frame.number;
     }
     t->prev_retire = r;
@@ -254,14 +243,12 @@ static alb_err timed_init(timed *t, const alb_profile *p, bool frames, alb_diag 
     alb_err e = alb_vp_create(&t->vp, p, d);
     if (e)
         return e;
-    vp_timer_init(&t->timer, p->edge_units);
-    sim_durations_init(&t->dur, p);
-    t->timer.hand_over = hand_over;
-    t->timer.charge = frames ? charge : NULL;
-    t->timer.ctx = t;
     t->pop_ring = calloc(p->fifo_depth + 1, sizeof *t->pop_ring);
     t->slot_free = calloc(p->face_slots, sizeof *t->slot_free);
     t->take_ring = calloc(p->fill_queue, sizeof *t->take_ring);
+    vp_timer_init(&t->timer, p, t->take_ring);
+    t->timer.charge = frames ? charge : NULL;
+    t->timer.ctx = t;
     if (!t->pop_ring || !t->slot_free || !t->take_ring || bins_init(&t->bins) ||
         (frames && (cycle_map_init(&t->map, t->vp) || alb_vp_frame_alloc(t->vp, &t->frame, true))))
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the timed model");

@@ -6,7 +6,7 @@
  * it was drawn with; a frame drawn after another as if on a cleared store. */
 #include "t.h"
 #include "gp_helpers.h"
-#include "../vp/vp_internal.h"
+#include "../vp/units.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -20,20 +20,92 @@ static bool row_in_range(const alb_vp *vp, int64_t z, int64_t dz, uint32_t n, in
     return lo > 0 && vp_depth_value(vp, lo, exp) > 0 && vp_depth_value(vp, hi, exp) < dmax;
 }
 
-/* Every form of the fill's fast row the host runs (AVX2, SSE2, plain C)
- * against vp_depth_value and the strict depth test, on random rows: every
- * length up to 37 (the SIMD bodies and their tails), shifts both ways, store
- * depths up to 2^32 - 1 (an unsigned comparison), the samples written and
- * the ties (equal depths: the earlier face keeps them), with the first. */
-TEST(fill_fast_row_equals_the_depth_unit)
+/* The fast loop's bounds on N (units_depth_range, one pair per face)
+ * against the depth unit: N lies in [lo, hi] exactly where its stored depth
+ * neither underflows to 0 nor saturates — at the bounds and one past them,
+ * at random N and at N <= 0, for shifts far both ways and every store
+ * width. */
+TEST(fill_depth_range_is_the_depth_units)
 {
-    vp_depth_row_fn forms[3];
+    uint64_t seed = 7;
+    unsigned checked = 0, inside = 0, bad = 0;
+    for (unsigned bits = 8; bits <= 32; bits++) {
+        const int64_t max = ((int64_t)1 << bits) - 1;
+        for (int sh = -70; sh <= 70; sh++) {
+            int64_t lo, hi;
+            units_depth_range(sh, max, &lo, &hi);
+            /* one past a bound that is INT64_MIN or INT64_MAX does not exist (skipped
+             * below): the bound itself stands in, never an overflowing lo - 1, hi + 1 */
+            const int64_t below = lo == INT64_MIN ? lo : lo - 1, above = hi == INT64_MAX ? hi : hi + 1;
+            int64_t probe[12] = {below, lo, lo + 1, hi - 1, hi, above, 0, -1, INT64_MAX, 1};
+            probe[10] = (int64_t)(t_rand(&seed) >> (t_rand(&seed) % 63));
+            probe[11] = (int64_t)(t_rand(&seed) >> 1);
+            for (unsigned k = 0; k < 12; k++) {
+                const int64_t n = probe[k];
+                if ((k == 0 && lo == INT64_MIN) || (k == 5 && hi == INT64_MAX))
+                    continue;
+                const uint32_t d = units_depth(n, sh, max);
+                const bool want = d > 0 && d < (uint32_t)max, got = n >= lo && n <= hi;
+                checked++;
+                inside += want;
+                if (want != got && bad++ < 5)
+                    CHECK_MSG(0, "depth_bits %u shift %d N %lld: depth %u, range [%lld, %lld]",
+                              bits, sh, (long long)n, d, (long long)lo, (long long)hi);
+            }
+        }
+    }
+    CHECK_EQ(bad, 0);
+    CHECK_MSG(checked > 30000 && inside > checked / 5, "%u probes, %u in range", checked, inside);
+}
+
+/* One sample of the reference: the depth unit and the strict depth test. */
+typedef struct {
+    uint32_t written, ties, nearest;
+    size_t first_tie;
+} ref_counts;
+
+static void ref_sample(const alb_vp *vp, uint32_t *depth, uint32_t *tag, size_t i, int64_t z,
+                       int exp, uint32_t t, ref_counts *r)
+{
+    uint32_t dv = vp_depth_value(vp, z, exp);
+    if (dv > depth[i]) {   /* strictly nearer wins (docs/vp.md §4) */
+        depth[i] = dv;
+        tag[i] = t;
+        r->written++;
+        r->nearest = dv > r->nearest ? dv : r->nearest;
+    } else if (dv == depth[i] && r->ties++ == 0) {
+        r->first_tie = i;
+    }
+}
+
+/* Old store values for a sample of depth dv: at, just below or just above
+ * it, or anywhere in the store's range (across 2^31 too). */
+static uint32_t old_depth(uint64_t *seed, uint32_t dv, unsigned depth_bits)
+{
+    uint64_t r = t_rand(seed) % 4;
+    uint32_t dmax = (uint32_t)(((uint64_t)1 << depth_bits) - 1);
+    return r == 0 ? dv : r == 1 ? dv - 1 : r == 2 ? dv + (dv < dmax)
+                                         : (uint32_t)(t_rand(seed) % ((uint64_t)dmax + 1));
+}
+
+#define STRIDE 40
+
+/* Every form of the fill's fast loop the host runs (AVX2, SSE2, plain C),
+ * both shapes — whole rectangles and masked 8 x 8 blocks — against
+ * vp_depth_value and the strict depth test on random samples: widths up to
+ * 37 (the SIMD bodies and their tails) and heights up to 5, shifts both
+ * ways, store depths up to 2^32 - 1 (an unsigned comparison), random masks
+ * and level masks; the samples and tags written, the counts written and
+ * tied, the first tie in raster order and the largest depth written. */
+TEST(fill_fast_forms_equal_the_depth_unit)
+{
+    vp_depth_forms_t forms[3];
     const char *names[3];
-    const unsigned nforms = vp_depth_rows(forms, names);
+    const unsigned nforms = vp_depth_forms(forms, names);
     CHECK(nforms >= 1);
     static const unsigned depth_bits[] = {8, 16, 24, 31, 32};
     uint64_t seed = 42;
-    unsigned rows = 0, wins = 0, ties = 0, high = 0, straddle = 0, bad = 0;
+    unsigned shapes = 0, wins = 0, ties = 0, high = 0, straddle = 0, bad = 0, blocks_run = 0;
     for (unsigned b = 0; b < sizeof depth_bits / sizeof *depth_bits && !bad; b++) {
         alb_profile p;
         alb_profile_lookup("t32", &p);
@@ -46,53 +118,74 @@ TEST(fill_fast_row_equals_the_depth_unit)
             return;
         }
         for (unsigned trial = 0; trial < 6000 && !bad; trial++) {
-            uint32_t n = 1 + (uint32_t)(t_rand(&seed) % 37);
+            /* a rectangle, a masked block, or a rectangle of clean store */
+            const unsigned shape = trial % 3;
+            const bool block = shape == 1, clean = shape == 2;
+            uint32_t w = block ? 8 : 1 + (uint32_t)(t_rand(&seed) % 37);
+            uint32_t h = block ? 8 : 1 + (uint32_t)(t_rand(&seed) % 5);
             int exp = (int)(t_rand(&seed) % 48) - 36;
             int sh = exp - (int)vp->p + (int)p.depth_bits;
             /* N of up to 44 bits, steps either way */
             int64_t z = (int64_t)(t_rand(&seed) >> (20 + t_rand(&seed) % 24)) + 1;
-            int64_t dz = (int64_t)(t_rand(&seed) % 4001) - 2000;
-            if (!row_in_range(vp, z, dz, n, exp))
+            /* steps small or up to 2^30 (past the AVX2 form's 32-bit lanes) */
+            const int64_t range = trial % 5 == 4 ? (int64_t)1 << 30 : 2000;
+            int64_t dz = (int64_t)(t_rand(&seed) % (uint64_t)(2 * range + 1)) - range;
+            int64_t dr = (int64_t)(t_rand(&seed) % (uint64_t)(2 * range + 1)) - range;
+            uint64_t mask = t_rand(&seed), mid = t_rand(&seed) & ~mask, fine = t_rand(&seed);
+            mask |= mid;   /* some mid samples in the mask */
+            mid &= ~fine;
+            if (!row_in_range(vp, z, dz, w, exp) || !row_in_range(vp, z + (int64_t)(h - 1) * dr, dz, w, exp))
                 continue;
-            uint32_t d0[40], t0[40], want_d[40], want_t[40], w = 0, tie = 0, first = 0;
-            for (uint32_t i = 0; i < n; i++) {
-                uint32_t dv = vp_depth_value(vp, z + (int64_t)i * dz, exp);
-                /* the old values: at, just below or just above the new, or
-                 * anywhere in the store's range (across 2^31 too) */
-                uint64_t r = t_rand(&seed) % 4;
-                uint32_t dmax = (uint32_t)(((uint64_t)1 << depth_bits[b]) - 1);
-                uint32_t old = r == 0   ? dv
-                               : r == 1 ? dv - 1
-                               : r == 2 ? dv + (dv < dmax)
-                                        : (uint32_t)(t_rand(&seed) % ((uint64_t)dmax + 1));
-                d0[i] = want_d[i] = old;
-                t0[i] = want_t[i] = i;
-                if (dv > old) {   /* strictly nearer wins (docs/vp.md §4) */
-                    want_d[i] = dv;
-                    want_t[i] = 0xABCDEF;
-                    w++;
-                } else if (dv == old && tie++ == 0) {
-                    first = i;
+            static uint32_t d0[8 * STRIDE], t0[8 * STRIDE], want_d[8 * STRIDE], want_t[8 * STRIDE];
+            ref_counts want = {0, 0, 0, 0};
+            const uint32_t tags[3] = {0xABCDE0, 0xABCDE1, 0xABCDE2};
+            for (uint32_t y = 0; y < h; y++)
+                for (uint32_t x = 0; x < STRIDE; x++) {
+                    size_t i = y * STRIDE + x;
+                    uint32_t dv = vp_depth_value(vp, z + (int64_t)x * dz + (int64_t)y * dr, exp);
+                    d0[i] = want_d[i] = x >= w ? 0x5A5A5A5A : clean ? 0 : old_depth(&seed, dv, depth_bits[b]);
+                    t0[i] = want_t[i] = (uint32_t)i;
+                    high += x < w && dv >= 0x80000000u;
+                    straddle += x < w && (dv >= 0x80000000u) != (d0[i] >= 0x80000000u);
                 }
-                high += dv >= 0x80000000u;
-                straddle += (dv >= 0x80000000u) != (old >= 0x80000000u);
-            }
+            for (uint32_t y = 0; y < h; y++)
+                for (uint32_t x = 0; x < w; x++) {
+                    unsigned bit = 8 * y + x;
+                    if (block && !(mask >> bit & 1))
+                        continue;
+                    uint32_t t = !block ? tags[0] : fine >> bit & 1 ? tags[2]
+                                                  : mid >> bit & 1  ? tags[1] : tags[0];
+                    ref_sample(vp, want_d, want_t, y * STRIDE + x,
+                               z + (int64_t)x * dz + (int64_t)y * dr, exp, t, &want);
+                }
             unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
-            rows++;
-            wins += w;
-            ties += tie;
+            shapes++;
+            blocks_run += block;
+            wins += want.written;
+            ties += want.ties;
             for (unsigned k = 0; k < nforms; k++) {
-                uint32_t depth[40], tag[40];
+                static uint32_t depth[8 * STRIDE], tag[8 * STRIDE];
                 memcpy(depth, d0, sizeof depth);
                 memcpy(tag, t0, sizeof tag);
-                vp_row_result got = forms[k](depth, tag, n, z, dz, sr, sl, 0xABCDEF);
-                if (got.written != w || got.ties != tie || (tie && got.first_tie != first) ||
-                    memcmp(depth, want_d, n * sizeof *depth) || memcmp(tag, want_t, n * sizeof *tag)) {
-                    CHECK_MSG(0, "%s, depth_bits %u, %u samples from N = %lld step %lld, shift "
-                              "%d: %u written, %u tied (first %u); %u, %u (%u) expected, or a "
-                              "sample differs", names[k], depth_bits[b], n, (long long)z,
-                              (long long)dz, sh, got.written, got.ties, got.first_tie, w, tie,
-                              first);
+                vp_rect_result got = {want.written, 0, 0, want.nearest};   /* the store counts none */
+                if (block)
+                    got = forms[k].block8(depth, tag, STRIDE, z, dz, dr, sr, sl, mask, mid, fine, tags);
+                else if (clean)
+                    forms[k].store(depth, tag, STRIDE, w, h, z, dz, dr, sr, sl, tags[0]);
+                else
+                    got = forms[k].rect(depth, tag, STRIDE, w, h, z, dz, dr, sr, sl, tags[0]);
+                if (got.written != want.written || got.ties != want.ties ||
+                    (want.ties && got.first_tie != want.first_tie) || got.nearest != want.nearest ||
+                    (clean && want.written != w * h) ||
+                    memcmp(depth, want_d, h * STRIDE * sizeof *depth) ||
+                    memcmp(tag, want_t, h * STRIDE * sizeof *tag)) {
+                    CHECK_MSG(0, "%s %s, depth_bits %u, %ux%u samples from N = %lld steps %lld, "
+                              "%lld, shift %d: %u written, %u tied (first %zu), nearest %u; %u, %u "
+                              "(%zu), %u expected, or a sample differs", names[k],
+                              block ? "block" : clean ? "clean rectangle" : "rectangle", depth_bits[b], w, h, (long long)z,
+                              (long long)dz, (long long)dr, sh, got.written, got.ties,
+                              got.first_tie, got.nearest, want.written, want.ties,
+                              want.first_tie, want.nearest);
                     bad++;
                     break;
                 }
@@ -101,14 +194,15 @@ TEST(fill_fast_row_equals_the_depth_unit)
         alb_vp_destroy(vp);
     }
     CHECK_EQ(bad, 0);
-    printf("# fast row forms:");
+    printf("# fast fill forms:");
     for (unsigned k = 0; k < nforms; k++)
         printf(" %s", names[k]);
     printf("\n");
-    /* not vacuous: rows of every kind ran, ties, stores above 2^31 */
-    CHECK_MSG(rows > 5000 && wins > rows && ties > rows / 2 && high > 100 && straddle > 100,
-              "%u rows, %u wins, %u ties, %u depths >= 2^31, %u tests across 2^31", rows, wins,
-              ties, high, straddle);
+    /* not vacuous: shapes of every kind ran, ties, stores above 2^31 */
+    CHECK_MSG(shapes > 4500 && blocks_run > 1500 && wins > shapes && ties > shapes / 2 &&
+                  high > 100 && straddle > 100,
+              "%u shapes (%u blocks), %u wins, %u ties, %u depths >= 2^31, %u tests across 2^31",
+              shapes, blocks_run, wins, ties, high, straddle);
 }
 
 #define MAX_FRAMES 8
@@ -143,7 +237,9 @@ static alb_err run_vp(const alb_profile *p, const alb_ws_buf *b, bool plain, uns
     alb_diag d;
     alb_diag_init(&d, NULL);
     memset(out, 0, sizeof *out);
-    alb_err e = alb_vp_create(&vp, p, &d);
+    alb_profile q = *p;
+    q.simd = !plain;   /* plain: the fill's plain C forms and the engine's baseline too */
+    alb_err e = alb_vp_create(&vp, &q, &d);
     if (!e && threads > 1 && alb_vp_set_threads(vp, threads))
         e = ALB_ERR_NOMEM;
     if (!e) {
@@ -384,4 +480,80 @@ TEST(a_frame_after_another_is_drawn_on_a_clear_store)
     }
     alb_ws_buf_free(&a);
     alb_ws_buf_free(&b);
+}
+
+/* The frames of a stream through one VP, each resolved into every plane
+ * and into a frame with only the planes `planes` has: those must hold the
+ * full frame's values, the others stay NULL. */
+static unsigned planes_alone(const alb_profile *p, const alb_ws_buf *b, unsigned planes)
+{
+    alb_vp *vp = NULL;
+    alb_diag d;
+    alb_diag_init(&d, NULL);
+    if (alb_vp_create(&vp, p, &d))
+        return 1;
+    alb_ws_reader r;
+    alb_ws_reader_init(&r, b->w, b->n, "test");
+    alb_ws_event *ev = malloc(sizeof *ev);
+    alb_frame all, some;
+    memset(&all, 0, sizeof all);
+    memset(&some, 0, sizeof some);
+    unsigned bad = !ev, resolved = 0;
+    while (!bad && !r.ended && !alb_ws_next(&r, ev, &d)) {
+        if (ev->kind == ALB_WS_EV_CONFIG) {
+            alb_frame_free(&all);
+            alb_frame_free(&some);
+            bad |= alb_vp_config(vp, &ev->u.config, &d) != ALB_OK ||
+                   alb_vp_frame_alloc(vp, &all, false) || alb_vp_frame_alloc_planes(vp, &some, planes);
+        } else if (ev->kind == ALB_WS_EV_TEXTURE) {
+            bad |= alb_vp_texture(vp, &ev->u.texture, &d) != ALB_OK;
+        } else if (ev->kind == ALB_WS_EV_FRAME) {
+            alb_vp_frame_begin(vp, &ev->u.frame);
+        } else if (ev->kind == ALB_WS_EV_FACE) {
+            bad |= alb_vp_face(vp, &ev->u.face, &d) != ALB_OK;
+        } else if (ev->kind == ALB_WS_EV_FRAME_END) {
+            /* the same samples resolved twice: the store is left as it was */
+            alb_vp_frame_end(vp, &some);
+            alb_vp_frame_end(vp, &all);
+            const size_t n = (size_t)all.width * all.height;
+            bad |= alb_frame_planes(&some) != planes;
+            bad |= some.rgb && memcmp(some.rgb, all.rgb, 3 * n * sizeof *all.rgb);
+            bad |= some.depth && memcmp(some.depth, all.depth, n * sizeof *all.depth);
+            bad |= some.face && memcmp(some.face, all.face, n * sizeof *all.face);
+            bad |= some.level && memcmp(some.level, all.level, n);
+            bad |= some.coverage && memcmp(some.coverage, all.coverage, n * sizeof *all.coverage);
+            resolved++;
+        }
+    }
+    bad |= !r.ended || resolved == 0;
+    free(ev);
+    alb_frame_free(&all);
+    alb_frame_free(&some);
+    alb_vp_destroy(vp);
+    return bad;
+}
+
+/* Every subset of the planes, on the built-in scene (shaded, textured,
+ * fogged) with one sample a pixel and with four. */
+TEST(a_frame_resolves_only_the_planes_it_has)
+{
+    char *text = builtin_scene_copy();
+    static const char *const sets[] = {"", "aa=1"};
+    for (unsigned k = 0; k < 2; k++) {
+        alb_profile p;
+        alb_profile_lookup("t32", &p);
+        p.width = p.height = 64;
+        p.edge_frac_bits = 11;
+        profile_set_all(&p, sets[k]);
+        alb_ws_buf b;
+        if (stream_of(text, &p, &b)) {
+            CHECK_MSG(0, "no stream");
+            break;
+        }
+        for (unsigned planes = 0; planes <= ALB_FRAME_PLANES; planes++)
+            CHECK_MSG(planes_alone(&p, &b, planes) == 0, "%s: planes 0x%02x differ from the full "
+                      "frame's", sets[k], planes);
+        alb_ws_buf_free(&b);
+    }
+    free(text);
 }

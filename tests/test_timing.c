@@ -299,6 +299,28 @@ static void check_fidelities(const alb_profile *p, const alb_ws_buf *b, const ch
                       "%s frame %u: %s without frames: a counter or statistic differs", what, i,
                       alb_fidelity_name((alb_fidelity)fid));
     }
+    /* the plain forms (simd=0: the fill's plain C, the engine's baseline
+     * lanes) give the same frames, statistics and counters */
+    alb_profile plain = *p;
+    plain.simd = 0;
+    run_log lfp, ltp;
+    if (run(&plain, b, ALB_FIDELITY_FUNCTIONAL, &lfp, NULL) ||
+        run(&plain, b, ALB_FIDELITY_TIMED, &ltp, NULL)) {
+        CHECK_MSG(0, "%s: a run with simd=0 failed", what);
+    } else {
+        CHECK(lfp.n == lf.n && ltp.n == lt.n);
+        for (unsigned i = 0; i < lfp.n && i < lf.n && i < ltp.n && i < lt.n; i++) {
+            CHECK_MSG(frames_equal(&lfp.f[i], &lf.f[i], false) &&
+                          !memcmp(&lfp.s[i], &lf.s[i], sizeof lf.s[i]),
+                      "%s frame %u: functional with simd=0 differs", what, i);
+            CHECK_MSG(frames_equal(&ltp.f[i], &lt.f[i], true) &&
+                          !memcmp(&ltp.s[i], &lt.s[i], sizeof lt.s[i]) &&
+                          counters_equal(&ltp.c[i], &lt.c[i]),
+                      "%s frame %u: timed with simd=0 differs", what, i);
+        }
+        log_free(&lfp);
+        log_free(&ltp);
+    }
     check_threads(p, b, &lf, what);
     log_free(&lf);
     log_free(&lt);

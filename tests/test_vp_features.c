@@ -4,6 +4,7 @@
 #include "gp_helpers.h"
 #include "../tools/ref.h"
 #include "../tools/scenegen.h"
+#include "../vp/units.h"
 
 #include <math.h>
 #include <png.h>
@@ -213,4 +214,117 @@ TEST(units_a_scene_needs_change_no_pixel)
         CHECK(st.faces_shaded == (flat ? 0 : st.faces) && st.faces_textured == 0);
         free(text);
     }
+}
+
+/* The output stage's Gouraud stretches (vp/shade.c: the run cut where the
+ * depth form's bit length changes, the reciprocal's shifts then constant;
+ * AVX2 four samples a step where the host has it, else plain C) against
+ * vp_shade_sample, the every-unit path, sample by sample: random depth and
+ * intensity forms whose runs cross powers of two upward and downward, ratio
+ * exponents either way (floors, saturation at 1, negative intensities),
+ * every colour width and several reciprocal and intensity widths.  And the
+ * AVX2 form's division by 65025 as a multiply and shift: exact below the
+ * largest x it meets when (M 65025 - 2^S) x_max < 2^S. */
+TEST(gouraud_stretches_equal_the_units)
+{
+    const uint64_t m = 2164359683u, e = m * 65025u - ((uint64_t)1 << 47);
+    const uint64_t x_max = (uint64_t)255 * 255 * 65535 + 32512;
+    CHECK(m < ((uint64_t)1 << 32) && m * 65025u >= (uint64_t)1 << 47 && e * x_max < (uint64_t)1 << 47);
+    uint64_t seed = 99;
+    unsigned samples = 0, stretches = 0, clamped = 0, zeros = 0, between = 0, bad = 0;
+    for (unsigned trial = 0; trial < 3000 && bad < 5; trial++) {
+        alb_profile p;
+        alb_profile_lookup("t32", &p);
+        p.width = p.height = 256;
+        p.recip_bits = 8 + (unsigned)(t_rand(&seed) % 9);
+        p.shade_frac_bits = 8 + (unsigned)(t_rand(&seed) % 9);
+        p.colour_bits = 4 + (unsigned)(t_rand(&seed) % 13);
+        /* every form the host runs: plain C, AVX2, AVX-512 */
+        const unsigned forms = 1 + vp_shade_isa_host();
+        alb_vp *vp[3] = {NULL, NULL, NULL};
+        alb_diag d;
+        alb_diag_init(&d, NULL);
+        bool made = true;
+        for (unsigned k = 0; k < forms; k++) {
+            made &= alb_vp_create(&vp[k], &p, &d) == ALB_OK;
+            if (vp[k])
+                vp[k]->shade_isa = k;
+        }
+        if (!made) {
+            CHECK_MSG(0, "alb_vp_create: %s", d.msg);
+            for (unsigned k = 0; k < forms; k++)
+                alb_vp_destroy(vp[k]);
+            return;
+        }
+        if (trial == 0)
+            printf("# Gouraud stretch forms: %u\n", forms);
+        vp_face_setup fs;
+        memset(&fs, 0, sizeof fs);
+        fs.flags = ALB_WS_FACE_SHADE;
+        fs.units = vp_face_units(&fs);
+        for (int c = 0; c < 3; c++)
+            fs.rgb[c] = (uint8_t)t_rand(&seed);
+        /* N_z from just above a power of two, stepping toward the next one
+         * up or the previous one down (never to 0), or flat */
+        const unsigned n = 1 + (unsigned)(t_rand(&seed) % 90), nb = 4 + (unsigned)(t_rand(&seed) % 34);
+        const int64_t dir = (int64_t)(t_rand(&seed) % 3) - 1;
+        const int64_t span = (int64_t)1 << (nb - 1), base = span + (int64_t)(t_rand(&seed) % (uint64_t)span);
+        fs.depth.step_c = dir * (1 + (int64_t)(t_rand(&seed) % (uint64_t)(span / n + 1)));
+        fs.depth.origin = base;
+        fs.depth.exp = (int)(t_rand(&seed) % 40) - 20;
+        /* N_s of either sign, fitting the product's 63 bits */
+        const unsigned sb = 1 + (unsigned)(t_rand(&seed) % (60 - p.recip_bits - 8));
+        fs.shade.origin = (int64_t)(t_rand(&seed) >> (64 - sb)) - ((int64_t)1 << (sb - 1)) / 4;
+        fs.shade.step_c = (int64_t)(t_rand(&seed) % 2001) - 1000;
+        fs.shade.exp = (int)(t_rand(&seed) % 60) - 30;
+        if (trial & 1) {
+            /* intensities inside (0, 1) mostly: N_s a fraction of N_z */
+            const int64_t t = (int64_t)(t_rand(&seed) % 1300);
+            fs.shade.exp = fs.depth.exp;
+            fs.shade.origin = base / 1024 * t;
+            fs.shade.step_c = fs.depth.step_c / 1024 * t + (int64_t)(t_rand(&seed) % 21) - 10;
+        }
+        int64_t last = base + (int64_t)(n - 1) * fs.depth.step_c;
+        if (last <= 0)
+            fs.depth.step_c = 0;
+        unsigned fb = 0;
+        for (unsigned i = 0; i + 1 < n; i++)
+            fb += fix_bitlen((uint64_t)(base + (int64_t)i * fs.depth.step_c)) !=
+                  fix_bitlen((uint64_t)(base + (int64_t)(i + 1) * fs.depth.step_c));
+        stretches += 1 + fb;
+        uint16_t got[3][3 * 90 + 8], want[3 * 90];
+        for (unsigned k = 0; k < forms; k++) {
+            for (unsigned i = 0; i < sizeof got[k] / sizeof *got[k]; i++)
+                got[k][i] = 0xBEEF;   /* nothing past the run may change */
+            vp_shade_run(vp[k], &fs, 0, 0, n, got[k]);
+            for (unsigned i = 3 * n; i < sizeof got[k] / sizeof *got[k]; i++)
+                if (got[k][i] != 0xBEEF && bad++ < 5)
+                    CHECK_MSG(0, "trial %u: %u samples, a write past the run at %u", trial, n, i);
+        }
+        for (unsigned i = 0; i < n; i++) {
+            vp_shade_sample(vp[0], &fs, units_form_at(&fs.depth, i, 0), i, 0, want + 3 * i);
+            samples++;
+            clamped += want[3 * i] == vp_scale_colour8(vp[0], fs.rgb[0]) && fs.rgb[0];
+            zeros += want[3 * i] == 0 && fs.rgb[0] > 16;
+            between += want[3 * i] > 0 && want[3 * i] < vp_scale_colour8(vp[0], fs.rgb[0]);
+        }
+        for (unsigned k = 0; k < forms; k++)
+            if (memcmp(got[k], want, 3 * n * sizeof *want) && bad++ < 5)
+                CHECK_MSG(0, "trial %u (%s): %u samples from N_z %lld step %lld, N_s %lld step %lld, "
+                          "exps %d %d, recip %u, frac %u, colour %u: a sample differs", trial,
+                          k == 2 ? "AVX-512" : k ? "AVX2" : "plain C", n, (long long)base,
+                          (long long)fs.depth.step_c, (long long)fs.shade.origin,
+                          (long long)fs.shade.step_c, fs.depth.exp, fs.shade.exp, p.recip_bits,
+                          p.shade_frac_bits, p.colour_bits);
+        for (unsigned k = 0; k < forms; k++)
+            alb_vp_destroy(vp[k]);
+    }
+    CHECK_EQ(bad, 0);
+    /* not vacuous: runs across powers of two, intensities saturated and 0 */
+    printf("# %u samples, %u stretches, %u at full intensity, %u at none, %u between\n", samples,
+           stretches, clamped, zeros, between);
+    CHECK_MSG(samples > 100000 && stretches > 4000 && clamped > 1000 && zeros > 1000 &&
+                  between > samples / 3,
+              "%u samples, %u stretches, %u at full intensity, %u at none, %u between", samples,
+              stretches, clamped, zeros, between);
 }

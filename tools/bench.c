@@ -125,7 +125,8 @@ typedef struct {
     alb_ws_buf frame_words;   /* FRAME .. FRAME_END of frame 0 */
     alb_ws_buf words;         /* the whole stream of frame 0 */
     alb_ws_buf scratch;
-    alb_frame out;
+    alb_frame out;            /* every plane (the face map's check) */
+    alb_frame colour;         /* the colour plane alone: what llvmpipe's colour buffer holds */
     alb_ws_event *ev;
     alb_ws_reader rd;         /* the decoder after the stream's header */
 } ours;
@@ -143,7 +144,8 @@ static void ours_open(ours *o, const bench_scene *b, const alb_profile *p, unsig
     o->ev = malloc(sizeof *o->ev);
     alb_gp_stats gst;
     if (!o->ev || alb_gp_create(&o->gp, &b->s, p, &d) || alb_vp_create(&o->vp, p, &d) ||
-        alb_vp_set_threads(o->vp, threads) || alb_vp_frame_alloc(o->vp, &o->out, false))
+        alb_vp_set_threads(o->vp, threads) || alb_vp_frame_alloc(o->vp, &o->out, false) ||
+        alb_vp_frame_alloc_planes(o->vp, &o->colour, ALB_FRAME_RGB))
         die(&d);
     alb_gp_stream_header(o->gp, &header);
     if (alb_gp_frame(o->gp, 0, &o->frame_words, &gst, &d))
@@ -164,6 +166,7 @@ static void ours_close(ours *o)
     alb_vp_destroy(o->vp);
     alb_gp_destroy(o->gp);
     alb_frame_free(&o->out);
+    alb_frame_free(&o->colour);
     alb_ws_buf_free(&o->frame_words);
     alb_ws_buf_free(&o->words);
     alb_ws_buf_free(&o->scratch);
@@ -171,8 +174,9 @@ static void ours_close(ours *o)
 }
 
 /* ms per frame of `frames` frames: the VP on the frame's words, or the GP
- * making them and the VP drawing them. */
-static double ours_time(ours *o, unsigned frames, bool with_gp)
+ * making them and the VP drawing them; into the colour plane alone, or into
+ * every plane. */
+static double ours_time_into(ours *o, unsigned frames, bool with_gp, bool every_plane)
 {
     alb_diag d;
     alb_diag_init(&d, stderr);
@@ -186,9 +190,14 @@ static double ours_time(ours *o, unsigned frames, bool with_gp)
                 die(&d);
             w = &o->scratch;
         }
-        vp_words(o->vp, &o->rd, w->w, w->n, &o->out, o->ev);
+        vp_words(o->vp, &o->rd, w->w, w->n, every_plane ? &o->out : &o->colour, o->ev);
     }
     return 1e3 * (now() - t0) / frames;
+}
+
+static double ours_time(ours *o, unsigned frames, bool with_gp)
+{
+    return ours_time_into(o, frames, with_gp, false);
 }
 
 /* ---- side by side ---- */
@@ -231,29 +240,35 @@ static void side_by_side(bench_scene *b, const alb_profile *p)
         if (!peer_ok)
             fprintf(stderr, "bench: llvmpipe: %s\n", err);
     }
-    /* ours on 1 thread, GP + VP, ours on every core, llvmpipe on 1, on every core */
-    double t[5] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
+    /* ours on 1 thread, GP + VP, ours on every core, llvmpipe on 1, on
+     * every core, ours on 1 thread into every plane */
+    double t[6] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
     if (fixed_reps) {
         ours_time(&o1, fixed_reps, false);
         ours_time(&o1, fixed_reps, true);
         ours_time(&on, fixed_reps, false);
+        ours_time_into(&o1, fixed_reps, false, true);
     } else {
         /* a warm-up of each, then rounds of about 0.1 s a measurement */
-        double w[5] = {ours_time(&o1, 2, false), ours_time(&o1, 2, true), ours_time(&on, 2, false),
-                       g1 ? peer_time(g1, 2) : 0, gn ? peer_time(gn, 2) : 0};
+        double w[6] = {ours_time(&o1, 2, false), ours_time(&o1, 2, true), ours_time(&on, 2, false),
+                       g1 ? peer_time(g1, 2) : 0, gn ? peer_time(gn, 2) : 0,
+                       ours_time_into(&o1, 2, false, true)};
         for (int r = 0; r < ROUNDS; r++) {
-            double x[5];
+            double x[6];
             x[0] = ours_time(&o1, frames_for(w[0], 0.1), false);
             x[3] = g1 ? peer_time(g1, frames_for(w[3], 0.1)) : 0;
+            x[5] = ours_time_into(&o1, frames_for(w[5], 0.1), false, true);
             x[1] = ours_time(&o1, frames_for(w[1], 0.1), true);
             x[2] = ours_time(&on, frames_for(w[2], 0.1), false);
             x[4] = gn ? peer_time(gn, frames_for(w[4], 0.1)) : 0;
-            for (int i = 0; i < 5; i++)
+            for (int i = 0; i < 6; i++)
                 t[i] = x[i] < t[i] ? x[i] : t[i];
         }
     }
-    printf("| %s | %u² | %llu | %.2f | %.2f |", b->label, p->width,
-           (unsigned long long)alb_vp_stats_get(o1.vp)->faces, t[0], t[1]);
+    /* the face map of the last frame drawn into every plane */
+    ours_time_into(&o1, 1, false, true);
+    printf("| %s | %u² | %llu | %.2f | %.2f | %.2f |", b->label, p->width,
+           (unsigned long long)alb_vp_stats_get(o1.vp)->faces, t[0], t[5], t[1]);
     if (!g1 || !gn) {
         printf(" — | — | %.2f | — | — | — |\n", t[2]);
     } else {
@@ -323,6 +338,19 @@ static int count(void *ctx, const alb_frame *f, const alb_vp_stats *vs, const al
 }
 
 /* Seconds per whole run of the stream (best of three). */
+/* One whole run of the stream, timed. */
+static double time_run_once(const alb_profile *p, const alb_ws_buf *b, const alb_sim_options *o,
+                            totals *t)
+{
+    alb_diag d;
+    alb_diag_init(&d, stderr);
+    memset(t, 0, sizeof *t);
+    double t0 = now();
+    if (alb_sim_run(p, b->w, b->n, "bench", o, count, t, &d))
+        die(&d);
+    return now() - t0;
+}
+
 static double time_run(const alb_profile *p, const alb_ws_buf *b, const alb_sim_options *o,
                        totals *t)
 {
@@ -363,9 +391,19 @@ static void bench_fidelities(const char *label, const alb_scene *s, const alb_pr
     alb_sim_options of = {.fid = ALB_FIDELITY_FUNCTIONAL, .threads = 1};
     alb_sim_options ot = {.fid = ALB_FIDELITY_TIMED}, oto = {.fid = ALB_FIDELITY_TIMED, .counters_only = true};
     alb_sim_options oc = {.fid = ALB_FIDELITY_CYCLE}, oco = {.fid = ALB_FIDELITY_CYCLE, .counters_only = true};
-    double sf = time_run(p, &b, &of, &tf);
-    double st = time_run(p, &b, &ot, &tt), sto = time_run(p, &b, &oto, &tto);
-    double sc = time_run(p, &b, &oc, &tc), sco = time_run(p, &b, &oco, &tco);
+    /* the five timed in turn, round after round, each its best: a change
+     * in the machine's load between them moves all alike, as the ratios
+     * timed / cycle need (one run of each after the other moved them from
+     * 4.1x to 6.6x from one make bench to the next) */
+    const alb_sim_options *const opts[5] = {&of, &ot, &oto, &oc, &oco};
+    totals *const tots[5] = {&tf, &tt, &tto, &tc, &tco};
+    double best[5] = {1e9, 1e9, 1e9, 1e9, 1e9};
+    for (int rep = 0; rep < 5; rep++)
+        for (int k = 0; k < 5; k++) {
+            const double dt = time_run_once(p, &b, opts[k], tots[k]);
+            best[k] = dt < best[k] ? dt : best[k];
+        }
+    const double sf = best[0], st = best[1], sto = best[2], sc = best[3], sco = best[4];
     printf("| %s | %u | %llu | %.1f | %.1f M/s | %.1f M/s | %.1f M/s | %.1f M/s | %.1fx | %.1fx |\n",
            label, tf.frames, (unsigned long long)tc.cycles, tf.frames / sf,
            (double)tto.cycles / sto / 1e6, (double)tt.cycles / st / 1e6,
@@ -461,9 +499,13 @@ int main(int argc, char **argv)
     printf("\n## The functional VP beside llvmpipe (frame 0, ms per frame, steady state)\n\n"
            "ratio = llvmpipe's time / ours (above 1: we are faster); %u cores; each the best "
            "of %d rounds, the two timed in turn\n\n"
-           "| scene | screen | faces drawn | ours, 1 thread | ours GP + VP | llvmpipe, 1 thread | "
-           "ratio | ours, %u threads | llvmpipe, %u threads | ratio | face map differs "
-           "(of pixels), clear pixels |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+           "\"ours\": the VP on the frame's words into the colour plane alone (what llvmpipe's "
+           "colour buffer holds; alb_vp_frame_alloc_planes), \"every plane\" into a whole "
+           "alb_frame\n\n"
+           "| scene | screen | faces drawn | ours, 1 thread | ours, every plane | ours GP + VP | "
+           "llvmpipe, 1 thread | ratio | ours, %u threads | llvmpipe, %u threads | ratio | "
+           "face map differs (of pixels), clear pixels |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|\n",
            cores, ROUNDS, cores, cores);
     for (int i = 0; i < 6; i++)
         side_by_side(&sc[i], &p);

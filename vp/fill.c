@@ -4,14 +4,18 @@
  * is the output stage's (store.c), so the fill is the same for every face.
  * A sample whose depth equals the store's (0 < d < max) is a tie: the
  * earlier face keeps it, and the tie is counted (depth_ties), the one at the
- * lowest sample index kept with the faces that kept and lost it.
+ * lowest sample index kept with the faces that kept and lost it.  The
+ * largest depth written is the frame's nearest surface (depth_nearest).
  *
  * Depth is a linear form, so over a cell its extremes are at two corners.
  * A cell whose depths all lie inside the store's range — none saturates at
- * `near`, none underflows to 0 — is filled by the fast row loop, which needs
- * no per-sample test but the depth comparison (SIMD where the host has it);
+ * `near`, none underflows to 0 — is filled by the fast loop, which needs no
+ * per-sample test but the depth comparison (SIMD where the host has it);
  * any other cell by the plain loop, which decides each sample through the
- * depth unit.  Both give the same bits (tests/test_fill.c). */
+ * depth unit.  The fast loop comes in two shapes: a whole cell (every
+ * sample of a rectangle) and an 8 x 8 block with a mask (the samples the
+ * walk decided in one pass below an 8 x 8 cell, vp.c), each in the host's
+ * fastest form.  All give the same bits (tests/test_fill.c). */
 #include "units.h"
 
 #include <string.h>
@@ -21,6 +25,7 @@
 typedef struct {
     uint64_t written, underflow, saturated, ties;
     size_t tie;               /* the first tied sample in raster order, if ties */
+    uint32_t nearest;         /* the largest depth written */
 } fill_counts;
 
 /* A cell's counts into the frame's statistics. */
@@ -30,225 +35,448 @@ static void add_counts(alb_vp *vp, const vp_face_setup *fs, uint64_t covered, co
     vp->st.depth_underflow += n->underflow;
     vp->st.depth_saturated += n->saturated;
     vp->st.samples_written += n->written;
+    if (n->nearest > vp->st.depth_nearest)
+        vp->st.depth_nearest = n->nearest;
     if (n->ties)
         units_note_ties(vp, fs, n->ties, n->tie);
 }
 
-/* The plain loop over one row, samples idx .. idx + n - 1 of the store:
- * each sample through the depth unit. */
-static inline void row_plain(alb_vp *vp, size_t idx, uint32_t n, int64_t z, int64_t dz, int sh,
-                             int64_t dmax, uint32_t t, fill_counts *k)
+/* The fast loop's result into a cell's counts; `base` is the store index of
+ * the rectangle's first sample. */
+static inline void add_rect(fill_counts *n, const vp_rect_result *x, size_t base)
 {
-    uint32_t *depth = vp->s_depth + idx, *tag = vp->s_tag + idx;
-    for (uint32_t i = 0; i < n; i++, z += dz) {
-        uint32_t dv = units_depth(z, sh, dmax);
-        k->underflow += dv == 0 && z > 0;
-        k->saturated += dv == (uint32_t)dmax;
-        /* a later face wins only if strictly nearer: equal depths keep the
-         * earlier face (docs/vp.md §4); 0, no surface, never wins */
-        if (dv > depth[i]) {
-            depth[i] = dv;
-            tag[i] = t;
-            k->written++;
-        } else if (dv != 0 && dv == depth[i] && dv != (uint32_t)dmax && k->ties++ == 0) {
-            k->tie = idx + i;
-        }
+    n->written += x->written;
+    /* the lowest index: a cell filled in parts may meet a later row first */
+    if (x->ties && (!n->ties || base + x->first_tie < n->tie))
+        n->tie = base + x->first_tie;
+    n->ties += x->ties;
+    n->nearest = x->nearest > n->nearest ? x->nearest : n->nearest;
+}
+
+/* One sample through the depth unit and the depth test: the plain loop's
+ * body (docs/vp.md §4). */
+static inline void sample_plain(uint32_t *depth, uint32_t *tag, size_t idx, int64_t z, int sh,
+                                int64_t dmax, uint32_t t, fill_counts *k)
+{
+    uint32_t dv = units_depth(z, sh, dmax);
+    k->underflow += dv == 0 && z > 0;
+    k->saturated += dv == (uint32_t)dmax;
+    /* a later face wins only if strictly nearer: equal depths keep the
+     * earlier face (docs/vp.md §4); 0, no surface, never wins */
+    if (dv > depth[idx]) {
+        depth[idx] = dv;
+        tag[idx] = t;
+        k->written++;
+        k->nearest = dv > k->nearest ? dv : k->nearest;
+    } else if (dv != 0 && dv == depth[idx] && dv != (uint32_t)dmax && k->ties++ == 0) {
+        k->tie = idx;
     }
 }
 
-/* The fast loop over one row whose depths z + i dz all lie in the store's
- * range: the stored depth is then z >> sr << sl exactly (one of the shifts
- * is 0), never 0 nor the maximum, so a sample ties where it equals the
- * store's.  Three forms, one chosen for the host when the VP is made
- * (vp_depth_rows): plain C, SSE2 four samples a step, AVX2 eight; the same
- * bits (tests/test_fill.c). */
+/* ---- the fast loop: every depth in the store's range ----
+ *
+ * The stored depth is then z >> sr << sl exactly (one of the shifts is 0),
+ * never 0 nor the maximum, so a sample ties where it equals the store's.
+ * Forms: plain C, SSE2 four samples a step, AVX2 eight; one of each shape
+ * is chosen for the host when the VP is made (vp_depth_forms). */
 
-/* The plain form's loop from sample i on; the others' tails. */
-static inline vp_row_result row_tail(uint32_t *depth, uint32_t *tag, uint32_t i, uint32_t n,
-                                     int64_t z, int64_t dz, unsigned sr, unsigned sl, uint32_t t,
-                                     vp_row_result r)
+/* The plain form of one sample (also the SIMD forms' tails). */
+static inline void sample_fast(uint32_t *depth, uint32_t *tag, size_t i, int64_t z, unsigned sr,
+                               unsigned sl, uint32_t t, size_t at, vp_rect_result *r)
 {
-    z += (int64_t)i * dz;
-    for (; i < n; i++, z += dz) {
-        uint32_t dv = (uint32_t)(((uint64_t)z >> sr) << sl);
-        bool win = dv > depth[i], tie = dv == depth[i];
-        depth[i] = win ? dv : depth[i];
-        tag[i] = win ? t : tag[i];
-        r.written += win;
-        if (tie && r.ties++ == 0)
-            r.first_tie = i;
+    uint32_t dv = (uint32_t)(((uint64_t)z >> sr) << sl);
+    bool win = dv > depth[i], tie = dv == depth[i];
+    depth[i] = win ? dv : depth[i];
+    tag[i] = win ? t : tag[i];
+    r->written += win;
+    r->nearest = win && dv > r->nearest ? dv : r->nearest;
+    if (tie && r->ties++ == 0)
+        r->first_tie = at;
+}
+
+static vp_rect_result rect_plain_c(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w,
+                                   uint32_t h, int64_t z, int64_t dc, int64_t dr, unsigned sr,
+                                   unsigned sl, uint32_t t)
+{
+    vp_rect_result r = {0, 0, 0, 0};
+    for (uint32_t y = 0; y < h; y++, z += dr) {
+        int64_t zc = z;
+        for (uint32_t x = 0; x < w; x++, zc += dc)
+            sample_fast(depth, tag, y * stride + x, zc, sr, sl, t, y * stride + x, &r);
     }
     return r;
 }
 
-static vp_row_result row_plain_c(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz,
-                                 unsigned sr, unsigned sl, uint32_t t)
+/* A rectangle of clean tiles (no surface anywhere: store 0, so every sample
+ * wins): stored without reading, the same values as the rectangle's fill. */
+static void store_plain_c(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h,
+                          int64_t z, int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
 {
-    return row_tail(depth, tag, 0, n, z, dz, sr, sl, t, (vp_row_result){0, 0, 0});
+    for (uint32_t y = 0; y < h; y++, z += dr) {
+        int64_t zc = z;
+        for (uint32_t x = 0; x < w; x++, zc += dc) {
+            depth[y * stride + x] = (uint32_t)(((uint64_t)zc >> sr) << sl);
+            tag[y * stride + x] = t;
+        }
+    }
+}
+
+/* Samples `mask` (bit 8y + x) of the 8 x 8 block: tag t[0], or t[1] where
+ * `mid` has the sample, t[2] where `fine` has it. */
+static inline uint32_t block_tag(uint64_t mid, uint64_t fine, unsigned b, const uint32_t t[3])
+{
+    return fine >> b & 1 ? t[2] : mid >> b & 1 ? t[1] : t[0];
+}
+
+static vp_rect_result block8_plain_c(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z,
+                                     int64_t dc, int64_t dr, unsigned sr, unsigned sl,
+                                     uint64_t mask, uint64_t mid, uint64_t fine, const uint32_t t[3])
+{
+    vp_rect_result r = {0, 0, 0, 0};
+    for (uint64_t m = mask; m; m &= m - 1) {   /* raster order: the first tie is the lowest */
+        const unsigned b = (unsigned)__builtin_ctzll(m), x = b & 7, y = b >> 3;
+        sample_fast(depth, tag, y * stride + x, z + (int64_t)x * dc + (int64_t)y * dr, sr, sl,
+                    block_tag(mid, fine, b, t), y * stride + x, &r);
+    }
+    return r;
 }
 
 #if VP_SSE2
 /* four samples a step: their depths in two registers of two 64-bit lanes,
  * shifted, narrowed to 32 bits, compared unsigned (by flipping the sign
  * bits) and merged where they win */
-static inline __attribute__((always_inline)) vp_row_result row_sse2_body(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z,
-                                          int64_t dz, unsigned sr, unsigned sl, uint32_t t)
+static vp_rect_result rect_sse2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w,
+                                uint32_t h, int64_t z, int64_t dc, int64_t dr, unsigned sr,
+                                unsigned sl, uint32_t t)
 {
-    vp_row_result res = {0, 0, 0};
-    uint32_t i = 0;
-    const __m128i step = _mm_set1_epi64x(4 * dz), vsr = _mm_cvtsi32_si128((int)sr),
+    vp_rect_result res = {0, 0, 0, 0};
+    const __m128i step = _mm_set1_epi64x(4 * dc), vsr = _mm_cvtsi32_si128((int)sr),
                   vsl = _mm_cvtsi32_si128((int)sl), sign = _mm_set1_epi32(INT32_MIN),
                   vt = _mm_set1_epi32((int)t);
-    __m128i lo = _mm_set_epi64x(z + dz, z), hi = _mm_set_epi64x(z + 3 * dz, z + 2 * dz);
-    for (; i + 4 <= n; i += 4) {
-        __m128i a = _mm_sll_epi64(_mm_srl_epi64(lo, vsr), vsl);
-        __m128i b = _mm_sll_epi64(_mm_srl_epi64(hi, vsr), vsl);
-        __m128i dv = _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b),
-                                                     _MM_SHUFFLE(2, 0, 2, 0)));
-        __m128i *dp = (__m128i *)(void *)(depth + i), *tp = (__m128i *)(void *)(tag + i);
-        __m128i old = _mm_loadu_si128(dp);
-        __m128i win = _mm_cmpgt_epi32(_mm_xor_si128(dv, sign), _mm_xor_si128(old, sign));
-        _mm_storeu_si128(dp, _mm_or_si128(_mm_and_si128(win, dv), _mm_andnot_si128(win, old)));
-        _mm_storeu_si128(tp, _mm_or_si128(_mm_and_si128(win, vt),
-                                          _mm_andnot_si128(win, _mm_loadu_si128(tp))));
-        unsigned w = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(win));
-        unsigned tie = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(dv, old)));
-        res.written += (0x4332322132212110ull >> (4 * w)) & 0xF;
-        if (tie) {
-            if (!res.ties)
-                res.first_tie = i + (unsigned)__builtin_ctz(tie);
-            res.ties += (0x4332322132212110ull >> (4 * tie)) & 0xF;
+    __m128i best = sign;   /* 0, flipped */
+    for (uint32_t y = 0; y < h; y++, z += dr) {
+        __m128i lo = _mm_set_epi64x(z + dc, z), hi = _mm_set_epi64x(z + 3 * dc, z + 2 * dc);
+        uint32_t *dp = depth + y * stride, *tp = tag + y * stride;
+        uint32_t i = 0;
+        for (; i + 4 <= w; i += 4) {
+            __m128i a = _mm_sll_epi64(_mm_srl_epi64(lo, vsr), vsl);
+            __m128i b = _mm_sll_epi64(_mm_srl_epi64(hi, vsr), vsl);
+            __m128i dv = _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b),
+                                                         _MM_SHUFFLE(2, 0, 2, 0)));
+            __m128i *d = (__m128i *)(void *)(dp + i), *g = (__m128i *)(void *)(tp + i);
+            __m128i old = _mm_loadu_si128(d), fdv = _mm_xor_si128(dv, sign);
+            __m128i win = _mm_cmpgt_epi32(fdv, _mm_xor_si128(old, sign));
+            _mm_storeu_si128(d, _mm_or_si128(_mm_and_si128(win, dv), _mm_andnot_si128(win, old)));
+            _mm_storeu_si128(g, _mm_or_si128(_mm_and_si128(win, vt),
+                                             _mm_andnot_si128(win, _mm_loadu_si128(g))));
+            /* the largest written (flipped: 0 is INT32_MIN where none won) */
+            __m128i cand = _mm_or_si128(_mm_and_si128(win, fdv), _mm_andnot_si128(win, sign));
+            __m128i gt = _mm_cmpgt_epi32(cand, best);
+            best = _mm_or_si128(_mm_and_si128(gt, cand), _mm_andnot_si128(gt, best));
+            unsigned wm = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(win));
+            unsigned tie = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(dv, old)));
+            res.written += vp_bits4(wm);
+            if (tie) {
+                if (!res.ties)
+                    res.first_tie = y * stride + i + (unsigned)__builtin_ctz(tie);
+                res.ties += vp_bits4(tie);
+            }
+            lo = _mm_add_epi64(lo, step);
+            hi = _mm_add_epi64(hi, step);
         }
-        lo = _mm_add_epi64(lo, step);
-        hi = _mm_add_epi64(hi, step);
+        for (int64_t zc = z + (int64_t)i * dc; i < w; i++, zc += dc)
+            sample_fast(dp, tp, i, zc, sr, sl, t, y * stride + i, &res);
     }
-    return row_tail(depth, tag, i, n, z, dz, sr, sl, t, res);
-}
-
-static vp_row_result row_sse2(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz,
-                              unsigned sr, unsigned sl, uint32_t t)
-{
-    return row_sse2_body(depth, tag, n, z, dz, sr, sl, t);
+    uint32_t lanes[4];
+    _mm_storeu_si128((__m128i *)(void *)lanes, _mm_xor_si128(best, sign));
+    for (int k = 0; k < 4; k++)
+        res.nearest = lanes[k] > res.nearest ? lanes[k] : res.nearest;
+    return res;
 }
 #endif
 
 #if VP_AVX2
 #include <immintrin.h>
+
 /* eight samples a step: four 64-bit lanes in each of two registers, the low
  * halves gathered into eight 32-bit lanes; the new depth is the unsigned
  * maximum, and a sample wins where that is not the old depth */
-__attribute__((target("avx2"))) static vp_row_result
-row_avx2(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z, int64_t dz, unsigned sr,
-         unsigned sl, uint32_t t)
+__attribute__((target("avx2,popcnt"))) static inline __m256i narrow8(__m256i lo, __m256i hi, __m128i vsr,
+                                                              __m128i vsl)
 {
-    vp_row_result res = {0, 0, 0};
-    uint32_t i = 0;
-    const __m256i step = _mm256_set1_epi64x(8 * dz), vt = _mm256_set1_epi32((int)t);
+    __m256i a = _mm256_sll_epi64(_mm256_srl_epi64(lo, vsr), vsl);
+    __m256i b = _mm256_sll_epi64(_mm256_srl_epi64(hi, vsr), vsl);
+    /* per 128-bit half: a0 a1 b0 b1 | a2 a3 b2 b3; then a0..a3 b0..b3 */
+    __m256i dv = _mm256_castps_si256(_mm256_shuffle_ps(_mm256_castsi256_ps(a), _mm256_castsi256_ps(b),
+                                                       _MM_SHUFFLE(2, 0, 2, 0)));
+    return _mm256_permute4x64_epi64(dv, _MM_SHUFFLE(3, 1, 2, 0));
+}
+
+__attribute__((target("avx2,popcnt"))) static inline unsigned hmax8(__m256i v)
+{
+    __m128i m = _mm_max_epu32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
+    m = _mm_max_epu32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
+    m = _mm_max_epu32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1)));
+    return (unsigned)_mm_cvtsi128_si32(m);
+}
+
+/* Eight samples of one row: `in` the lanes that take part (all ones in a
+ * whole cell), tv their tags; `at` the row offset of lane 0 for the first
+ * tie. */
+__attribute__((target("avx2,popcnt"))) static inline void
+row8_avx2(uint32_t *dp, uint32_t *tp, __m256i dv, __m256i in, __m256i tv, size_t at, __m256i *best,
+          vp_rect_result *res)
+{
+    __m256i *d = (__m256i *)(void *)dp, *g = (__m256i *)(void *)tp;
+    __m256i old = _mm256_loadu_si256(d), nearer = _mm256_max_epu32(dv, old);
+    __m256i win = _mm256_andnot_si256(_mm256_cmpeq_epi32(nearer, old), in);
+    _mm256_storeu_si256(d, _mm256_blendv_epi8(old, dv, win));
+    _mm256_storeu_si256(g, _mm256_blendv_epi8(_mm256_loadu_si256(g), tv, win));
+    *best = _mm256_max_epu32(*best, _mm256_and_si256(win, dv));
+    unsigned wm = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(win));
+    unsigned tie = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(
+        _mm256_and_si256(_mm256_cmpeq_epi32(dv, old), in)));
+    res->written += (unsigned)__builtin_popcount(wm);
+    if (tie) {
+        if (!res->ties)
+            res->first_tie = at + (unsigned)__builtin_ctz(tie);
+        res->ties += (unsigned)__builtin_popcount(tie);
+    }
+}
+
+/* Eight samples of a whole cell's row: every lane takes part, so the new
+ * depth is the maximum itself and the samples that lost are counted in
+ * lanes (`lost`, -1 a sample), summed once for the cell. */
+__attribute__((target("avx2,popcnt"))) static inline void
+whole8_avx2(uint32_t *dp, uint32_t *tp, __m256i dv, __m256i tv, size_t at, __m256i *best,
+            __m256i *lost, vp_rect_result *res)
+{
+    __m256i *d = (__m256i *)(void *)dp, *g = (__m256i *)(void *)tp;
+    const __m256i old = _mm256_loadu_si256(d), nearer = _mm256_max_epu32(dv, old);
+    const __m256i kept = _mm256_cmpeq_epi32(nearer, old);
+    _mm256_storeu_si256(d, nearer);
+    _mm256_storeu_si256(g, _mm256_blendv_epi8(tv, _mm256_loadu_si256(g), kept));
+    *best = _mm256_max_epu32(*best, _mm256_andnot_si256(kept, dv));
+    *lost = _mm256_add_epi32(*lost, kept);
+    const unsigned tie = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(dv, old)));
+    if (tie) {
+        if (!res->ties)
+            res->first_tie = at + (unsigned)__builtin_ctz(tie);
+        res->ties += (unsigned)__builtin_popcount(tie);
+    }
+}
+
+__attribute__((target("avx2,popcnt"))) static vp_rect_result
+rect_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
+          int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
+{
+    vp_rect_result res = {0, 0, 0, 0};
+    const __m256i step = _mm256_set1_epi64x(8 * dc), four = _mm256_set1_epi64x(4 * dc),
+                  down = _mm256_set1_epi64x(dr), vt = _mm256_set1_epi32((int)t);
+    __m256i lost = _mm256_setzero_si256();   /* -1 a lane per sample that did not win */
+    uint32_t whole = 0;                      /* samples in the whole-register steps */
     const __m128i vsr = _mm_cvtsi32_si128((int)sr), vsl = _mm_cvtsi32_si128((int)sl);
-    __m256i lo = _mm256_set_epi64x(z + 3 * dz, z + 2 * dz, z + dz, z);
-    __m256i hi = _mm256_add_epi64(lo, _mm256_set1_epi64x(4 * dz));
-    for (; i + 8 <= n; i += 8) {
-        __m256i a = _mm256_sll_epi64(_mm256_srl_epi64(lo, vsr), vsl);
-        __m256i b = _mm256_sll_epi64(_mm256_srl_epi64(hi, vsr), vsl);
-        /* per 128-bit half: a0 a1 b0 b1 | a2 a3 b2 b3; then a0..a3 b0..b3 */
-        __m256i dv = _mm256_castps_si256(_mm256_shuffle_ps(_mm256_castsi256_ps(a),
-                                                           _mm256_castsi256_ps(b),
-                                                           _MM_SHUFFLE(2, 0, 2, 0)));
-        dv = _mm256_permute4x64_epi64(dv, _MM_SHUFFLE(3, 1, 2, 0));
-        __m256i *dp = (__m256i *)(void *)(depth + i), *tp = (__m256i *)(void *)(tag + i);
-        __m256i old = _mm256_loadu_si256(dp), nearer = _mm256_max_epu32(dv, old);
-        __m256i lost = _mm256_cmpeq_epi32(nearer, old);
-        _mm256_storeu_si256(dp, nearer);
-        _mm256_storeu_si256(tp, _mm256_blendv_epi8(vt, _mm256_loadu_si256(tp), lost));
-        unsigned l = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(lost));
-        unsigned tie = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(dv, old)));
-        res.written += 8 - (unsigned)__builtin_popcount(l);
-        if (tie) {
-            if (!res.ties)
-                res.first_tie = i + (unsigned)__builtin_ctz(tie);
-            res.ties += (unsigned)__builtin_popcount(tie);
+    /* lanes four apart hold one short row's samples in their low half */
+    const __m256i in4 = _mm256_setr_epi32(-1, -1, -1, -1, 0, 0, 0, 0);
+    __m256i row = _mm256_set_epi64x(z + 3 * dc, z + 2 * dc, z + dc, z), best = _mm256_setzero_si256();
+    for (uint32_t y = 0; y < h; y++, z += dr, row = _mm256_add_epi64(row, down)) {
+        uint32_t *dp = depth + y * stride, *tp = tag + y * stride;
+        __m256i lo = row, hi = _mm256_add_epi64(row, four);
+        uint32_t i = 0;
+        for (; i + 8 <= w; i += 8) {
+            whole8_avx2(dp + i, tp + i, narrow8(lo, hi, vsr, vsl), vt, y * stride + i, &best, &lost,
+                        &res);
+            lo = _mm256_add_epi64(lo, step);
+            hi = _mm256_add_epi64(hi, step);
+            whole += 8;
         }
-        lo = _mm256_add_epi64(lo, step);
-        hi = _mm256_add_epi64(hi, step);
-    }
-    if (i + 4 <= n) {   /* four more (the rows of cells four samples wide): one half */
-        __m256i a = _mm256_sll_epi64(_mm256_srl_epi64(lo, vsr), vsl);
-        __m128i dv = _mm_castps_si128(_mm_shuffle_ps(_mm256_castps256_ps128(_mm256_castsi256_ps(a)),
-                                                     _mm256_extractf128_ps(_mm256_castsi256_ps(a), 1),
-                                                     _MM_SHUFFLE(2, 0, 2, 0)));
-        __m128i *dp = (__m128i *)(void *)(depth + i), *tp = (__m128i *)(void *)(tag + i);
-        __m128i old = _mm_loadu_si128(dp), nearer = _mm_max_epu32(dv, old);
-        __m128i lost = _mm_cmpeq_epi32(nearer, old);
-        _mm_storeu_si128(dp, nearer);
-        _mm_storeu_si128(tp, _mm_blendv_epi8(_mm256_castsi256_si128(vt), _mm_loadu_si128(tp), lost));
-        unsigned l = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(lost));
-        unsigned tie = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(dv, old)));
-        res.written += 4 - (unsigned)__builtin_popcount(l);
-        if (tie) {
-            if (!res.ties)
-                res.first_tie = i + (unsigned)__builtin_ctz(tie);
-            res.ties += (unsigned)__builtin_popcount(tie);
+        if (i + 4 <= w) {   /* four more (a cell four samples wide): half a register */
+            __m256i dv = narrow8(lo, hi, vsr, vsl);
+            __m128i *d = (__m128i *)(void *)(dp + i), *g = (__m128i *)(void *)(tp + i);
+            __m128i old = _mm_loadu_si128(d), dv4 = _mm256_castsi256_si128(dv);
+            __m128i win = _mm_andnot_si128(_mm_cmpeq_epi32(_mm_max_epu32(dv4, old), old),
+                                           _mm256_castsi256_si128(in4));
+            _mm_storeu_si128(d, _mm_blendv_epi8(old, dv4, win));
+            _mm_storeu_si128(g, _mm_blendv_epi8(_mm_loadu_si128(g), _mm256_castsi256_si128(vt), win));
+            best = _mm256_max_epu32(best, _mm256_and_si256(_mm256_castsi128_si256(win), dv));
+            unsigned wm = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(win));
+            unsigned tie = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(dv4, old)));
+            res.written += (unsigned)__builtin_popcount(wm);
+            if (tie) {
+                if (!res.ties)
+                    res.first_tie = y * stride + i + (unsigned)__builtin_ctz(tie);
+                res.ties += (unsigned)__builtin_popcount(tie);
+            }
+            i += 4;
         }
-        i += 4;
+        for (int64_t zc = z + (int64_t)i * dc; i < w; i++, zc += dc)
+            sample_fast(dp, tp, i, zc, sr, sl, t, y * stride + i, &res);
     }
-    return row_tail(depth, tag, i, n, z, dz, sr, sl, t, res);
+    unsigned m = hmax8(best);
+    res.nearest = m > res.nearest ? m : res.nearest;
+    /* the lanes' losses summed: the samples of the whole steps that won */
+    __m128i l4 = _mm_add_epi32(_mm256_castsi256_si128(lost), _mm256_extracti128_si256(lost, 1));
+    l4 = _mm_add_epi32(l4, _mm_shuffle_epi32(l4, _MM_SHUFFLE(1, 0, 3, 2)));
+    l4 = _mm_add_epi32(l4, _mm_shuffle_epi32(l4, _MM_SHUFFLE(2, 3, 0, 1)));
+    res.written += whole + (uint32_t)_mm_cvtsi128_si32(l4);
+    return res;
+}
+
+/* The clean rectangle's store, eight samples a step (w a multiple of 8). */
+__attribute__((target("avx2,popcnt"))) static void
+store_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
+           int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
+{
+    if (w % 8) {
+        store_plain_c(depth, tag, stride, w, h, z, dc, dr, sr, sl, t);
+        return;
+    }
+    const __m256i step = _mm256_set1_epi64x(8 * dc), four = _mm256_set1_epi64x(4 * dc),
+                  down = _mm256_set1_epi64x(dr), vt = _mm256_set1_epi32((int)t);
+    const __m128i vsr = _mm_cvtsi32_si128((int)sr), vsl = _mm_cvtsi32_si128((int)sl);
+    __m256i row = _mm256_set_epi64x(z + 3 * dc, z + 2 * dc, z + dc, z);
+    for (uint32_t y = 0; y < h; y++, row = _mm256_add_epi64(row, down)) {
+        uint32_t *dp = depth + y * stride, *tp = tag + y * stride;
+        __m256i lo = row, hi = _mm256_add_epi64(row, four);
+        for (uint32_t i = 0; i < w; i += 8) {
+            _mm256_storeu_si256((__m256i *)(void *)(dp + i), narrow8(lo, hi, vsr, vsl));
+            _mm256_storeu_si256((__m256i *)(void *)(tp + i), vt);
+            lo = _mm256_add_epi64(lo, step);
+            hi = _mm256_add_epi64(hi, step);
+        }
+    }
+}
+
+/* The masked 8 x 8 block: a row a step, its byte of the mask spread over
+ * the lanes, the tags chosen by the level masks. */
+__attribute__((target("avx2,popcnt"))) static inline __m256i lanes_of(unsigned byte, __m256i bit)
+{
+    return _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32((int)byte), bit), bit);
+}
+
+__attribute__((target("avx2,popcnt"))) static vp_rect_result
+block8_avx2(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z, int64_t dc, int64_t dr,
+            unsigned sr, unsigned sl, uint64_t mask, uint64_t mid, uint64_t fine, const uint32_t t[3])
+{
+    vp_rect_result res = {0, 0, 0, 0};
+    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    const __m256i down = _mm256_set1_epi64x(dr), four = _mm256_set1_epi64x(4 * dc);
+    const __m256i t0 = _mm256_set1_epi32((int)t[0]), t1 = _mm256_set1_epi32((int)t[1]),
+                  t2 = _mm256_set1_epi32((int)t[2]);
+    const __m128i vsr = _mm_cvtsi32_si128((int)sr), vsl = _mm_cvtsi32_si128((int)sl);
+    __m256i lo = _mm256_set_epi64x(z + 3 * dc, z + 2 * dc, z + dc, z), best = _mm256_setzero_si256();
+    for (unsigned y = 0; y < 8; y++, lo = _mm256_add_epi64(lo, down)) {
+        const unsigned m = (unsigned)(mask >> 8 * y) & 0xFF;
+        if (!m)
+            continue;
+        __m256i tv = _mm256_blendv_epi8(t0, t1, lanes_of((unsigned)(mid >> 8 * y) & 0xFF, bit));
+        tv = _mm256_blendv_epi8(tv, t2, lanes_of((unsigned)(fine >> 8 * y) & 0xFF, bit));
+        row8_avx2(depth + y * stride, tag + y * stride,
+                  narrow8(lo, _mm256_add_epi64(lo, four), vsr, vsl), lanes_of(m, bit), tv,
+                  y * stride, &best, &res);
+    }
+    res.nearest = hmax8(best);
+    return res;
 }
 #endif
 
-unsigned vp_depth_rows(vp_depth_row_fn fn[3], const char *name[3])
+unsigned vp_depth_forms(vp_depth_forms_t f[3], const char *name[3])
 {
     unsigned k = 0;
 #if VP_AVX2
     __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx2"))
-        fn[k] = row_avx2, name[k++] = "AVX2";
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt"))
+        f[k] = (vp_depth_forms_t){rect_avx2, block8_avx2, store_avx2}, name[k++] = "AVX2";
 #endif
 #if VP_SSE2
-    fn[k] = row_sse2, name[k++] = "SSE2";
+    /* the masked block and the store in SSE2 are the plain forms: hosts
+     * with SSE2 and without AVX2 predate 2013 */
+    f[k] = (vp_depth_forms_t){rect_sse2, block8_plain_c, store_plain_c}, name[k++] = "SSE2";
 #endif
-    fn[k] = row_plain_c, name[k++] = "plain C";
+    f[k] = (vp_depth_forms_t){rect_plain_c, block8_plain_c, store_plain_c}, name[k++] = "plain C";
     return k;
+}
+
+/* ---- cells and blocks ---- */
+
+/* Whether every sample of the rectangle of w x h samples whose first has
+ * depth form N = z lies in the store's range (the extremes of N are at two
+ * corners). */
+static inline bool depth_in_range(const alb_vp *vp, const vp_face_setup *fs, uint32_t w, uint32_t h,
+                                  int64_t z)
+{
+    const int64_t ec = (int64_t)(w - 1) * fs->depth.step_c, er = (int64_t)(h - 1) * fs->depth.step_r;
+    const int64_t zmin = z + (ec < 0 ? ec : 0) + (er < 0 ? er : 0);
+    const int64_t zmax = z + (ec > 0 ? ec : 0) + (er > 0 ? er : 0);
+    return !vp->plain_fill && zmin >= fs->depth_lo && zmax <= fs->depth_hi;
+}
+
+/* The fast loop over a cell that covers whole tiles of the store: tile row
+ * by tile row, spans of clean tiles stored without reading (no clearing:
+ * every sample beats the cleared store's 0) and spans of touched tiles
+ * through the depth test. */
+static void fill_tiles(alb_vp *vp, const vp_cell *k, int64_t z, int64_t dc, int64_t dr, unsigned sr,
+                       unsigned sl, uint32_t t, fill_counts *n)
+{
+    const unsigned twl = vp->tile_wl, thl = vp->tile_hl;
+    const uint32_t th = 1u << thl, c1 = k->c0 + (1u << k->wl), r1 = k->r0 + (1u << k->hl);
+    for (uint32_t r = k->r0; r < r1; r += th) {
+        uint8_t *clean = vp->tile_clean + ((size_t)(r >> thl) << vp->tiles_lw);
+        for (uint32_t c = k->c0; c < c1;) {
+            const uint8_t cl = clean[c >> twl];
+            uint32_t e = c + (1u << twl);
+            while (e < c1 && clean[e >> twl] == cl)
+                e += 1u << twl;
+            const int64_t zc = z + (int64_t)(c - k->c0) * dc + (int64_t)(r - k->r0) * dr;
+            const size_t idx = (size_t)r * vp->sw + c;
+            if (cl) {
+                vp->depth_forms.store(vp->s_depth + idx, vp->s_tag + idx, vp->sw, e - c, th, zc, dc,
+                                      dr, sr, sl, t);
+                memset(clean + (c >> twl), 0, (e - c) >> twl);
+                n->written += (uint64_t)(e - c) * th;
+                /* depth is monotone in N: the span's largest at a corner */
+                const int64_t ec = (int64_t)(e - c - 1) * dc, er = (int64_t)(th - 1) * dr;
+                const int64_t zmax = zc + (ec > 0 ? ec : 0) + (er > 0 ? er : 0);
+                const uint32_t top = (uint32_t)(((uint64_t)zmax >> sr) << sl);
+                n->nearest = top > n->nearest ? top : n->nearest;
+            } else {
+                vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, vp->s_tag + idx, vp->sw,
+                                                        e - c, th, zc, dc, dr, sr, sl, t);
+                add_rect(n, &x, idx);
+            }
+            c = e;
+        }
+    }
 }
 
 /* The samples of cell k for face fs. */
 static void fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
 {
-    vp_touch(vp, k);
     const uint32_t cw = 1u << k->wl, ch = 1u << k->hl, t = fs->tag | k->level;
     const int sh = units_depth_shift(vp, fs->depth.exp);
-    const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
     const int64_t dc = fs->depth.step_c, dr = fs->depth.step_r;
     int64_t z = units_form_at(&fs->depth, k->c0, k->r0);
-    /* the depth form's extremes over the cell, at two of its corners */
-    const int64_t ec = (int64_t)(cw - 1) * dc, er = (int64_t)(ch - 1) * dr;
-    const int64_t zmin = z + (ec < 0 ? ec : 0) + (er < 0 ? er : 0);
-    const int64_t zmax = z + (ec > 0 ? ec : 0) + (er > 0 ? er : 0);
     size_t idx = (size_t)k->r0 * vp->sw + k->c0;
-    fill_counts n = {0, 0, 0, 0, 0};
-    if (!vp->plain_fill && zmin > 0 && units_depth(zmin, sh, dmax) > 0 &&
-        units_depth(zmax, sh, dmax) < (uint32_t)dmax) {
+    fill_counts n = {0, 0, 0, 0, 0, 0};
+    if (depth_in_range(vp, fs, cw, ch, z)) {
         /* every sample in range: z > 0, so the shifts are exact */
         const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
-        /* rows of eight samples or more: the host's fastest form; shorter
-         * ones (most cells) inline, four a step */
-        const vp_depth_row_fn row = cw >= 8 ? vp->depth_row : NULL;
-        for (uint32_t r = 0; r < ch; r++, z += dr, idx += vp->sw) {
-            uint32_t *depth = vp->s_depth + idx, *tag = vp->s_tag + idx;
-#if VP_SSE2
-            vp_row_result x = row ? row(depth, tag, cw, z, dc, sr, sl, t)
-                                  : row_sse2_body(depth, tag, cw, z, dc, sr, sl, t);
-#else
-            vp_row_result x = row ? row(depth, tag, cw, z, dc, sr, sl, t)
-                                  : row_plain_c(depth, tag, cw, z, dc, sr, sl, t);
-#endif
-            n.written += x.written;
-            if (x.ties && !n.ties)
-                n.tie = idx + x.first_tie;   /* raster order: the first is the lowest */
-            n.ties += x.ties;
+        if (k->wl >= vp->tile_wl && k->hl >= vp->tile_hl) {
+            fill_tiles(vp, k, z, dc, dr, sr, sl, t, &n);
+        } else {
+            vp_touch(vp, k);
+            vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, vp->s_tag + idx, vp->sw, cw,
+                                                    ch, z, dc, dr, sr, sl, t);
+            add_rect(&n, &x, idx);
         }
     } else {
-        for (uint32_t r = 0; r < ch; r++, z += dr, idx += vp->sw)
-            row_plain(vp, idx, cw, z, dc, sh, dmax, t, &n);
+        vp_touch(vp, k);
+        const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
+        for (uint32_t r = 0; r < ch; r++, z += dr, idx += vp->sw) {
+            int64_t zc = z;
+            for (uint32_t c = 0; c < cw; c++, zc += dc)
+                sample_plain(vp->s_depth, vp->s_tag, idx + c, zc, sh, dmax, t, &n);
+        }
     }
     add_counts(vp, fs, (uint64_t)cw * ch, &n);
 }
@@ -261,106 +489,30 @@ void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
         fill_cell(vp, fs, k);
 }
 
-/* Samples in a 4-bit mask. */
-static inline unsigned bits4(unsigned m) { return (0x4332322132212110ull >> (4 * m)) & 0xF; }
-
-/* The samples `mask` (bit 4y + x) of the 4 x 4 block at (c0, r0), each
- * decided at level l, or l - 1 where its bit of `coarse` is set.  As for a
- * cell: where the block's depths are all in the store's range, the fast
- * loop, a row of four at a time, the mask choosing the samples; else the
- * plain loop, sample by sample. */
-void vp_fill_block4(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r0, uint16_t mask,
-                    uint16_t coarse, uint8_t l)
+void vp_fill_block8(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r0, uint64_t mask,
+                    uint64_t mid, uint64_t fine, uint8_t l)
 {
-    const vp_cell k = {.c0 = c0, .r0 = r0, .wl = 2, .hl = 2};
+    const vp_cell k = {.c0 = c0, .r0 = r0, .wl = 3, .hl = 3};
     vp_touch(vp, &k);
+    const uint32_t t[3] = {fs->tag | l, fs->tag | (uint32_t)(l + 1), fs->tag | (uint32_t)(l + 2)};
     const int sh = units_depth_shift(vp, fs->depth.exp);
-    const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
     const int64_t dc = fs->depth.step_c, dr = fs->depth.step_r;
-    const uint32_t t_fine = fs->tag | l, t_coarse = fs->tag | (uint32_t)(l - 1);
-    int64_t z = units_form_at(&fs->depth, c0, r0);
-    const int64_t zmin = z + (dc < 0 ? 3 * dc : 0) + (dr < 0 ? 3 * dr : 0);
-    const int64_t zmax = z + (dc > 0 ? 3 * dc : 0) + (dr > 0 ? 3 * dr : 0);
-    size_t idx = (size_t)r0 * vp->sw + c0;
-    fill_counts n = {0, 0, 0, 0, 0};
-    const uint64_t covered = bits4(mask & 0xF) + bits4(mask >> 4 & 0xF) + bits4(mask >> 8 & 0xF) +
-                             bits4(mask >> 12);
-    if (!vp->plain_fill && zmin > 0 && units_depth(zmin, sh, dmax) > 0 &&
-        units_depth(zmax, sh, dmax) < (uint32_t)dmax) {
+    const int64_t z = units_form_at(&fs->depth, c0, r0);
+    const size_t idx = (size_t)r0 * vp->sw + c0;
+    fill_counts n = {0, 0, 0, 0, 0, 0};
+    if (depth_in_range(vp, fs, 8, 8, z)) {
         const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
-        for (unsigned y = 0; y < 16; y += 4, z += dr, idx += vp->sw) {
-            const unsigned m = mask >> y & 0xF, cm = coarse >> y & 0xF;
-            if (!m)
-                continue;
-            uint32_t *depth = vp->s_depth + idx, *tag = vp->s_tag + idx;
-            unsigned tie = 0;   /* the row's tied samples, bit x */
-#if VP_SSE2
-            /* four lanes: the row's depths narrowed as in the fast rows,
-             * the depth test where the mask has the sample */
-            static const int32_t lane[16][4] = {
-                {0, 0, 0, 0},   {-1, 0, 0, 0},   {0, -1, 0, 0},   {-1, -1, 0, 0},
-                {0, 0, -1, 0},  {-1, 0, -1, 0},  {0, -1, -1, 0},  {-1, -1, -1, 0},
-                {0, 0, 0, -1},  {-1, 0, 0, -1},  {0, -1, 0, -1},  {-1, -1, 0, -1},
-                {0, 0, -1, -1}, {-1, 0, -1, -1}, {0, -1, -1, -1}, {-1, -1, -1, -1}};
-            const __m128i vsr = _mm_cvtsi32_si128((int)sr), vsl = _mm_cvtsi32_si128((int)sl);
-            const __m128i sign = _mm_set1_epi32(INT32_MIN);
-            __m128i a = _mm_sll_epi64(_mm_srl_epi64(_mm_set_epi64x(z + dc, z), vsr), vsl);
-            __m128i b = _mm_sll_epi64(_mm_srl_epi64(_mm_set_epi64x(z + 3 * dc, z + 2 * dc), vsr), vsl);
-            __m128i dv = _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b),
-                                                         _MM_SHUFFLE(2, 0, 2, 0)));
-            __m128i *dp = (__m128i *)(void *)depth, *tp = (__m128i *)(void *)tag;
-            __m128i old = _mm_loadu_si128(dp);
-            __m128i win = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)lane[m]),
-                                        _mm_cmpgt_epi32(_mm_xor_si128(dv, sign), _mm_xor_si128(old, sign)));
-            _mm_storeu_si128(dp, _mm_or_si128(_mm_and_si128(win, dv), _mm_andnot_si128(win, old)));
-            __m128i cl = _mm_loadu_si128((const __m128i *)(const void *)lane[cm]);
-            __m128i tv = _mm_or_si128(_mm_and_si128(cl, _mm_set1_epi32((int)t_coarse)),
-                                      _mm_andnot_si128(cl, _mm_set1_epi32((int)t_fine)));
-            _mm_storeu_si128(tp, _mm_or_si128(_mm_and_si128(win, tv),
-                                              _mm_andnot_si128(win, _mm_loadu_si128(tp))));
-            n.written += bits4((unsigned)_mm_movemask_ps(_mm_castsi128_ps(win)));
-            tie = m & (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(dv, old)));
-#else
-            int64_t zc = z;
-            for (unsigned x = 0; x < 4; x++, zc += dc) {
-                uint32_t dv = (uint32_t)(((uint64_t)zc >> sr) << sl);
-                if (!(m >> x & 1))
-                    continue;
-                if (dv == depth[x])
-                    tie |= 1u << x;
-                if (dv <= depth[x])
-                    continue;
-                depth[x] = dv;
-                tag[x] = cm >> x & 1 ? t_coarse : t_fine;
-                n.written++;
-            }
-#endif
-            if (tie) {
-                if (!n.ties)
-                    n.tie = idx + (unsigned)__builtin_ctz(tie);
-                n.ties += bits4(tie);
-            }
-        }
+        vp_rect_result x = vp->depth_forms.block8(vp->s_depth + idx, vp->s_tag + idx, vp->sw, z, dc, dr,
+                                            sr, sl, mask, mid, fine, t);
+        add_rect(&n, &x, idx);
     } else {
-        for (unsigned y = 0; y < 16; y += 4, z += dr, idx += vp->sw) {
-            uint32_t *depth = vp->s_depth + idx, *tag = vp->s_tag + idx;
-            int64_t zc = z;
-            for (unsigned x = 0; x < 4; x++, zc += dc) {
-                unsigned bit = 1u << (y + x);
-                if (!(mask & bit))
-                    continue;
-                uint32_t dv = units_depth(zc, sh, dmax);
-                n.underflow += dv == 0 && zc > 0;
-                n.saturated += dv == (uint32_t)dmax;
-                if (dv > depth[x]) {
-                    depth[x] = dv;
-                    tag[x] = coarse & bit ? t_coarse : t_fine;
-                    n.written++;
-                } else if (dv != 0 && dv == depth[x] && dv != (uint32_t)dmax && n.ties++ == 0) {
-                    n.tie = idx + x;
-                }
-            }
+        const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
+        for (uint64_t m = mask; m; m &= m - 1) {
+            const unsigned b = (unsigned)__builtin_ctzll(m), x = b & 7, y = b >> 3;
+            sample_plain(vp->s_depth, vp->s_tag, idx + y * vp->sw + x,
+                         z + (int64_t)x * dc + (int64_t)y * dr, sh, dmax, block_tag(mid, fine, b, t),
+                         &n);
         }
     }
-    add_counts(vp, fs, covered, &n);
+    add_counts(vp, fs, vp_popcount(mask), &n);
 }

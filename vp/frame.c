@@ -3,28 +3,46 @@
  * stage's floating point (the EXR Z distance, compare's error measures) is
  * in emu/frame_out.c (docs/number-formats.md §0). */
 #include "albatros/frame.h"
+#include "vp_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-int alb_frame_alloc(alb_frame *f, unsigned width, unsigned height, bool with_cycles)
+int alb_frame_alloc_planes(alb_frame *f, unsigned width, unsigned height, unsigned planes)
 {
     size_t n = (size_t)width * height;
     memset(f, 0, sizeof *f);
     f->width = width;
     f->height = height;
-    f->rgb = calloc(n * 3, sizeof *f->rgb);
-    f->depth = calloc(n, sizeof *f->depth);
-    f->face = calloc(n, sizeof *f->face);
-    f->level = calloc(n, sizeof *f->level);
-    f->coverage = calloc(n, sizeof *f->coverage);
-    f->cycles = with_cycles ? calloc(n, sizeof *f->cycles) : NULL;
-    if (!f->rgb || !f->depth || !f->face || !f->level || !f->coverage ||
-        (with_cycles && !f->cycles)) {
+    if (planes & ALB_FRAME_RGB)
+        f->rgb = vp_plane_alloc(n * 3, sizeof *f->rgb, true);
+    if (planes & ALB_FRAME_DEPTH)
+        f->depth = vp_plane_alloc(n, sizeof *f->depth, true);
+    if (planes & ALB_FRAME_FACE)
+        f->face = vp_plane_alloc(n, sizeof *f->face, true);
+    if (planes & ALB_FRAME_LEVEL)
+        f->level = vp_plane_alloc(n, sizeof *f->level, true);
+    if (planes & ALB_FRAME_COVERAGE)
+        f->coverage = vp_plane_alloc(n, sizeof *f->coverage, true);
+    if (planes & ALB_FRAME_CYCLES)
+        f->cycles = vp_plane_alloc(n, sizeof *f->cycles, true);
+    if (alb_frame_planes(f) != (planes & (ALB_FRAME_PLANES | ALB_FRAME_CYCLES))) {
         alb_frame_free(f);
         return -1;
     }
     return 0;
+}
+
+int alb_frame_alloc(alb_frame *f, unsigned width, unsigned height, bool with_cycles)
+{
+    return alb_frame_alloc_planes(f, width, height, ALB_FRAME_PLANES | (with_cycles ? ALB_FRAME_CYCLES : 0));
+}
+
+unsigned alb_frame_planes(const alb_frame *f)
+{
+    return (f->rgb ? ALB_FRAME_RGB : 0) | (f->depth ? ALB_FRAME_DEPTH : 0) |
+           (f->face ? ALB_FRAME_FACE : 0) | (f->level ? ALB_FRAME_LEVEL : 0) |
+           (f->coverage ? ALB_FRAME_COVERAGE : 0) | (f->cycles ? ALB_FRAME_CYCLES : 0);
 }
 
 void alb_frame_free(alb_frame *f)
@@ -43,14 +61,19 @@ void alb_frame_free(alb_frame *f)
 
 int alb_frame_copy(alb_frame *dst, const alb_frame *src)
 {
-    if (alb_frame_alloc(dst, src->width, src->height, src->cycles != NULL))
+    if (alb_frame_alloc_planes(dst, src->width, src->height, alb_frame_planes(src)))
         return -1;
     size_t n = (size_t)src->width * src->height;
-    memcpy(dst->rgb, src->rgb, 3 * n * sizeof *dst->rgb);
-    memcpy(dst->depth, src->depth, n * sizeof *dst->depth);
-    memcpy(dst->face, src->face, n * sizeof *dst->face);
-    memcpy(dst->level, src->level, n * sizeof *dst->level);
-    memcpy(dst->coverage, src->coverage, n * sizeof *dst->coverage);
+    if (src->rgb)
+        memcpy(dst->rgb, src->rgb, 3 * n * sizeof *dst->rgb);
+    if (src->depth)
+        memcpy(dst->depth, src->depth, n * sizeof *dst->depth);
+    if (src->face)
+        memcpy(dst->face, src->face, n * sizeof *dst->face);
+    if (src->level)
+        memcpy(dst->level, src->level, n * sizeof *dst->level);
+    if (src->coverage)
+        memcpy(dst->coverage, src->coverage, n * sizeof *dst->coverage);
     if (src->cycles)
         memcpy(dst->cycles, src->cycles, n * sizeof *dst->cycles);
     dst->colour_bits = src->colour_bits;

@@ -2,13 +2,17 @@
  *
  * The screen is cut into tiles, the cells of one level of the subdivision
  * quadtree, and each tile belongs to one thread at a time.  Faces are loaded
- * in stream order into a batch; then every tile draws every face of the
- * batch, in stream order, with a walk clipped to the tile (vp.c).  A sample
- * lies in one tile only, so it sees the same faces in the same order as on
- * one thread: the same depth tests, the same winner, the same colour and
- * decision level.  Each thread counts into its own statistics, and a cell is
- * counted by the tile holding its top-left sample only, so the sums are the
- * single-threaded counts too (tests/test_vp.c checks all of it). */
+ * in stream order into a batch; then, on the caller's thread, each face's
+ * walk is made down to the level of the tiles (vp_walk_to_tiles), and every
+ * tile the face reaches — a cell found inside, or a tile that splits — is
+ * put on that tile's list, in stream order.  The threads then take the
+ * tiles, and each walks its list: fills, and the walks below the tiles
+ * (vp_draw_below).  A sample lies in one tile only, so it sees the same
+ * faces in the same order as on one thread: the same depth tests, the same
+ * winner, the same colour and decision level.  Every cell is counted once —
+ * above the tiles by the caller, below by the tile's thread, each into
+ * statistics of its own — so the sums are the single-threaded counts too
+ * (tests/test_timing.c checks all of it). */
 #define _GNU_SOURCE   /* sched_getaffinity: the cores this process may run on */
 #include "vp_internal.h"
 
@@ -79,13 +83,32 @@ void vp_stats_add(alb_vp_stats *dst, const alb_vp_stats *src)
         dst->tie_depth = src->tie_depth;
     }
     dst->depth_ties += src->depth_ties;
-
+    /* the nearest surface of the frame: the largest of the tiles' */
+    if (src->depth_nearest > dst->depth_nearest)
+        dst->depth_nearest = src->depth_nearest;
 }
+
+/* A tile's part of a face: fill it at the level of the cell that held it,
+ * or walk below it (the cell, with its active edges). */
+typedef struct {
+    uint32_t face;            /* in the batch */
+    bool fill;
+    vp_cell cell;
+} tile_job;
+
+typedef struct {
+    tile_job *a;
+    size_t n, cap;
+} job_list;
 
 typedef struct {
     alb_vp *vp;
     vp_cell tiles[VP_MAX_TILES];
-    unsigned ntiles;
+    job_list jobs[VP_MAX_TILES];
+    unsigned ntiles, per_row;
+    uint8_t wl, hl;           /* the tiles' sides, log2 */
+    uint32_t face;            /* the face being put on the lists */
+    bool nomem;
     atomic_uint next;         /* the next tile to take */
 } job;
 
@@ -93,6 +116,42 @@ typedef struct {
     job *j;
     alb_vp local;               /* the VP's state, with statistics of its own */
 } worker;
+
+static void job_add(job *j, unsigned t, bool fill, const vp_cell *k)
+{
+    job_list *l = &j->jobs[t];
+    if (l->n == l->cap) {
+        size_t cap = l->cap ? 2 * l->cap : 64;
+        tile_job *a = realloc(l->a, cap * sizeof *a);
+        if (!a) {
+            j->nomem = true;
+            return;
+        }
+        l->a = a;
+        l->cap = cap;
+    }
+    l->a[l->n++] = (tile_job){j->face, fill, *k};
+}
+
+/* vp_walk_to_tiles' job: a cell found inside fills each tile it holds at
+ * its own level; a tile that splits is walked below. */
+static void put_on_tiles(void *ctx, const vp_cell *k, bool fill)
+{
+    job *j = ctx;
+    const uint32_t tc0 = k->c0 >> j->wl, tr0 = k->r0 >> j->hl;
+    if (!fill) {
+        job_add(j, tr0 * j->per_row + tc0, false, k);
+        return;
+    }
+    const uint32_t tc1 = (k->c0 + (1u << k->wl) - 1) >> j->wl, tr1 = (k->r0 + (1u << k->hl) - 1) >> j->hl;
+    for (uint32_t tr = tr0; tr <= tr1; tr++)
+        for (uint32_t tc = tc0; tc <= tc1; tc++) {
+            const unsigned t = tr * j->per_row + tc;
+            vp_cell c = j->tiles[t];
+            c.level = k->level;
+            job_add(j, t, true, &c);
+        }
+}
 
 static void *work(void *arg)
 {
@@ -102,8 +161,13 @@ static void *work(void *arg)
         unsigned t = atomic_fetch_add(&j->next, 1);
         if (t >= j->ntiles)
             return NULL;
-        for (unsigned i = 0; i < j->vp->nbatch; i++) {
-            vp_draw_face_tile(&wk->local, &j->vp->batch[i], &j->tiles[t]);
+        const job_list *l = &j->jobs[t];
+        for (size_t i = 0; i < l->n; i++) {
+            const vp_loaded_face *f = &j->vp->batch[l->a[i].face];
+            if (l->a[i].fill)
+                vp_fill(&wk->local, &f->fs, &l->a[i].cell);
+            else
+                vp_draw_below(&wk->local, f, &l->a[i].cell);
         }
     }
 }
@@ -112,7 +176,7 @@ static void *work(void *arg)
  * balance; threads take them as they finish), at most VP_MAX_TILES, and no
  * smaller than the sample store's tiles (store.c), so that each store tile
  * is cleared by the one thread whose tile holds it. */
-static void make_tiles(const alb_vp *vp, job *j)
+static unsigned make_tiles(const alb_vp *vp, job *j)
 {
     unsigned want = 8 * vp->threads, l = 0, wl = vp->lw, hl = vp->lh;
     while (l < vp->tile_level && (1u << ((vp->lw - wl) + (vp->lh - hl))) < want &&
@@ -122,24 +186,35 @@ static void make_tiles(const alb_vp *vp, job *j)
         hl -= hl > 0;
     }
     j->ntiles = 0;
+    j->wl = (uint8_t)wl, j->hl = (uint8_t)hl;
+    j->per_row = vp->sw >> wl;
     for (uint32_t r = 0; r < vp->sh; r += 1u << hl)
         for (uint32_t c = 0; c < vp->sw; c += 1u << wl)
             j->tiles[j->ntiles++] = (vp_cell){c, r, (uint8_t)wl, (uint8_t)hl, (uint8_t)l, 0, 0};
+    return l;
 }
 
 void vp_flush_batch(alb_vp *vp)
 {
     if (!vp->nbatch)
         return;
-    job *j = malloc(sizeof *j);
+    job *j = calloc(1, sizeof *j);
     worker *wk = calloc(vp->threads, sizeof *wk);
     pthread_t tid[ALB_VP_MAX_THREADS];
     bool started[ALB_VP_MAX_THREADS] = {false};
     unsigned nw = j && wk ? vp->threads : 0;
-    if (j) {
+    if (nw) {
+        /* the walks above the tiles, on this thread, counted in vp->st */
+        alb_vp_stats before = vp->st;
         j->vp = vp;
-        make_tiles(vp, j);
+        const unsigned tl = make_tiles(vp, j);
         atomic_init(&j->next, 0);
+        for (j->face = 0; j->face < vp->nbatch && !j->nomem; j->face++)
+            vp_walk_to_tiles(vp, &vp->batch[j->face], tl, put_on_tiles, j);
+        if (j->nomem) {   /* no memory for the lists: one thread, as if none was tried */
+            vp->st = before;
+            nw = 0;
+        }
     }
     for (unsigned i = 0; i < nw; i++) {
         wk[i].j = j;
@@ -162,6 +237,9 @@ void vp_flush_batch(alb_vp *vp)
             pthread_join(tid[i], NULL);
         vp_stats_add(&vp->st, &wk[i].local.st);
     }
+    if (j)
+        for (unsigned t = 0; t < j->ntiles; t++)
+            free(j->jobs[t].a);
     free(wk);
     free(j);
     vp->nbatch = 0;

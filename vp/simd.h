@@ -36,6 +36,19 @@ static inline unsigned v2_neg(v2 a) { return (unsigned)(a.lo < 0) | (unsigned)(a
 
 #endif
 
+/* Set bits of a mask, in plain C: the baseline x86-64 has no POPCNT, and
+ * __builtin_popcount would call the compiler's library. */
+static inline unsigned vp_popcount(uint64_t m)
+{
+    m -= (m >> 1) & 0x5555555555555555ull;
+    m = (m & 0x3333333333333333ull) + ((m >> 2) & 0x3333333333333333ull);
+    m = (m + (m >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+    return (unsigned)((m * 0x0101010101010101ull) >> 56);
+}
+
+/* Set bits of a 4-bit mask. */
+static inline unsigned vp_bits4(unsigned m) { return (0x4332322132212110ull >> (4 * m)) & 0xF; }
+
 /* AVX2 code compiled where the compiler can target it (gcc, clang on
  * x86-64) and run where the host has it (__builtin_cpu_supports). */
 #if VP_SSE2 && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))

@@ -9,15 +9,44 @@
  * its tag names (the frame keeps the faces it drew), with the same units and
  * the same arithmetic the fill would have used — so a sample that a nearer
  * face overwrites is never shaded. */
+#define _DEFAULT_SOURCE   /* madvise's MADV_HUGEPAGE, where the C library has it */
 #include "vp_internal.h"
 
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #include "simd.h"
 
 /* Tiles of at most 16 x 16 samples: the cells of level max(levels - 4, 0). */
 #define TILE_LOG2 4
+
+/* A plane of the store or of a frame (vp_internal.h).  From 2 MiB up it is
+ * aligned to 2 MiB and offered to Linux's transparent huge pages (madvise):
+ * a 1024 x 1024 store is 8 MiB, whose first touch in a fresh process cost
+ * 2048 page faults, half of a timed run without frames (docs/performance.md);
+ * with huge pages it costs four.  A hint, refused silently where the kernel
+ * or the C library has none; the memory is free()d either way. */
+#define HUGE_PAGE ((size_t)2 << 20)
+void *vp_plane_alloc(size_t count, size_t size, bool zeroed)
+{
+    if (size && count > SIZE_MAX / size)
+        return NULL;
+    const size_t bytes = count * size;
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    if (bytes >= HUGE_PAGE) {
+        void *p = NULL;
+        if (posix_memalign(&p, HUGE_PAGE, bytes))
+            return NULL;
+        (void)madvise(p, bytes & ~(HUGE_PAGE - 1), MADV_HUGEPAGE);
+        return zeroed ? memset(p, 0, bytes) : p;
+    }
+#endif
+    return zeroed ? calloc(count, size) : malloc(bytes);
+}
 
 int vp_store_init(alb_vp *vp)
 {
@@ -26,8 +55,8 @@ int vp_store_init(alb_vp *vp)
     vp->tile_hl = vp->lh > vp->tile_level ? vp->lh - vp->tile_level : 0;
     vp->tiles_lw = vp->lw - vp->tile_wl;
     size_t n = (size_t)vp->sw * vp->sh, tiles = (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl);
-    vp->s_depth = malloc(n * sizeof *vp->s_depth);
-    vp->s_tag = malloc(n * sizeof *vp->s_tag);
+    vp->s_depth = vp_plane_alloc(n, sizeof *vp->s_depth, false);
+    vp->s_tag = vp_plane_alloc(n, sizeof *vp->s_tag, false);
     vp->tile_clean = malloc(tiles);
     if (!vp->s_depth || !vp->s_tag || !vp->tile_clean)
         return -1;
@@ -129,60 +158,27 @@ void vp_touch_tiles(alb_vp *vp, const vp_cell *k)
         }
 }
 
-/* The frame's nearest surface (depth_nearest): the largest depth in the
- * store, over the tiles its fills reached — the largest depth of any
- * covered sample, since a stored depth only rises and each covered sample's
- * ends at least at its own. */
-void vp_store_finish(alb_vp *vp)
-{
-    const uint32_t tw = 1u << vp->tile_wl, th = 1u << vp->tile_hl;
-    const size_t tiles = (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl);
-    uint32_t nearest = 0;
-#if VP_SSE2
-    /* four lanes, compared unsigned by flipping the sign bits */
-    const __m128i sign = _mm_set1_epi32(INT32_MIN);
-    __m128i best = sign;   /* 0, flipped */
-#endif
-    for (size_t t = 0; t < tiles; t++) {
-        if (vp->tile_clean[t])
-            continue;
-        size_t tc = t & (((size_t)1 << vp->tiles_lw) - 1), tr = t >> vp->tiles_lw;
-        const uint32_t *row = vp->s_depth + (tr << vp->tile_hl) * vp->sw + (tc << vp->tile_wl);
-        for (uint32_t r = 0; r < th; r++, row += vp->sw) {
-            uint32_t c = 0;
-#if VP_SSE2
-            for (; c + 4 <= tw; c += 4) {
-                __m128i x = _mm_xor_si128(_mm_loadu_si128((const __m128i *)(const void *)(row + c)), sign);
-                __m128i gt = _mm_cmpgt_epi32(x, best);
-                best = _mm_or_si128(_mm_and_si128(gt, x), _mm_andnot_si128(gt, best));
-            }
-#endif
-            for (; c < tw; c++)
-                nearest = row[c] > nearest ? row[c] : nearest;
-        }
-    }
-#if VP_SSE2
-    uint32_t lanes[4];
-    _mm_storeu_si128((__m128i *)(void *)lanes, _mm_xor_si128(best, sign));
-    for (int k = 0; k < 4; k++)
-        nearest = lanes[k] > nearest ? lanes[k] : nearest;
-#endif
-    vp->st.depth_nearest = nearest;
-}
-
 /* ---- the output stage ---- */
 
-/* n copies of one sample's colour: the first written, then doubled. */
+/* n copies of one sample's colour: eight samples (48 bytes, three 16-byte
+ * stores) a step where the host has SSE2, then one at a time. */
 void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3])
 {
-    if (!n)
-        return;
-    memcpy(out, rgb, 3 * sizeof *out);
-    for (size_t have = 1; have < n;) {
-        size_t k = have < n - have ? have : n - have;
-        memcpy(out + 3 * have, out, 3 * k * sizeof *out);
-        have += k;
+    size_t i = 0;
+#if VP_SSE2
+    const uint16_t r = rgb[0], g = rgb[1], b = rgb[2];
+    const __m128i p0 = _mm_setr_epi16((short)r, (short)g, (short)b, (short)r, (short)g, (short)b, (short)r, (short)g);
+    const __m128i p1 = _mm_setr_epi16((short)b, (short)r, (short)g, (short)b, (short)r, (short)g, (short)b, (short)r);
+    const __m128i p2 = _mm_setr_epi16((short)g, (short)b, (short)r, (short)g, (short)b, (short)r, (short)g, (short)b);
+    for (; i + 8 <= n; i += 8) {
+        __m128i *o = (__m128i *)(void *)(out + 3 * i);
+        _mm_storeu_si128(o, p0);
+        _mm_storeu_si128(o + 1, p1);
+        _mm_storeu_si128(o + 2, p2);
     }
+#endif
+    for (; i < n; i++)
+        memcpy(out + 3 * i, rgb, 3 * sizeof *out);
 }
 
 /* The plane fills below by 16 bytes where the host has SSE2; the same
@@ -243,15 +239,20 @@ typedef struct {
     uint16_t *coverage;
 } row_out;
 
-/* Samples [c, e) with no surface: the background. */
+/* Samples [c, e) with no surface: the background.  Planes the frame lacks
+ * (NULL) are left out, here and below. */
 static inline void emit_none(const alb_vp *vp, const row_out *o, uint32_t c, uint32_t e,
                              const bool pixels)
 {
-    vp_fill_rgb(o->rgb + 3 * (size_t)c, e - c, vp->bg);
+    if (o->rgb)
+        vp_fill_rgb(o->rgb + 3 * (size_t)c, e - c, vp->bg);
     if (pixels) {
-        fill_u32(o->face + c, e - c, ALB_FRAME_NO_FACE);
-        memset(o->level + c, ALB_FRAME_NO_LEVEL, e - c);
-        fill_u16(o->coverage + c, e - c, 0);
+        if (o->face)
+            fill_u32(o->face + c, e - c, ALB_FRAME_NO_FACE);
+        if (o->level)
+            memset(o->level + c, ALB_FRAME_NO_LEVEL, e - c);
+        if (o->coverage)
+            fill_u16(o->coverage + c, e - c, 0);
     } else {
         fill_u32(o->tag + c, e - c, VP_TAG_NONE);
     }
@@ -262,11 +263,15 @@ static inline void emit_face(const alb_vp *vp, const row_out *o, const uint32_t 
                              uint32_t c, uint32_t e, const bool pixels)
 {
     const vp_face_setup *fs = &vp->faces[tag[c] >> VP_TAG_LEVEL_BITS];
-    vp_shade_run(vp, fs, r, c, e, o->rgb + 3 * (size_t)c);
+    if (o->rgb)
+        vp_shade_run(vp, fs, r, c, e, o->rgb + 3 * (size_t)c);
     if (pixels) {
-        fill_u32(o->face + c, e - c, fs->id);
-        levels_of(o->level + c, tag + c, e - c);
-        fill_u16(o->coverage + c, e - c, 1);
+        if (o->face)
+            fill_u32(o->face + c, e - c, fs->id);
+        if (o->level)
+            levels_of(o->level + c, tag + c, e - c);
+        if (o->coverage)
+            fill_u16(o->coverage + c, e - c, 1);
     } else {
         memcpy(o->tag + c, tag + c, (e - c) * sizeof *tag);
     }
@@ -305,12 +310,18 @@ static inline void sample_row(const alb_vp *vp, uint32_t r, const row_out *o, co
         while (d < sw && clean[d >> twl] == cl)
             d += 1u << twl;
         if (cl) {
-            memset(o->depth + c, 0, (d - c) * sizeof *o->depth);
+            if (o->depth)
+                memset(o->depth + c, 0, (d - c) * sizeof *o->depth);
             emit_none(vp, o, c, d, pixels);
             c = d;
             continue;
         }
-        memcpy(o->depth + c, vp->s_depth + (size_t)r * sw + c, (d - c) * sizeof *o->depth);
+        if (o->depth)
+            memcpy(o->depth + c, vp->s_depth + (size_t)r * sw + c, (d - c) * sizeof *o->depth);
+        if (pixels && !o->rgb && !o->face && !o->level && !o->coverage) {
+            c = d;   /* the depth alone: no run of the tags matters */
+            continue;
+        }
         while (c < d) {
             uint32_t t = tag[c], e = c + 1;
             if (t == VP_TAG_NONE) {
@@ -354,8 +365,9 @@ static void resolve_rows(alb_vp *vp, void *ctx, unsigned worker, uint32_t y0, ui
         /* one sample per pixel: the rows are the frame's */
         for (uint32_t y = y0; y < y1; y++) {
             size_t p = (size_t)y * w;
-            row_out o = {out->rgb + 3 * p, out->depth + p, NULL, out->face + p, out->level + p,
-                         out->coverage + p};
+            row_out o = {out->rgb ? out->rgb + 3 * p : NULL, out->depth ? out->depth + p : NULL, NULL,
+                         out->face ? out->face + p : NULL, out->level ? out->level + p : NULL,
+                         out->coverage ? out->coverage + p : NULL};
             sample_row(vp, y, &o, true);
         }
         return;
@@ -363,10 +375,12 @@ static void resolve_rows(alb_vp *vp, void *ctx, unsigned worker, uint32_t y0, ui
     unsigned char *scratch = vp->scratch + worker * vp_store_scratch_bytes(vp);
     uint32_t *depth = (uint32_t *)(void *)scratch, *tag = depth + n * sw;
     uint16_t *rgb = (uint16_t *)(void *)(tag + n * sw);
+    const bool nearest = out->depth || out->face || out->level;
     for (uint32_t y = y0; y < y1; y++) {
         size_t p = (size_t)y * w;
         for (unsigned sy = 0; sy < n; sy++) {
-            row_out o = {rgb + 3 * sy * sw, depth + sy * sw, tag + sy * sw, NULL, NULL, NULL};
+            row_out o = {out->rgb ? rgb + 3 * sy * sw : NULL, depth + sy * sw, tag + sy * sw, NULL,
+                         NULL, NULL};
             sample_row(vp, (y << aa) + sy, &o, false);
         }
         for (uint32_t x = 0; x < w; x++, p++) {
@@ -379,20 +393,26 @@ static void resolve_rows(alb_vp *vp, void *ctx, unsigned worker, uint32_t y0, ui
             for (unsigned sy = 0; sy < n; sy++)
                 for (unsigned sx = 0; sx < n; sx++) {
                     size_t i = sy * sw + ((size_t)x << aa) + sx;
-                    for (int ch = 0; ch < 3; ch++)
-                        sum[ch] += rgb[3 * i + ch];
+                    if (out->rgb)
+                        for (int ch = 0; ch < 3; ch++)
+                            sum[ch] += rgb[3 * i + ch];
                     covered += tag[i] != VP_TAG_NONE;
-                    if (depth[i] > best) {
+                    if (nearest && depth[i] > best) {
                         best = depth[i];
                         best_i = i;
                     }
                 }
-            for (int ch = 0; ch < 3; ch++)
-                out->rgb[3 * p + ch] = (uint16_t)((sum[ch] + (n * n / 2)) >> (2 * aa));
-            out->depth[p] = depth[best_i];
-            out->face[p] = face_of(vp, tag[best_i]);
-            out->level[p] = level_of(tag[best_i]);
-            out->coverage[p] = (uint16_t)covered;
+            if (out->rgb)
+                for (int ch = 0; ch < 3; ch++)
+                    out->rgb[3 * p + ch] = (uint16_t)((sum[ch] + (n * n / 2)) >> (2 * aa));
+            if (out->depth)
+                out->depth[p] = depth[best_i];
+            if (out->face)
+                out->face[p] = face_of(vp, tag[best_i]);
+            if (out->level)
+                out->level[p] = level_of(tag[best_i]);
+            if (out->coverage)
+                out->coverage[p] = (uint16_t)covered;
         }
     }
 }

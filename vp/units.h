@@ -33,6 +33,27 @@ static inline uint32_t units_depth(int64_t n, int sh, int64_t max)
     return (uint32_t)(v > max ? max : v);
 }
 
+/* The N whose stored depth lies strictly inside the store's range — neither
+ * 0 (underflow, or N <= 0) nor max (saturation) — are lo <= N <= hi, none
+ * where lo > hi: units_depth is monotone in N.  (max = 2^depth_bits - 1 is
+ * odd, so for sh > 0 every N <= max >> sh stays below max.) */
+static inline void units_depth_range(int sh, int64_t max, int64_t *lo, int64_t *hi)
+{
+    if (sh >= 0) {
+        *lo = 1;
+        *hi = sh >= 62 ? 0 : sh == 0 ? max - 1 : max >> sh;
+        return;
+    }
+    const unsigned s = (unsigned)-sh;
+    if (s >= 63) {
+        *lo = 1, *hi = 0;
+        return;
+    }
+    /* floor(N / 2^s) > 0 from N = 2^s; < max below max 2^s */
+    *lo = (int64_t)1 << s;
+    *hi = max > (INT64_MAX >> s) ? INT64_MAX : (max << s) - 1;
+}
+
 /* Ties in the depth store (docs/vp.md §4: equal d, 0 < d < max — two faces
  * in one depth step, the earlier kept; ties at the saturated max are
  * depth_saturated's): `ties` of them by face fs, `idx` the lowest-indexed
@@ -69,6 +90,8 @@ static inline void units_fill_sample(alb_vp *vp, const vp_face_setup *fs, uint32
         vp->s_depth[idx] = dv;
         vp->s_tag[idx] = fs->tag | level;
         vp->st.samples_written++;
+        if (dv > vp->st.depth_nearest)
+            vp->st.depth_nearest = dv;
     } else if (dv != 0 && dv == vp->s_depth[idx] && dv != (uint32_t)dmax) {
         units_note_ties(vp, fs, 1, idx);
     }

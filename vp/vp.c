@@ -24,10 +24,13 @@ alb_err alb_vp_create(alb_vp **out, const alb_profile *prof, alb_diag *d)
     vp->sw = 1u << vp->lw;
     vp->sh = 1u << vp->lh;
     vp->p = vp->lw > vp->lh ? vp->lw : vp->lh;
-    vp_depth_row_fn rows[3];
+    vp_depth_forms_t forms[3];
     const char *names[3];
-    vp_depth_rows(rows, names);
-    vp->depth_row = rows[0];
+    /* the host's fastest forms, or with simd=0 the plain C ones (the last) */
+    unsigned nforms = vp_depth_forms(forms, names);
+    vp->depth_forms = forms[prof->simd ? 0 : nforms - 1];
+    vp->walk_avx2 = prof->simd && vp_walk_avx2_host();
+    vp->shade_isa = prof->simd ? vp_shade_isa_host() : 0;
     if (vp_store_init(vp) || vp_scratch_for(vp, 1) || vp_recip_rom_init(vp)) {
         alb_vp_destroy(vp);
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for a %ux%u sample store",
@@ -54,7 +57,12 @@ const alb_vp_stats *alb_vp_stats_get(const alb_vp *vp) { return &vp->st; }
 
 int alb_vp_frame_alloc(const alb_vp *vp, alb_frame *f, bool with_cycles)
 {
-    if (alb_frame_alloc(f, vp->prof.width, vp->prof.height, with_cycles))
+    return alb_vp_frame_alloc_planes(vp, f, ALB_FRAME_PLANES | (with_cycles ? ALB_FRAME_CYCLES : 0));
+}
+
+int alb_vp_frame_alloc_planes(const alb_vp *vp, alb_frame *f, unsigned planes)
+{
+    if (alb_frame_alloc_planes(f, vp->prof.width, vp->prof.height, planes))
         return -1;
     f->colour_bits = vp->prof.colour_bits;
     f->depth_bits = vp->prof.depth_bits;
@@ -194,41 +202,20 @@ static inline bool sample_inside(const vp_edge_fn *e, uint64_t active, uint32_t 
 void vp_walk_begin(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f)
 {
     w->e = f->e;
+    w->n = f->n;
+    w->narrow = f->narrow;
+    w->lanes_ready = false;
     w->top = 0;
-    w->clipped = false;
     w->stack[w->top++] = (vp_cell){.wl = (uint8_t)vp->lw, .hl = (uint8_t)vp->lh,
                                    .edges = (uint8_t)f->n,
                                    .active = f->n == 64 ? ~0ull : (1ull << f->n) - 1};
 }
 
-void vp_walk_begin_tile(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile)
-{
-    vp_walk_begin(w, vp, f);
-    w->clipped = true;
-    w->tile = *tile;
-}
-
-static bool meets_tile(const vp_walk *w, const vp_cell *k)
-{
-    const vp_cell *t = &w->tile;
-    return k->c0 < t->c0 + (1u << t->wl) && t->c0 < k->c0 + (1u << k->wl) &&
-           k->r0 < t->r0 + (1u << t->hl) && t->r0 < k->r0 + (1u << k->hl);
-}
-
-/* Whether this walk counts cell k: the tile holding its top-left sample. */
-static bool owns(const vp_walk *w, const vp_cell *k)
-{
-    const vp_cell *t = &w->tile;
-    return !w->clipped || (k->c0 - t->c0 < (1u << t->wl) && k->r0 - t->r0 < (1u << t->hl));
-}
-
-/* A child onto the stack, unless the walk is clipped to a tile it misses. */
+/* A child onto the stack. */
 static inline void push(vp_walk *w, uint32_t c0, uint32_t r0, uint8_t wl, uint8_t hl, uint8_t level,
                         const vp_cell *parent)
 {
-    vp_cell c = {c0, r0, wl, hl, level, parent->edges, parent->active};
-    if (!w->clipped || meets_tile(w, &c))
-        w->stack[w->top++] = c;
+    w->stack[w->top++] = (vp_cell){c0, r0, wl, hl, level, parent->edges, parent->active};
 }
 
 bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
@@ -237,8 +224,7 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
         return false;
     vp_cell *k = &step->cell;
     *k = w->stack[--w->top];
-    bool own = owns(w, k);
-    vp->st.cells[k->level] += own;
+    vp->st.cells[k->level]++;
     step->edges = k->edges;
     if (k->wl == 0 && k->hl == 0) {
         /* a single sample: decided at its centre */
@@ -249,22 +235,16 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
     }
     int cls = classify(w->e, k);
     if (cls < 0) {
-        vp->st.cells_outside += own;
+        vp->st.cells_outside++;
         step->kind = VP_STEP_OUT;
         return true;
     }
     if (cls > 0) {
-        vp->st.cells_inside += own;
+        vp->st.cells_inside++;
         step->kind = VP_STEP_FILL;
-        if (w->clipped && (k->wl > w->tile.wl || k->hl > w->tile.hl)) {
-            /* fill only the tile's part, as decided at this cell's level */
-            uint8_t level = k->level;
-            *k = w->tile;
-            k->level = level;
-        }
         return true;
     }
-    vp->st.cells_split += own;
+    vp->st.cells_split++;
     step->kind = VP_STEP_SPLIT;
     /* children, visited top-left, top-right, bottom-left, bottom-right (so
      * pushed in reverse); a side already one sample long is not split */
@@ -287,45 +267,64 @@ bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step)
  * functional renderer only its outcome.  This is the same walk — the same
  * cells in the same order, classified alike, counted alike, each sample
  * decided at the same level — as a recursion that fills as it goes and
- * decides the last level's single samples where their parent splits,
+ * decides the last levels' cells and samples where their parent splits,
  * without a step apiece.  Equal to vp_walk_next with vp_fill on every
  * statistic and every sample (tests/test_timing.c compares the functional
- * fidelity with the clocked ones). */
+ * fidelity with the clocked ones).
+ *
+ * The engine is one body compiled for two instruction sets: the baseline
+ * (SSE2 lanes on x86-64, plain C elsewhere and with -DALB_NO_SIMD) and, where
+ * the compiler can target it, AVX2 with POPCNT, which the VP takes when the
+ * host has them and the profile's `simd` allows (alb_vp_create).  `isa` is a
+ * constant at every call; it chooses the lanes of the edge arithmetic and
+ * how bits are counted, never what is computed. */
+
+enum { ISA_BASE, ISA_AVX2 };
+#if VP_AVX2
+#include <immintrin.h>
+#define ISA_AVX2_TARGET __attribute__((target("avx2,popcnt")))
+#endif
+
+bool vp_walk_avx2_host(void)
+{
+#if VP_AVX2
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
+#else
+    return false;
+#endif
+}
+
+/* Set bits of a mask: the POPCNT instruction where the instruction set has
+ * it, else plain C. */
+static inline unsigned popcount_isa(uint64_t m, const int isa)
+{
+    if (VP_AVX2 && isa == ISA_AVX2)
+        return (unsigned)__builtin_popcountll(m);
+    return vp_popcount(m);
+}
 
 /* The children of a cell k that splits, in the walk's order: bit 0 the
- * top-left, 1 top-right, 2 bottom-left, 3 bottom-right.  A side one sample
- * long is not split; a walk clipped to a tile leaves out the children that
- * miss it. */
-static inline unsigned children_present(const vp_walk *w, const vp_cell *k, uint32_t dx, uint32_t dy,
-                                        uint8_t wl, uint8_t hl)
+ * top-left, 1 top-right, 2 bottom-left, 3 bottom-right; a side one sample
+ * long is not split. */
+static inline unsigned children_present(uint32_t dx, uint32_t dy)
 {
-    unsigned present = 1u | (dx ? 2u : 0) | (dy ? 4u : 0) | (dx && dy ? 8u : 0);
-    if (w->clipped)
-        for (unsigned j = 0; j < 4; j++) {
-            vp_cell c = {k->c0 + (j & 1 ? dx : 0), k->r0 + (j & 2 ? dy : 0), wl, hl, 0, 0, 0};
-            if (!meets_tile(w, &c))
-                present &= ~(1u << j);
-        }
-    return present;
+    return 1u | (dx ? 2u : 0) | (dy ? 4u : 0) | (dx && dy ? 8u : 0);
 }
 
-/* Bits of a 4-bit mask. */
-static inline unsigned bits4(unsigned m) { return (0x4332322132212110ull >> (4 * m)) & 0xF; }
-
-/* Edges in a mask (the timer's step cycles need the count of a child's). */
-static inline unsigned mask_edges(uint64_t m)
+void vp_timer_init(vp_timer *tm, const alb_profile *p, int64_t *take_ring)
 {
-    m -= (m >> 1) & 0x5555555555555555ull;
-    m = (m & 0x3333333333333333ull) + ((m >> 2) & 0x3333333333333333ull);
-    m = (m + (m >> 4)) & 0x0F0F0F0F0F0F0F0Full;
-    return (unsigned)((m * 0x0101010101010101ull) >> 56);
-}
-
-void vp_timer_init(vp_timer *tm, unsigned edge_units)
-{
+    /* docs/microarchitecture.md: a step evaluates edge_units edges a cycle
+     * (one cycle with none), a fill issues fill_rate samples a cycle */
     memset(tm, 0, sizeof *tm);
-    for (unsigned e = 0; e <= ALB_WS_MAX_EDGES; e++)   /* docs/microarchitecture.md */
-        tm->step_cycles[e] = (uint8_t)(e ? (e + edge_units - 1) / edge_units : 1);
+    for (unsigned e = 0; e <= ALB_WS_MAX_EDGES; e++)
+        tm->step_cycles[e] = (uint8_t)(e ? (e + p->edge_units - 1) / p->edge_units : 1);
+    for (unsigned s = 0; s < sizeof tm->fill_cycles / sizeof *tm->fill_cycles; s++)
+        tm->fill_cycles[s] = ((1ull << s) + p->fill_rate - 1) / p->fill_rate;
+    tm->take_ring = take_ring;
+    tm->fill_queue = p->fill_queue;
+    for (unsigned i = 0; take_ring && i < p->fill_queue; i++)
+        take_ring[i] = INT64_MIN / 4;
 }
 
 /* The timer's part of a step on cell k evaluating `edges` edges, and of a
@@ -343,18 +342,15 @@ static inline void timer_step(vp_timer *tm, const vp_cell *k, unsigned edges, co
 
 static inline void timer_hand_over(vp_timer *tm, const vp_cell *k, const bool timed)
 {
-    if (!timed)
-        return;
-    tm->hand_over(tm, k, tm->pending);
-    tm->pending = 0;
+    if (timed)
+        vp_timer_hand_over(tm, k);
 }
 
 /* Children that are single samples, each the walk's next step in turn:
  * decided at their centres, the active edges at the top-left one and the
- * others a column (2a) or a row (2b) on.  A sample meeting the tile lies in
- * it, so this walk counts it. */
+ * others a column (2a) or a row (2b) on. */
 static inline __attribute__((always_inline)) void
-draw_samples(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
+draw_samples(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
              unsigned present, vp_timer *tm, const bool timed)
 {
     const int64_t cc = 2 * (int64_t)k->c0 + 1, rr = 2 * (int64_t)k->r0 + 1;
@@ -366,8 +362,8 @@ draw_samples(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cel
               (h + 2 * (f->a + f->b) >= 0) << 3;
     }
     const uint8_t l = k->level + 1;
-    vp->st.cells[l] += bits4(present);
-    vp->st.samples_tested += bits4(present);
+    vp->st.cells[l] += vp_bits4(present);
+    vp->st.samples_tested += vp_bits4(present);
     for (unsigned j = 0; j < 4; j++) {
         vp_cell c = {k->c0 + (j & 1), k->r0 + (j >> 1), 0, 0, l, 0, 0};
         if (present >> j & 1)
@@ -379,139 +375,435 @@ draw_samples(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cel
     }
 }
 
-/* A cell the walk found inside every edge: filled, or, clipped to a smaller
- * tile, the tile's part of it, as decided at the cell's level. */
-static void draw_fill(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k)
+/* A cell the walk found inside every edge. */
+static inline void draw_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
 {
-    if (w->clipped && (k->wl > w->tile.wl || k->hl > w->tile.hl)) {
-        vp_cell t = w->tile;
-        t.level = k->level;
-        vp_fill(vp, fs, &t);
-    } else {
-        vp_fill(vp, fs, k);
+    vp_fill(vp, fs, k);
+}
+
+/* ---- an 8 x 8 cell that splits, decided in one pass ----
+ *
+ * Its four 4 x 4 children, their 2 x 2 children and the samples of those
+ * that split.  Every active edge of the cell crosses it (else the cell would
+ * be out or would not split).  Per edge, its values at the children's and
+ * grandchildren's corners give their extremes as in draw_split, and its
+ * values at the 64 sample centres, a column (2a) or a row (2b) apart, the
+ * samples outside: sign masks.  A cell's verdict against the parent's active
+ * edges is its verdict against its own: an edge that holds a cell holds
+ * every cell and sample in it and rejects none. */
+typedef struct {
+    unsigned out4, held4;    /* children (bit 2 cy + cx): rejected, held by every edge */
+    unsigned out2, held2;    /* grandchildren (bit 4 gy + gx) likewise */
+    uint64_t outside;        /* samples outside some edge (bit 8 sy + sx) */
+    uint32_t loose4;         /* byte j: edges not holding child j (the timer's) */
+    uint32_t loose2[4];      /* byte gx of word gy: edges not holding grandchild (gx, gy) */
+} block8_verdicts;
+
+/* 4 bits to 4 bytes: counts of the edges that do not hold each cell */
+static const uint32_t spread4[16] = {
+    0x00000000, 0x00000001, 0x00000100, 0x00000101, 0x00010000, 0x00010001, 0x00010100,
+    0x00010101, 0x01000000, 0x01000001, 0x01000100, 0x01000101, 0x01010000, 0x01010001,
+    0x01010100, 0x01010101};
+
+/* One edge's verdicts in 64-bit lanes, two at a time (vp/simd.h): any edge. */
+static inline __attribute__((always_inline)) void
+edge_block8(const vp_edge_fn *f, int64_t c0, int64_t r0, block8_verdicts *v)
+{
+    const int64_t a = f->a, b = f->b, h = a * c0 + b * r0 + f->c;
+    /* children: sides 8 in doubled coordinates */
+    const int64_t a8 = 8 * a, b8 = 8 * b;
+    const v2 up4 = v2_splat((a8 > 0 ? a8 : 0) + (b8 > 0 ? b8 : 0));
+    const v2 down4 = v2_splat((a8 < 0 ? a8 : 0) + (b8 < 0 ? b8 : 0));
+    const v2 top = v2_set(h, h + a8), bottom = v2_set(h + b8, h + a8 + b8);
+    v->out4 |= v2_neg(v2_add(top, up4)) | v2_neg(v2_add(bottom, up4)) << 2;
+    const unsigned loose4 = v2_neg(v2_add(top, down4)) | v2_neg(v2_add(bottom, down4)) << 2;
+    v->held4 &= ~loose4;
+    v->loose4 += spread4[loose4];
+    /* grandchildren: sides 4, a row of four a step */
+    const int64_t a4 = 4 * a, b4 = 4 * b;
+    const v2 up2 = v2_splat((a4 > 0 ? a4 : 0) + (b4 > 0 ? b4 : 0));
+    const v2 down2 = v2_splat((a4 < 0 ? a4 : 0) + (b4 < 0 ? b4 : 0));
+    const v2 row4 = v2_splat(b4);
+    v2 left = v2_set(h, h + a4), right = v2_set(h + 2 * a4, h + 3 * a4);
+    unsigned out2 = 0, loose2 = 0;
+    for (unsigned gy = 0; gy < 4; gy++, left = v2_add(left, row4), right = v2_add(right, row4)) {
+        out2 |= (v2_neg(v2_add(left, up2)) | v2_neg(v2_add(right, up2)) << 2) << 4 * gy;
+        const unsigned loose = v2_neg(v2_add(left, down2)) | v2_neg(v2_add(right, down2)) << 2;
+        loose2 |= loose << 4 * gy;
+        v->loose2[gy] += spread4[loose];
+    }
+    v->out2 |= out2;
+    v->held2 &= ~loose2;
+    /* samples: the top-left one's centre, then columns and rows on */
+    const int64_t s = h + a + b, a2 = 2 * a;
+    v2 x0 = v2_set(s, s + a2), x1 = v2_set(s + 2 * a2, s + 3 * a2);
+    v2 x2 = v2_set(s + 4 * a2, s + 5 * a2), x3 = v2_set(s + 6 * a2, s + 7 * a2);
+    const v2 row = v2_splat(2 * b);
+    uint64_t outside = 0;
+    for (unsigned sy = 0; sy < 8; sy++) {
+        outside |= (uint64_t)(v2_neg(x0) | v2_neg(x1) << 2 | v2_neg(x2) << 4 | v2_neg(x3) << 6)
+                   << 8 * sy;
+        x0 = v2_add(x0, row), x1 = v2_add(x1, row), x2 = v2_add(x2, row), x3 = v2_add(x3, row);
+    }
+    v->outside |= outside;
+}
+
+#if VP_AVX2
+/* An edge's offsets for the 32-bit lanes (vp_lanes8), once per face. */
+ISA_AVX2_TARGET static void narrow_lanes(const vp_edge_fn *f, vp_lanes8 *ln)
+{
+    const int32_t a = (int32_t)f->a, b = (int32_t)f->b, a4 = 4 * a, b4 = 4 * b, a8 = 8 * a, b8 = 8 * b;
+    const __m256i va = _mm256_set1_epi32(a), vb = _mm256_set1_epi32(b);
+    /* a (2x + 1) + b; 4a gx + 4b gy */
+    _mm256_storeu_si256((__m256i *)(void *)ln->row0,
+                        _mm256_add_epi32(_mm256_mullo_epi32(va, _mm256_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15)), vb));
+    _mm256_storeu_si256((__m256i *)(void *)ln->g01,
+                        _mm256_add_epi32(_mm256_mullo_epi32(va, _mm256_setr_epi32(0, 4, 8, 12, 0, 4, 8, 12)),
+                                         _mm256_mullo_epi32(vb, _mm256_setr_epi32(0, 0, 0, 0, 4, 4, 4, 4))));
+    ln->t4[0] = 0, ln->t4[1] = a8, ln->t4[2] = b8, ln->t4[3] = a8 + b8;
+    ln->up4 = (a8 > 0 ? a8 : 0) + (b8 > 0 ? b8 : 0);
+    ln->down4 = (a8 < 0 ? a8 : 0) + (b8 < 0 ? b8 : 0);
+    ln->up2 = (a4 > 0 ? a4 : 0) + (b4 > 0 ? b4 : 0);
+    ln->down2 = (a4 < 0 ? a4 : 0) + (b4 < 0 ? b4 : 0);
+    ln->step2 = 2 * b;
+}
+
+/* The same verdicts in 32-bit lanes, eight at a time, for an edge of a
+ * narrow face (vp_loaded_face.narrow: |a| + |b| < 2^27).  The edge crosses
+ * the cell, so at every point of it |h| <= hmax - hmin = 16 (|a| + |b|) <
+ * 2^31: each value below is exact in 32 bits.  The samples' signs survive
+ * the signed saturating packs to bytes, four rows to a register. */
+ISA_AVX2_TARGET static inline void edge_block8_narrow(const vp_edge_fn *f, const vp_lanes8 *ln,
+                                                      int64_t c0, int64_t r0, block8_verdicts *v,
+                                                      const bool timed)
+{
+    const int32_t h = (int32_t)(f->a * c0 + f->b * r0 + f->c);
+    const __m256i vh = _mm256_set1_epi32(h);
+    /* children: their top-left corners in lanes 0..3 */
+    const __m128i t4 = _mm_add_epi32(_mm256_castsi256_si128(vh),
+                                     _mm_loadu_si128((const __m128i *)(const void *)ln->t4));
+    v->out4 |= (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_add_epi32(t4, _mm_set1_epi32(ln->up4))));
+    const unsigned loose4 =
+        (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_add_epi32(t4, _mm_set1_epi32(ln->down4))));
+    v->held4 &= ~loose4;
+    /* grandchildren: rows 0 and 1 of their corners in one register, 2 and 3
+     * in the other */
+    const __m256i g01 = _mm256_add_epi32(vh, _mm256_loadu_si256((const __m256i *)(const void *)ln->g01));
+    const __m256i g23 = _mm256_add_epi32(g01, _mm256_set1_epi32(4 * ln->step2));
+    const __m256i up2 = _mm256_set1_epi32(ln->up2), down2 = _mm256_set1_epi32(ln->down2);
+    v->out2 |= (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_add_epi32(g01, up2))) |
+               (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_add_epi32(g23, up2))) << 8;
+    const unsigned loose2 =
+        (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_add_epi32(g01, down2))) |
+        (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_add_epi32(g23, down2))) << 8;
+    v->held2 &= ~loose2;
+    if (timed) {
+        v->loose4 += spread4[loose4];
+        for (unsigned gy = 0; gy < 4; gy++)
+            v->loose2[gy] += spread4[loose2 >> 4 * gy & 0xF];
+    }
+    /* samples: row sy in a register, 2b apart */
+    const __m256i step = _mm256_set1_epi32(ln->step2);
+    __m256i r[8];
+    r[0] = _mm256_add_epi32(vh, _mm256_loadu_si256((const __m256i *)(const void *)ln->row0));
+    for (unsigned sy = 1; sy < 8; sy++)
+        r[sy] = _mm256_add_epi32(r[sy - 1], step);
+    /* per 128-bit half the packs give bytes of rows 0..3 (or 4..7), columns
+     * 0..3 in the low half and 4..7 in the high: the permutation puts each
+     * row's eight bytes together, so byte 8 y + x is sample (x, y) */
+    const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+    const __m256i q0 = _mm256_packs_epi16(_mm256_packs_epi32(r[0], r[1]), _mm256_packs_epi32(r[2], r[3]));
+    const __m256i q1 = _mm256_packs_epi16(_mm256_packs_epi32(r[4], r[5]), _mm256_packs_epi32(r[6], r[7]));
+    const uint32_t m0 = (uint32_t)_mm256_movemask_epi8(_mm256_permutevar8x32_epi32(q0, order));
+    const uint32_t m1 = (uint32_t)_mm256_movemask_epi8(_mm256_permutevar8x32_epi32(q1, order));
+    v->outside |= (uint64_t)m0 | (uint64_t)m1 << 32;
+}
+#endif
+
+/* A 16-bit mask of grandchildren (bit 4 gy + gx) as their samples (bit 8 sy
+ * + sx), and a 4-bit mask of children likewise. */
+static inline uint64_t samples_of_grandchildren(unsigned g)
+{
+    /* each bit doubled (bit i to bits 2i and 2i + 1): a row of four cells
+     * to its byte of samples */
+    uint64_t x = g & 0xFFFF;
+    x = (x | x << 8) & 0x00FF00FFu;
+    x = (x | x << 4) & 0x0F0F0F0Fu;
+    x = (x | x << 2) & 0x33333333u;
+    x = (x | x << 1) & 0x55555555u;
+    x |= x << 1;
+    /* each byte doubled: a row of cells to its two rows of samples */
+    x = (x | x << 16) & 0x0000FFFF0000FFFFull;
+    x = (x | x << 8) & 0x00FF00FF00FF00FFull;
+    return x | x << 8;
+}
+
+static inline uint64_t samples_of_children(unsigned c)
+{
+    return (c & 1 ? 0x0F0F0F0Full : 0) | (c & 2 ? 0xF0F0F0F0ull : 0) |
+           (c & 4 ? 0x0F0F0F0F00000000ull : 0) | (c & 8 ? 0xF0F0F0F000000000ull : 0);
+}
+
+/* The steps below an 8 x 8 cell k in the walk's order, for the timer: each
+ * child, each grandchild of a split child, each sample of a split
+ * grandchild, and the hand-overs of those found inside.  The walk's order
+ * gives the hand-overs and the engine cycles before each, which then go
+ * through the fill queue together (vp_timer_hand_overs).  With `unit` every
+ * step takes one cycle (the face has no more edges than the engine has edge
+ * units), so the edges a step evaluates are not needed; with `charged` each
+ * step and fill is charged to its cell on the per-pixel map, whose sums do
+ * not depend on when.  Both are constants at each call. */
+typedef struct {
+    uint32_t gap[4 + 16 + 64];   /* engine cycles before each hand-over */
+    uint32_t fill[4 + 16 + 64];  /* its fill's cycles */
+    unsigned n;
+    uint32_t since;              /* cycles since the last */
+    uint64_t engine, filled;     /* the sums */
+} hand_over_list;
+
+static inline __attribute__((always_inline)) void
+time_step(vp_timer *tm, hand_over_list *h, const vp_cell *k, uint32_t x, uint32_t y, uint8_t lg,
+          uint8_t level, unsigned edges, const bool unit, const bool charged)
+{
+    const unsigned c = unit ? 1 : tm->step_cycles[edges];
+    h->since += c;
+    h->engine += c;
+    if (charged) {
+        const vp_cell cell = {k->c0 + x, k->r0 + y, (uint8_t)(lg / 2), (uint8_t)(lg / 2), level, 0, 0};
+        tm->charge(tm, &cell, c);
     }
 }
 
-/* The cells below a 4 x 4 cell k that splits: its four 2 x 2 children and
- * the samples of those that split, decided in one pass.  Per active edge,
- * the children's extremes as in draw_split and the sixteen sample centres,
- * a column (2a) or a row (2b) apart, as sign masks; a sample of a child
- * that splits is tested against the child's active edges, and an edge that
- * holds the child is >= 0 at its samples too, so the parent's edges give
- * the same verdicts.  Then the counts, one fill of the block's samples, each
- * with the level that decided it, and for a timer the steps in the walk's
- * order. */
 static inline __attribute__((always_inline)) void
-draw_split4(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
-            const bool timed)
+time_hand_over(vp_timer *tm, hand_over_list *h, const vp_cell *k, uint32_t x, uint32_t y, uint8_t lg,
+               uint8_t level, const bool charged)
 {
-    /* 4 bits to 4 bytes: counts of the edges that do not hold each child */
-    static const uint32_t spread[16] = {
-        0x00000000, 0x00000001, 0x00000100, 0x00000101, 0x00010000, 0x00010001, 0x00010100,
-        0x00010101, 0x01000000, 0x01000001, 0x01000100, 0x01000101, 0x01010000, 0x01010001,
-        0x01010100, 0x01010101};
+    const uint32_t f = (uint32_t)tm->fill_cycles[lg];
+    if (charged) {
+        const vp_cell cell = {k->c0 + x, k->r0 + y, (uint8_t)(lg / 2), (uint8_t)(lg / 2), level, 0, 0};
+        tm->charge(tm, &cell, f);
+    }
+    h->gap[h->n] = h->since;
+    h->fill[h->n++] = f;
+    h->filled += f;
+    h->since = 0;
+}
+
+static inline __attribute__((always_inline)) void
+time_split8_body(vp_timer *tm, const vp_cell *k, const block8_verdicts *v, unsigned in4,
+                 unsigned in2, uint64_t fine, const bool unit, const bool charged)
+{
     const uint8_t l = k->level + 1;
-    const unsigned present = children_present(w, k, 2, 2, 1, 1);
-    const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
-    /* children rejected by an edge, held wholly by every edge; samples
-     * outside some edge (bit 4y + x): sign bits, two lanes at a time */
-    unsigned out = 0, held = 0xF, outside = 0;
-    uint32_t loose = 0;   /* byte j: edges not holding child j */
-    for (uint64_t act = k->active; act; act &= act - 1) {
-        const vp_edge_fn *f = &w->e[__builtin_ctzll(act)];
-        const int64_t h = f->a * c0 + f->b * r0 + f->c, ax = 4 * f->a, by = 4 * f->b;
-        const v2 up = v2_splat((ax > 0 ? ax : 0) + (by > 0 ? by : 0));
-        const v2 down = v2_splat((ax < 0 ? ax : 0) + (by < 0 ? by : 0));
-        const v2 top = v2_set(h, h + ax), bottom = v2_set(h + by, h + ax + by);
-        out |= v2_neg(v2_add(top, up)) | v2_neg(v2_add(bottom, up)) << 2;
-        const unsigned not_held = v2_neg(v2_add(top, down)) | v2_neg(v2_add(bottom, down)) << 2;
-        held &= ~not_held;
-        if (timed)
-            loose += spread[not_held];
-        const int64_t s = h + f->a + f->b;   /* the top-left sample's centre */
-        v2 left = v2_set(s, s + 2 * f->a), right = v2_set(s + 4 * f->a, s + 6 * f->a);
-        const v2 row = v2_splat(2 * f->b);
-        for (unsigned y = 0; y < 16; y += 4, left = v2_add(left, row), right = v2_add(right, row))
-            outside |= (v2_neg(left) | v2_neg(right) << 2) << y;
-    }
-    /* the children's quadrants of the block's samples */
-    static const uint16_t quadrant[4] = {0x0033, 0x00CC, 0x3300, 0xCC00};
-    const unsigned kept = present & ~out, inside = kept & held, split = kept & ~held;
-    unsigned fill = 0, coarse = 0;
+    hand_over_list h;
+    h.n = 0, h.since = 0, h.engine = 0, h.filled = 0;
     for (unsigned j = 0; j < 4; j++) {
-        if (inside >> j & 1)
-            coarse |= quadrant[j];   /* decided at the child's level */
-        if (split >> j & 1)
-            fill |= quadrant[j] & ~outside;
-    }
-    fill |= coarse;
-    unsigned owned = present;
-    if (w->clipped)
-        for (unsigned j = 0; j < 4; j++) {
-            vp_cell c = {k->c0 + (j & 1) * 2, k->r0 + (j >> 1) * 2, 1, 1, l, 0, 0};
-            if (!owns(w, &c))
-                owned &= ~(1u << j);
+        const uint32_t cx = 4 * (j & 1), cy = 4 * (j >> 1);
+        time_step(tm, &h, k, cx, cy, 4, l, k->edges, unit, charged);
+        if (v->out4 >> j & 1)
+            continue;
+        if (in4 >> j & 1) {
+            time_hand_over(tm, &h, k, cx, cy, 4, l, charged);
+            continue;
         }
-    vp->st.cells[l] += bits4(owned);
-    vp->st.cells_outside += bits4(owned & out);
-    vp->st.cells_inside += bits4(owned & inside);
-    vp->st.cells_split += bits4(owned & split);
-    /* the samples of split children: each a step, counted by the tile it is in */
-    vp->st.cells[l + 1] += 4 * bits4(split);
-    vp->st.samples_tested += 4 * bits4(split);
-    if (fill)
-        vp_fill_block4(vp, fs, k->c0, k->r0, (uint16_t)fill, (uint16_t)coarse, (uint8_t)(l + 1));
-    if (!timed)
-        return;
-    for (unsigned j = 0; j < 4; j++) {
-        if (!(present >> j & 1))
-            continue;
-        vp_cell c = {k->c0 + (j & 1) * 2, k->r0 + (j >> 1) * 2, 1, 1, l, 0, 0};
-        timer_step(tm, &c, k->edges, timed);
-        if (inside >> j & 1)
-            timer_hand_over(tm, &c, timed);
-        if (!(split >> j & 1))
-            continue;
         for (unsigned i = 0; i < 4; i++) {
-            vp_cell sc = {c.c0 + (i & 1), c.r0 + (i >> 1), 0, 0, (uint8_t)(l + 1), 0, 0};
-            timer_step(tm, &sc, loose >> 8 * j & 0xFF, timed);
-            if (fill >> (4 * (sc.r0 - k->r0) + sc.c0 - k->c0) & 1)
-                timer_hand_over(tm, &sc, timed);
+            const uint32_t gx = cx / 2 + (i & 1), gy = cy / 2 + (i >> 1), g = 4 * gy + gx;
+            time_step(tm, &h, k, 2 * gx, 2 * gy, 2, (uint8_t)(l + 1), v->loose4 >> 8 * j & 0xFF,
+                      unit, charged);
+            if (v->out2 >> g & 1)
+                continue;
+            if (in2 >> g & 1) {
+                time_hand_over(tm, &h, k, 2 * gx, 2 * gy, 2, (uint8_t)(l + 1), charged);
+                continue;
+            }
+            /* the grandchild's samples inside: bits 0, 1 of its rows */
+            const unsigned edges = v->loose2[gy] >> 8 * gx & 0xFF;
+            const uint64_t rows = fine >> (16 * gy + 2 * gx);
+            const unsigned in = (unsigned)(rows & 3) | (unsigned)(rows >> 6 & 0xC);
+            if (unit && !charged) {
+                /* one cycle a sample step: only where the hand-overs fall
+                 * among the four matters */
+                unsigned done = 0;
+                for (unsigned m = in; m; m &= m - 1) {
+                    const unsigned q = (unsigned)__builtin_ctz(m);
+                    h.since += q + 1 - done;
+                    time_hand_over(tm, &h, k, 0, 0, 0, 0, false);
+                    done = q + 1;
+                }
+                h.since += 4 - done;
+                h.engine += 4;
+                continue;
+            }
+            for (unsigned q = 0; q < 4; q++) {
+                const uint32_t sx = 2 * gx + (q & 1), sy = 2 * gy + (q >> 1);
+                time_step(tm, &h, k, sx, sy, 0, (uint8_t)(l + 2), edges, unit, charged);
+                if (in >> q & 1)
+                    time_hand_over(tm, &h, k, sx, sy, 0, (uint8_t)(l + 2), charged);
+            }
         }
+    }
+    vp_timer_hand_overs(tm, h.gap, h.fill, h.n, h.since, h.engine, h.filled);
+}
+
+static void time_split8(vp_timer *tm, const vp_cell *k, const block8_verdicts *v, unsigned in4,
+                        unsigned in2, uint64_t fine, bool unit)
+{
+    if (tm->charge) {
+        if (unit)
+            time_split8_body(tm, k, v, in4, in2, fine, true, true);
+        else
+            time_split8_body(tm, k, v, in4, in2, fine, false, true);
+    } else if (unit) {
+        time_split8_body(tm, k, v, in4, in2, fine, true, false);
+    } else {
+        time_split8_body(tm, k, v, in4, in2, fine, false, false);
     }
 }
 
-static void draw_split_plain(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
-                             const vp_cell *k, vp_timer *tm);
-static void draw_split_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
-                             const vp_cell *k, vp_timer *tm);
-
-/* The cells below cell k, which splits.  Its children are classified
- * together: an edge's value at a child's top-left corner is the parent's
- * corner value plus a child's side or not, and its extremes over the child
- * add the positive or the negative parts of the child's sides (h is linear)
- * — the walk's classify, four cells at a time.  Then each child in turn is
- * a step: counted, rejected, filled, or split further. */
+/* Then the counts, one masked fill of the block's samples, each with the
+ * level that decided it, and for a timer the steps in the walk's order. */
 static inline __attribute__((always_inline)) void
-draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
-           const bool timed)
+draw_split8(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
+            const bool timed, const int isa)
 {
-    const uint8_t wl = k->wl ? k->wl - 1 : 0, hl = k->hl ? k->hl - 1 : 0, l = k->level + 1;
-    const uint32_t dx = k->wl ? 1u << wl : 0, dy = k->hl ? 1u << hl : 0;
-    if (k->wl == 2 && k->hl == 2) {
-        draw_split4(vp, w, fs, k, tm, timed);
-        return;
-    }
-    const unsigned present = children_present(w, k, dx, dy, wl, hl);
-    if (!(wl | hl)) {
-        draw_samples(vp, w, fs, k, present, tm, timed);
-        return;
-    }
+    /* the children's quadrants of the grandchildren */
+    static const uint16_t quadrant[4] = {0x0033, 0x00CC, 0x3300, 0xCC00};
+    block8_verdicts v = {0, 0xF, 0, 0xFFFF, 0, 0, {0, 0, 0, 0}};
     const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
-    const int64_t cw = (int64_t)2 << wl, ch = (int64_t)2 << hl;    /* a child's sides */
-    const int64_t ox = dx ? cw : 0, oy = dy ? ch : 0;                /* the children's offsets */
+    /* every step one cycle (the step table is monotone): no edge counts */
+    const bool unit = timed && tm->step_cycles[w->n] == 1;
+    /* the block's rows of the depth and tag store are asked for now, so the
+     * edges' verdicts run while they come: small faces scattered over the
+     * screen find them outside the caches, and the fill waited for them
+     * (docs/performance.md); a hint only, no value depends on it.  Not in
+     * the timed walk: there it adds 2.5% to a run's instructions (built-in
+     * scene, a1024) and no gain could be measured on the loaded machine */
+    if (!timed) {
+        const size_t at = (size_t)k->r0 * vp->sw + k->c0;
+        for (unsigned y = 0; y < 8; y++) {
+            __builtin_prefetch(vp->s_depth + at + y * vp->sw, 1);
+            __builtin_prefetch(vp->s_tag + at + y * vp->sw, 1);
+        }
+    }
+#if VP_AVX2
+    if (isa == ISA_AVX2 && w->narrow) {
+        if (!w->lanes_ready) {   /* the face's first 8 x 8 cell that splits */
+            for (unsigned i = 0; i < w->n; i++)
+                narrow_lanes(&w->e[i], &w->lanes[i]);
+            w->lanes_ready = true;
+        }
+        for (uint64_t act = k->active; act; act &= act - 1) {
+            const unsigned i = (unsigned)__builtin_ctzll(act);
+            edge_block8_narrow(&w->e[i], &w->lanes[i], c0, r0, &v, timed && !unit);
+        }
+    } else
+#endif
+    {
+        for (uint64_t act = k->active; act; act &= act - 1)
+            edge_block8(&w->e[__builtin_ctzll(act)], c0, r0, &v);
+    }
+    const uint8_t l = k->level + 1;
+    const unsigned in4 = ~v.out4 & v.held4 & 0xF, split4 = ~v.out4 & ~v.held4 & 0xF;
+    unsigned seen2 = 0;   /* the grandchildren visited: those of split children */
+    for (unsigned j = 0; j < 4; j++)
+        seen2 |= split4 >> j & 1 ? quadrant[j] : 0;
+    const unsigned in2 = seen2 & ~v.out2 & v.held2, split2 = seen2 & ~v.out2 & ~v.held2;
+    const uint64_t tested = samples_of_grandchildren(split2);
+    const uint64_t fine = tested & ~v.outside, mid = samples_of_grandchildren(in2);
+    const uint64_t fill = samples_of_children(in4) | mid | fine;
+    const unsigned nsplit2 = popcount_isa(split2, isa);
+    vp->st.cells[l] += 4;
+    vp->st.cells[l + 1] += 4 * vp_bits4(split4);
+    vp->st.cells[l + 2] += 4 * nsplit2;
+    vp->st.samples_tested += 4 * nsplit2;
+    vp->st.cells_outside += vp_bits4(v.out4) + popcount_isa(seen2 & v.out2, isa);
+    vp->st.cells_inside += vp_bits4(in4) + popcount_isa(in2, isa);
+    vp->st.cells_split += vp_bits4(split4) + nsplit2;
+    if (fill)
+        vp_fill_block8(vp, fs, k->c0, k->r0, fill, mid, fine, l);
+    if (timed)
+        time_split8(tm, k, &v, in4, in2, fine, unit);
+}
+
+/* ---- any other cell that splits ---- */
+
+/* The walk below cell c, which splits, in the instantiation of (timed, isa). */
+static void split_base(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
+                       vp_timer *tm);
+static void split_base_timed(alb_vp *vp, vp_walk *w, const vp_face_setup *fs,
+                             const vp_cell *k, vp_timer *tm);
+#if VP_AVX2
+ISA_AVX2_TARGET static void split_avx2(alb_vp *vp, vp_walk *w, const vp_face_setup *fs,
+                                       const vp_cell *k, vp_timer *tm);
+ISA_AVX2_TARGET static void split_avx2_timed(alb_vp *vp, vp_walk *w, const vp_face_setup *fs,
+                                             const vp_cell *k, vp_timer *tm);
+#endif
+static inline __attribute__((always_inline)) void
+split_below(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *c, vp_timer *tm,
+            const bool timed, const int isa)
+{
+#if VP_AVX2
+    if (isa == ISA_AVX2) {
+        if (timed)
+            split_avx2_timed(vp, w, fs, c, tm);
+        else
+            split_avx2(vp, w, fs, c, tm);
+        return;
+    }
+#else
+    (void)isa;
+#endif
+    if (timed)
+        split_base_timed(vp, w, fs, c, tm);
+    else
+        split_base(vp, w, fs, c, tm);
+}
+
+#if VP_AVX2
+/* children_verdicts with the four children in four 64-bit lanes */
+ISA_AVX2_TARGET static inline unsigned
+children_verdicts_avx2(const vp_walk *w, const vp_cell *k, int64_t cw, int64_t ch, int64_t ox,
+                       int64_t oy, uint64_t held[4])
+{
+    const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
+    const __m256i zero = _mm256_setzero_si256();
+    __m256i any = zero, hv = zero;
+    for (uint64_t act = k->active; act; act &= act - 1) {
+        const unsigned i = (unsigned)__builtin_ctzll(act);
+        const vp_edge_fn *f = &w->e[i];
+        const int64_t h = f->a * c0 + f->b * r0 + f->c, ax = f->a * cw, by = f->b * ch;
+        const int64_t up = (ax > 0 ? ax : 0) + (by > 0 ? by : 0);
+        const int64_t down = (ax < 0 ? ax : 0) + (by < 0 ? by : 0);
+        const int64_t hx = f->a * ox, hy = f->b * oy;
+        const __m256i t = _mm256_add_epi64(_mm256_set1_epi64x(h), _mm256_setr_epi64x(0, hx, hy, hx + hy));
+        /* a lane's maximum is negative in some edge: the sign bit of their OR */
+        any = _mm256_or_si256(any, _mm256_add_epi64(t, _mm256_set1_epi64x(up)));
+        const __m256i loose = _mm256_cmpgt_epi64(zero, _mm256_add_epi64(t, _mm256_set1_epi64x(down)));
+        hv = _mm256_or_si256(hv, _mm256_andnot_si256(loose, _mm256_set1_epi64x((int64_t)1 << i)));
+    }
+    _mm256_storeu_si256((__m256i *)(void *)held, hv);
+    return (unsigned)_mm256_movemask_pd(_mm256_castsi256_pd(any));
+}
+#endif
+
+/* Edge by edge, the children's verdicts: out (bit j: some edge rejects
+ * child j) and held[j] (the edges holding child j wholly).  An edge's value
+ * at a child's top-left corner is the parent's corner value plus a child's
+ * side or not (`ox`, `oy`: 0 where the side is not split), and its extremes
+ * over the child add the positive or the negative parts of the child's
+ * sides `cw`, `ch` (h is linear) — the walk's classify, four cells at a
+ * time: scalar in the baseline, the four children in four 64-bit lanes with
+ * AVX2. */
+static inline __attribute__((always_inline)) unsigned
+children_verdicts(const vp_walk *w, const vp_cell *k, int64_t cw, int64_t ch, int64_t ox, int64_t oy,
+                  uint64_t held[4], const int isa)
+{
+    const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
     unsigned out = 0;
-    uint64_t held[4] = {0, 0, 0, 0};   /* edges holding each child wholly */
+#if VP_AVX2
+    if (isa == ISA_AVX2)
+        return children_verdicts_avx2(w, k, cw, ch, ox, oy, held);
+#endif
+    (void)isa;
     for (uint64_t act = k->active; act; act &= act - 1) {
         const unsigned i = (unsigned)__builtin_ctzll(act);
         const vp_edge_fn *f = &w->e[i];
@@ -525,69 +817,109 @@ draw_split(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, const vp_cell 
             held[j] |= (uint64_t)(t[j] + down >= 0) << i;
         }
     }
+    return out;
+}
+
+/* The cells below cell k, which splits: its children classified together,
+ * then each in turn a step — counted, rejected, filled, or split further. */
+static inline __attribute__((always_inline)) void
+draw_split(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
+           const bool timed, const int isa)
+{
+    const uint8_t wl = k->wl ? k->wl - 1 : 0, hl = k->hl ? k->hl - 1 : 0, l = k->level + 1;
+    const uint32_t dx = k->wl ? 1u << wl : 0, dy = k->hl ? 1u << hl : 0;
+    if (k->wl == 3 && k->hl == 3) {
+        draw_split8(vp, w, fs, k, tm, timed, isa);
+        return;
+    }
+    const unsigned present = children_present(dx, dy);
+    if (!(wl | hl)) {
+        draw_samples(vp, w, fs, k, present, tm, timed);
+        return;
+    }
+    const int64_t cw = (int64_t)2 << wl, ch = (int64_t)2 << hl;    /* a child's sides */
+    uint64_t held[4] = {0, 0, 0, 0};
+    const unsigned out = children_verdicts(w, k, cw, ch, dx ? cw : 0, dy ? ch : 0, held, isa);
     vp_cell c = {0, 0, wl, hl, l, 0, 0};
     for (unsigned j = 0; j < 4; j++) {
         if (!(present >> j & 1))
             continue;
         c.c0 = k->c0 + (j & 1 ? dx : 0), c.r0 = k->r0 + (j & 2 ? dy : 0);
-        const bool own = owns(w, &c);
-        vp->st.cells[l] += own;
+        vp->st.cells[l]++;
         timer_step(tm, &c, k->edges, timed);
         if (out >> j & 1) {
-            vp->st.cells_outside += own;
+            vp->st.cells_outside++;
             continue;
         }
         c.active = k->active & ~held[j];
         if (!c.active) {
-            vp->st.cells_inside += own;
-            draw_fill(vp, w, fs, &c);
+            vp->st.cells_inside++;
+            draw_fill(vp, fs, &c);
             timer_hand_over(tm, &c, timed);
             continue;
         }
-        vp->st.cells_split += own;
-        if (timed) {
-            c.edges = (uint8_t)mask_edges(c.active);
-            draw_split_timed(vp, w, fs, &c, tm);
-        } else {
-            draw_split_plain(vp, w, fs, &c, tm);
-        }
+        vp->st.cells_split++;
+        if (timed)
+            c.edges = (uint8_t)popcount_isa(c.active, isa);
+        split_below(vp, w, fs, &c, tm, timed, isa);
     }
 }
 
-static void draw_split_plain(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
-                             const vp_cell *k, vp_timer *tm)
+static void split_base(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k,
+                       vp_timer *tm)
 {
-    draw_split(vp, w, fs, k, tm, false);
+    draw_split(vp, w, fs, k, tm, false, ISA_BASE);
 }
 
-static void draw_split_timed(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs,
+static void split_base_timed(alb_vp *vp, vp_walk *w, const vp_face_setup *fs,
                              const vp_cell *k, vp_timer *tm)
 {
-    draw_split(vp, w, fs, k, tm, true);
+    draw_split(vp, w, fs, k, tm, true, ISA_BASE);
+}
+
+#if VP_AVX2
+ISA_AVX2_TARGET static void split_avx2(alb_vp *vp, vp_walk *w, const vp_face_setup *fs,
+                                       const vp_cell *k, vp_timer *tm)
+{
+    draw_split(vp, w, fs, k, tm, false, ISA_AVX2);
+}
+
+ISA_AVX2_TARGET static void split_avx2_timed(alb_vp *vp, vp_walk *w, const vp_face_setup *fs,
+                                             const vp_cell *k, vp_timer *tm)
+{
+    draw_split(vp, w, fs, k, tm, true, ISA_AVX2);
+}
+#endif
+
+/* The walk below cell k, which splits, on the host's instruction set. */
+static inline __attribute__((always_inline)) void
+draw_below(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
+           const bool timed)
+{
+    if (vp->walk_avx2)
+        split_below(vp, w, fs, k, tm, timed, VP_AVX2 ? ISA_AVX2 : ISA_BASE);
+    else
+        split_below(vp, w, fs, k, tm, timed, ISA_BASE);
 }
 
 /* The walk of a face from the top cell (never a single sample: a screen is
  * at least 2 x 2). */
 static inline __attribute__((always_inline)) void
-draw_walk(alb_vp *vp, const vp_walk *w, const vp_face_setup *fs, vp_timer *tm, const bool timed)
+draw_walk(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, vp_timer *tm, const bool timed)
 {
     vp_cell k = w->stack[0];
-    const bool own = owns(w, &k);
-    vp->st.cells[k.level] += own;
+    vp->st.cells[k.level]++;
     timer_step(tm, &k, k.edges, timed);
     int cls = classify(w->e, &k);
     if (cls < 0) {
-        vp->st.cells_outside += own;
+        vp->st.cells_outside++;
     } else if (cls > 0) {
-        vp->st.cells_inside += own;
-        draw_fill(vp, w, fs, &k);
+        vp->st.cells_inside++;
+        draw_fill(vp, fs, &k);
         timer_hand_over(tm, &k, timed);
     } else {
-        vp->st.cells_split += own;
-        if (timed)
-            draw_split_timed(vp, w, fs, &k, tm);
-        else
-            draw_split_plain(vp, w, fs, &k, tm);
+        vp->st.cells_split++;
+        draw_below(vp, w, fs, &k, tm, timed);
     }
 }
 
@@ -598,18 +930,102 @@ void vp_draw_face(alb_vp *vp, const vp_loaded_face *f)
     draw_walk(vp, &w, &f->fs, NULL, false);
 }
 
-void vp_draw_face_tile(alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile)
-{
-    vp_walk w;
-    vp_walk_begin_tile(&w, vp, f, tile);
-    draw_walk(vp, &w, &f->fs, NULL, false);
-}
-
 void vp_draw_face_timed(alb_vp *vp, const vp_loaded_face *f, vp_timer *tm)
 {
     vp_walk w;
     vp_walk_begin(&w, vp, f);
     draw_walk(vp, &w, &f->fs, tm, true);
+}
+
+/* ---- the walk split at a level of tiles (the threads, parallel.c) ---- */
+
+/* The cells below cell k, which splits, down to level tl: the children's
+ * verdicts as in draw_split, each child counted, and each child found
+ * inside or splitting at level tl handed to `job`. */
+static inline __attribute__((always_inline)) void
+tiles_below(alb_vp *vp, const vp_walk *w, const vp_cell *k, unsigned tl, vp_tile_job_fn job, void *ctx,
+            const int isa);
+static void tiles_below_base(alb_vp *vp, const vp_walk *w, const vp_cell *k, unsigned tl,
+                             vp_tile_job_fn job, void *ctx)
+{
+    tiles_below(vp, w, k, tl, job, ctx, ISA_BASE);
+}
+#if VP_AVX2
+ISA_AVX2_TARGET static void tiles_below_avx2(alb_vp *vp, const vp_walk *w, const vp_cell *k,
+                                             unsigned tl, vp_tile_job_fn job, void *ctx)
+{
+    tiles_below(vp, w, k, tl, job, ctx, ISA_AVX2);
+}
+#endif
+
+static inline __attribute__((always_inline)) void
+tiles_below(alb_vp *vp, const vp_walk *w, const vp_cell *k, unsigned tl, vp_tile_job_fn job, void *ctx,
+            const int isa)
+{
+    const uint8_t wl = k->wl ? k->wl - 1 : 0, hl = k->hl ? k->hl - 1 : 0, l = k->level + 1;
+    const uint32_t dx = k->wl ? 1u << wl : 0, dy = k->hl ? 1u << hl : 0;
+    const int64_t cw = (int64_t)2 << wl, ch = (int64_t)2 << hl;
+    uint64_t held[4] = {0, 0, 0, 0};
+    const unsigned present = children_present(dx, dy);
+    const unsigned out = children_verdicts(w, k, cw, ch, dx ? cw : 0, dy ? ch : 0, held, isa);
+    for (unsigned j = 0; j < 4; j++) {
+        if (!(present >> j & 1))
+            continue;
+        vp->st.cells[l]++;
+        if (out >> j & 1) {
+            vp->st.cells_outside++;
+            continue;
+        }
+        vp_cell c = {k->c0 + (j & 1 ? dx : 0), k->r0 + (j & 2 ? dy : 0), wl, hl, l, 0,
+                     k->active & ~held[j]};
+        c.edges = (uint8_t)vp_popcount(c.active);
+        if (!c.active) {
+            vp->st.cells_inside++;
+            job(ctx, &c, true);
+            continue;
+        }
+        vp->st.cells_split++;
+        if (l == tl)
+            job(ctx, &c, false);
+#if VP_AVX2
+        else if (isa == ISA_AVX2)
+            tiles_below_avx2(vp, w, &c, tl, job, ctx);
+#endif
+        else
+            tiles_below_base(vp, w, &c, tl, job, ctx);
+    }
+}
+
+void vp_walk_to_tiles(alb_vp *vp, const vp_loaded_face *f, unsigned tl, vp_tile_job_fn job, void *ctx)
+{
+    vp_walk w;
+    vp_walk_begin(&w, vp, f);
+    vp_cell k = w.stack[0];
+    vp->st.cells[k.level]++;
+    const int cls = classify(f->e, &k);
+    if (cls < 0) {
+        vp->st.cells_outside++;
+    } else if (cls > 0) {
+        vp->st.cells_inside++;
+        job(ctx, &k, true);
+    } else {
+        vp->st.cells_split++;
+        if (k.level == tl)
+            job(ctx, &k, false);
+#if VP_AVX2
+        else if (vp->walk_avx2)
+            tiles_below_avx2(vp, &w, &k, tl, job, ctx);
+#endif
+        else
+            tiles_below_base(vp, &w, &k, tl, job, ctx);
+    }
+}
+
+void vp_draw_below(alb_vp *vp, const vp_loaded_face *f, const vp_cell *k)
+{
+    vp_walk w;
+    vp_walk_begin(&w, vp, f);
+    draw_below(vp, &w, &f->fs, k, NULL, false);
 }
 
 alb_err vp_load_face(alb_vp *vp, const alb_ws_face *f, vp_loaded_face *out, alb_diag *d)
@@ -633,10 +1049,17 @@ alb_err vp_load_face(alb_vp *vp, const alb_ws_face *f, vp_loaded_face *out, alb_
         fs->texels = vp->tex[f->texture];
         fs->tex_log2 = vp->tex_log2[f->texture];
     }
-    for (unsigned i = 0; i < f->n_edges; i++)
+    out->narrow = true;
+    for (unsigned i = 0; i < f->n_edges; i++) {
         vp_edge_setup(vp, &f->edge[i], &out->e[i]);
+        /* the walk's 32-bit lanes (vp_walk.narrow) */
+        int64_t a = out->e[i].a, b = out->e[i].b;
+        out->narrow &= (a < 0 ? -a : a) + (b < 0 ? -b : b) < (int64_t)1 << 27;
+    }
     out->n = f->n_edges;
     fs->units = vp_face_units(fs);
+    units_depth_range(units_depth_shift(vp, fs->depth.exp), ((int64_t)1 << vp->prof.depth_bits) - 1,
+                      &fs->depth_lo, &fs->depth_hi);
     vp_flat_colour(vp, fs, fs->flat);
     return ALB_OK;
 }
@@ -669,7 +1092,6 @@ alb_err alb_vp_face(alb_vp *vp, const alb_ws_face *f, alb_diag *d)
 void alb_vp_frame_end(alb_vp *vp, alb_frame *out)
 {
     vp_flush_batch(vp);
-    vp_store_finish(vp);
     out->number = vp->frame.number;
     out->near = vp->cfg.near;
     vp_store_resolve(vp, out);

@@ -23,13 +23,31 @@ typedef struct {
     int exp;             /* value = N * 2^(exp - P) */
 } vp_form_fn;
 
-/* A row of the fill's fast loop (fill.c, vp_depth_rows): samples written,
- * samples tied, and the first tied one's index in the row (if any). */
+/* A rectangle of the fill's fast loop (fill.c, vp_depth_forms): samples
+ * written, samples tied, the first tied one (its offset from the first
+ * sample, rows `stride` apart, if any) and the largest depth written. */
 typedef struct {
-    uint32_t written, ties, first_tie;
-} vp_row_result;
-typedef vp_row_result (*vp_depth_row_fn)(uint32_t *depth, uint32_t *tag, uint32_t n, int64_t z,
-                                         int64_t dz, unsigned sr, unsigned sl, uint32_t t);
+    uint32_t written, ties;
+    size_t first_tie;
+    uint32_t nearest;
+} vp_rect_result;
+typedef vp_rect_result (*vp_depth_rect_fn)(uint32_t *depth, uint32_t *tag, size_t stride,
+                                           uint32_t w, uint32_t h, int64_t z, int64_t dc,
+                                           int64_t dr, unsigned sr, unsigned sl, uint32_t t);
+typedef vp_rect_result (*vp_depth_block8_fn)(uint32_t *depth, uint32_t *tag, size_t stride,
+                                             int64_t z, int64_t dc, int64_t dr, unsigned sr,
+                                             unsigned sl, uint64_t mask, uint64_t mid,
+                                             uint64_t fine, const uint32_t t[3]);
+typedef void (*vp_depth_store_fn)(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w,
+                                  uint32_t h, int64_t z, int64_t dc, int64_t dr, unsigned sr,
+                                  unsigned sl, uint32_t t);
+/* One form of each shape: a rectangle, a masked 8 x 8 block, and a
+ * rectangle of clean tiles, stored without reading. */
+typedef struct {
+    vp_depth_rect_fn rect;
+    vp_depth_block8_fn block8;
+    vp_depth_store_fn store;
+} vp_depth_forms_t;
 
 /* Per-face shading set-up. */
 typedef struct {
@@ -40,6 +58,8 @@ typedef struct {
     const uint32_t *texels;
     unsigned tex_log2;
     unsigned units;          /* the shading units the face uses (shade.c) */
+    int64_t depth_lo, depth_hi;   /* the depth form's N in the store's range
+                                     (units_depth_range): the fill's fast loop */
     uint16_t flat[3];        /* its colour where it uses neither intensity nor texture */
     uint32_t tag;            /* its index in the frame's face list, << VP_TAG_LEVEL_BITS
                                 (vp_begin_face): what the samples it writes hold */
@@ -80,7 +100,10 @@ struct alb_vp {
     uint32_t **old_tex;
     unsigned nold_tex, cap_old_tex;
     bool plain_fill;         /* tests: the fill's plain loops only, no fast path */
-    vp_depth_row_fn depth_row;   /* the fast loop's row, the host's fastest form */
+    bool walk_avx2;          /* the functional engine's AVX2 instantiation (vp.c) */
+    unsigned shade_isa;      /* the output stage's stretches: 0 plain C, 1 AVX2, 2 AVX-512
+                                (shade.c) */
+    vp_depth_forms_t depth_forms;   /* the fast loop's forms, the host's fastest */
     alb_ws_frame frame;
     uint16_t bg[3];          /* background in frame-store units */
     uint16_t fog_rgb[3];
@@ -98,6 +121,7 @@ typedef struct vp_loaded_face {
     vp_face_setup fs;
     vp_edge_fn e[ALB_WS_MAX_EDGES];
     unsigned n;
+    bool narrow;             /* every edge has |a| + |b| < 2^27 (vp_walk.narrow) */
 } vp_loaded_face;
 
 /* ---- the subdivision engine as a resumable walk (vp.c) ---- */
@@ -124,60 +148,153 @@ typedef struct {
     unsigned edges;          /* active edges the step evaluated */
 } vp_step;
 
+/* An edge's values within an 8 x 8 cell relative to its top-left corner,
+ * for the functional engine's 32-bit lanes (vp.c): at the centres of the
+ * cell's first row of samples, at the corners of the first two rows of its
+ * 2 x 2 cells and of its 4 x 4 cells, and the extremes over those. */
+typedef struct {
+    int32_t row0[8];         /* a (2x + 1) + b, x = 0..7 (doubled coordinates) */
+    int32_t g01[8];          /* 4a gx + 4b gy, gx = 0..3, gy = 0..1 */
+    int32_t t4[4];           /* 8a cx + 8b cy, cx, cy = 0..1 */
+    int32_t up4, down4, up2, down2;   /* a 4 x 4 and a 2 x 2 cell's extremes */
+    int32_t step2;           /* 2b: a row of samples on */
+} vp_lanes8;
+
 typedef struct {
     const vp_edge_fn *e;
+    /* the face's edges are narrow: an edge crossing an 8 x 8 cell has |h| <
+     * 2^31 at every point of it, so the functional engine may decide such a
+     * cell's samples in 32-bit lanes (vp.c), with these offsets */
+    bool narrow;
+    unsigned n;              /* its edges */
+    bool lanes_ready;        /* lanes computed (when the walk first needs them) */
+    vp_lanes8 lanes[ALB_WS_MAX_EDGES];
     vp_cell stack[3 * ALB_VP_MAX_LEVELS + 4];
     unsigned top;
-    /* A walk clipped to one tile — a cell of the same quadtree, so any cell
-     * holds it, lies in it, or misses it: only the cells meeting the tile are
-     * visited, a FILL larger than the tile fills the tile (at the cell's
-     * level), and a cell is counted in vp->st only by the tile holding its
-     * top-left sample.  The tiles of a level partition the screen, so their
-     * walks together do and count exactly what the whole walk does. */
-    bool clipped;
-    vp_cell tile;
 } vp_walk;
 
 void vp_walk_begin(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f);
-void vp_walk_begin_tile(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile);
 /* The next cell step in the engine's order; false when the face is done.
  * Counts the cell in vp->st. */
 bool vp_walk_next(alb_vp *vp, vp_walk *w, vp_step *step);
 /* The functional engine (vp.c): a face's whole walk with its fills, the
- * same cells, counts and samples as vp_walk_next and vp_fill step by step;
- * clipped to a tile as vp_walk_begin_tile. */
+ * same cells, counts and samples as vp_walk_next and vp_fill step by step. */
 void vp_draw_face(alb_vp *vp, const vp_loaded_face *f);
-void vp_draw_face_tile(alb_vp *vp, const vp_loaded_face *f, const vp_cell *tile);
+/* The same walk cut at the cells of level tl, the tiles of the threads
+ * (parallel.c): vp_walk_to_tiles makes and counts the cells above them and
+ * gives each tile the face reaches to `job` in the walk's order — a cell
+ * found inside (fill: at its level, over every tile it holds) or a tile
+ * that splits, with the edges still active; vp_draw_below walks and counts
+ * the cells below such a tile.  Together they do and count exactly what
+ * vp_draw_face does. */
+typedef void (*vp_tile_job_fn)(void *ctx, const vp_cell *k, bool fill);
+void vp_walk_to_tiles(alb_vp *vp, const vp_loaded_face *f, unsigned tl, vp_tile_job_fn job, void *ctx);
+void vp_draw_below(alb_vp *vp, const vp_loaded_face *f, const vp_cell *k);
+/* Whether the host runs the engine's AVX2 instantiation (vp.c). */
+bool vp_walk_avx2_host(void);
+/* ... and the output stage's shading forms (shade.c): 0 plain C, 1 AVX2,
+ * 2 AVX-512, the best the host runs. */
+unsigned vp_shade_isa_host(void);
 /* What the timed model needs of a walk besides its fills: each step's
- * cycles, and a call at each hand-over of a FILL or SAMPLE_IN cell to the
- * fill unit, in the walk's order.  Steps between two hand-overs only add
- * engine cycles, so the timer sums them; the hand-over gets the sum, its own
- * step's included. */
+ * cycles, and at each hand-over of a FILL or SAMPLE_IN cell to the fill
+ * unit, in the walk's order, the recurrences of the fill queue
+ * (docs/microarchitecture.md, "Fidelities"; emu/sim_timed.c owns the rest
+ * of the model).  Steps between two hand-overs only add engine cycles, so
+ * the timer sums them; the hand-over takes the sum, its own step's
+ * included.  The queue lives here, with the walk, so that a hand-over costs
+ * no call. */
 typedef struct vp_timer {
     uint8_t step_cycles[ALB_WS_MAX_EDGES + 1];   /* a step's cycles by the edges it evaluates */
+    uint64_t fill_cycles[2 * (ALB_VP_MAX_LEVELS - 1) + 1];   /* a fill's by log2 of its samples */
     uint64_t pending;         /* engine cycles of the steps since the last hand-over */
-    void (*hand_over)(struct vp_timer *tm, const vp_cell *k, uint64_t cycles);
-    /* each step's cycles on its cell (the per-pixel cycle map), or NULL */
+    int64_t now;              /* the engine's next cycle */
+    int64_t fill_free;        /* the first cycle the fill unit can take a cell */
+    int64_t *take_ring;       /* the cycles it took the last fill_queue cells (at first,
+                                 long before the first cycle) */
+    unsigned take_slot;       /* cells % fill_queue: the oldest of them, the next to write */
+    unsigned fill_queue;
+    uint64_t cells;           /* cells handed over */
+    uint64_t engine, stall, fill;   /* engine cycles, engine stalls, fill cycles, summed */
+    /* each step's and each fill's cycles on its cell (the per-pixel cycle
+     * map), or NULL */
     void (*charge)(struct vp_timer *tm, const vp_cell *k, uint64_t cycles);
     void *ctx;
 } vp_timer;
-void vp_timer_init(vp_timer *tm, unsigned edge_units);
+/* The durations from the profile; take_ring has room for fill_queue cycles
+ * (set here). */
+void vp_timer_init(vp_timer *tm, const alb_profile *p, int64_t *take_ring);
+
+/* Cells handed over to the fill unit, each in the last cycle of the
+ * engine's step: cell i taking fill[i] cycles after gap[i] engine cycles
+ * (the first after the timer's pending ones too), then `after` cycles of
+ * steps; `engine` and `filled` are the sums of the gaps with `after` and of
+ * the fills.  Engine cycles count when a hand-over ends them; those after
+ * the last stay pending.  The queue held fewer than fill_queue cells at the start of a
+ * hand-over's cycle (the cell fill_queue back had been taken), or the
+ * engine stalls until it does; the fill unit takes the cell when it is
+ * free.  (The per-pixel map's charges are the caller's.) */
+static inline void vp_timer_hand_overs(vp_timer *tm, const uint32_t *gap, const uint32_t *fill,
+                                       unsigned n, uint64_t after, uint64_t engine, uint64_t filled)
+{
+    /* e: the engine's last cycle so far; the ring starts far in the past,
+     * so the first fill_queue cells wait for none */
+    int64_t e = tm->now - 1 + (int64_t)tm->pending, fill_free = tm->fill_free, *const ring = tm->take_ring;
+    const unsigned queue = tm->fill_queue;
+    uint64_t stall = 0;
+    unsigned slot = tm->take_slot;
+    for (unsigned i = 0; i < n; i++) {
+        const int64_t end = e + gap[i], room = ring[slot] + 1;
+        const int64_t put = room > end ? room : end;
+        const int64_t take = put + 1 > fill_free ? put + 1 : fill_free;
+        stall += (uint64_t)(put - end);
+        fill_free = take + fill[i];
+        ring[slot] = take;
+        slot = slot + 1 == queue ? 0 : slot + 1;
+        e = put;
+    }
+    if (n) {   /* the engine's cycles up to the last hand-over are counted */
+        tm->now = e + 1;
+        tm->engine += tm->pending + engine - after;
+        tm->pending = after;
+    } else {
+        tm->pending += after;
+    }
+    tm->fill_free = fill_free, tm->take_slot = slot, tm->cells += n;
+    tm->stall += stall, tm->fill += filled;
+}
+
+/* One cell k handed over after the timer's pending cycles. */
+static inline void vp_timer_hand_over(vp_timer *tm, const vp_cell *k)
+{
+    const uint32_t none = 0, f = (uint32_t)tm->fill_cycles[k->wl + k->hl];
+    if (tm->charge)
+        tm->charge(tm, k, f);
+    vp_timer_hand_overs(tm, &none, &f, 1, 0, 0, f);
+}
 /* vp_draw_face with a timer: the same fills and statistics, and the timer
  * called as vp_walk_next's steps would have it. */
 void vp_draw_face_timed(alb_vp *vp, const vp_loaded_face *f, vp_timer *tm);
 /* The samples of a FILL or SAMPLE_IN cell through the depth test: each
  * sample nearer than the store's gets the face's depth and tag (fill.c). */
 void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k);
-/* One row of the fill's fast loop (fill.c): n samples of depths z + i dz,
- * all in the store's range, stored as z >> sr << sl with tag t where they
- * win; counts what won and what tied.  vp_depth_rows lists the forms the
- * host can run, the fastest first (the VP takes that one). */
-unsigned vp_depth_rows(vp_depth_row_fn fn[3], const char *name[3]);
-/* The samples `mask` (bit 4 y + x) of the 4 x 4 block at (c0, r0) through
- * the depth test, decided at level l, or l - 1 where `coarse` has their
- * bit (fill.c). */
-void vp_fill_block4(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r0, uint16_t mask,
-                    uint16_t coarse, uint8_t l);
+/* The fill's fast loop (fill.c) on the samples of a rectangle of w x h, or
+ * on those of an 8 x 8 block that `mask` has (bit 8 y + x), of depths z +
+ * x dc + y dr, all in the store's range: stored as z >> sr << sl with tag t
+ * (the block: t[0], or t[1] where `mid` has the sample, t[2] where `fine`
+ * has it) where they win; counts what won and what tied; the store form
+ * writes every sample of a rectangle whose store is clean.  vp_depth_forms
+ * lists the forms the host can run, the fastest first (the VP takes that
+ * one). */
+unsigned vp_depth_forms(vp_depth_forms_t forms[3], const char *name[3]);
+/* The samples `mask` (bit 8 y + x) of the 8 x 8 block at (c0, r0) through
+ * the depth test, decided at level l, or l + 1 where `mid` has them, l + 2
+ * where `fine` has them (fill.c). */
+void vp_fill_block8(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r0, uint64_t mask,
+                    uint64_t mid, uint64_t fine, uint8_t l);
+/* count x size bytes for a plane of the sample store or of a frame, zeroed
+ * if asked, in huge pages where the host offers them (store.c); NULL if
+ * out of memory; free() frees it. */
+void *vp_plane_alloc(size_t count, size_t size, bool zeroed);
 /* Clear the tiles of cell k that no fill has touched yet this frame
  * (store.c); vp_touch is the same, quicker for a cell within one tile. */
 void vp_touch_tiles(alb_vp *vp, const vp_cell *k);
@@ -211,9 +328,6 @@ void vp_store_begin(alb_vp *vp);
 void vp_store_resolve(alb_vp *vp, alb_frame *out);
 /* n copies of one colour (3 per sample) (store.c). */
 void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3]);
-/* The frame's statistics that come from the store at its end (depth_nearest);
- * alb_vp_frame_end calls it, a run that resolves no frame must. */
-void vp_store_finish(alb_vp *vp);
 /* The output stage's scratch for one thread (vp->scratch). */
 size_t vp_store_scratch_bytes(const alb_vp *vp);
 /* Scratch for n threads; -1 if out of memory (parallel.c). */

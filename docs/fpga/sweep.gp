@@ -1,17 +1,23 @@
-# sweep.gp — the design-space view (docs/fpga.md): hardware cost (yosys's
-# generic gates, make fpga-sweep) against the cycle model's cycles per frame,
-# one point per member, from sweep.csv beside it.
-set terminal svg size 900,600 font "sans,12"
+# sweep.gp — the design-space view (docs/fpga.md, make fpga-sweep): each
+# member's logic (yosys generic synth, cells summed over the units; memories
+# counted apart, as bits) against the cycle model's cycles per frame, from
+# sweep.csv beside it (columns: rtl/fpga/sweep_collect.py).
+set terminal svg size 960,640 font "sans,12" dynamic
 set output "sweep.svg"
 set datafile separator ","
-set title "Albatros VP members: gates against time per frame (built-in scene, cycle model)"
-set xlabel "yosys generic synth, gates (cells, ROM, texture memory and FIFO excluded)"
-set ylabel "cycles per frame, built-in scene (mean of 4 frames)"
-set key top right box
+set title "Albatros VP members: logic against time per frame (cycle model)"
+set xlabel "logic, yosys generic synth (cells: gates, muxes, flip-flops; memories excluded)"
+set ylabel "time per frame (cycles, mean over the scene's frames)"
+set key outside bottom center horizontal
 set grid
 set logscale y
-set format x "%.0s%c"
-plot "sweep.csv" using 3:13 skip 1 with points pt 7 ps 1.2 title "built-in scene", \
-     "" using 3:14 skip 1 with points pt 5 ps 1.0 title "interpenetrating, severity 0.5", \
-     "" using 3:15 skip 1 with points pt 9 ps 1.0 title "deep, severity 0.5", \
-     "" using 3:13:1 skip 1 with labels offset 0.8,0.6 left font ",9" notitle
+set offsets graph 0.05, graph 0.15, 0, 0
+set format x "%.1s%c"
+set format y "%.0s%c"
+set datafile columnheaders
+plot "sweep.csv" using "cells_total":"cycles_builtin" with points pt 7 ps 1.2 title "built-in scene", \
+     "" using "cells_total":"cycles_interpenetrating" with points pt 5 ps 1.0 \
+        title "interpenetrating, severity 0.5", \
+     "" using "cells_total":"cycles_deep" with points pt 9 ps 1.0 title "deep, severity 0.5", \
+     "" using "cells_total":"cycles_builtin":"point" with labels offset 0.6,0.3 left \
+        font ",9" notitle

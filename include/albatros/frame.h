@@ -36,8 +36,24 @@ typedef struct {
 
 /* Allocate a frame's planes (cycles only if with_cycles); -1 if out of memory. */
 int alb_frame_alloc(alb_frame *f, unsigned width, unsigned height, bool with_cycles);
+/* The planes of a frame, for a frame with only some of them: the output
+ * stage (alb_vp_frame_end) resolves only the planes a frame has, so a sink
+ * that needs the colour alone pays for the colour alone; the others stay
+ * NULL.  A frame with every plane is what the sinks, the comparisons and
+ * the digest take. */
+#define ALB_FRAME_RGB      0x01u
+#define ALB_FRAME_DEPTH    0x02u
+#define ALB_FRAME_FACE     0x04u
+#define ALB_FRAME_LEVEL    0x08u
+#define ALB_FRAME_COVERAGE 0x10u
+#define ALB_FRAME_CYCLES   0x20u
+#define ALB_FRAME_PLANES   0x1Fu   /* every plane but cycles */
+int alb_frame_alloc_planes(alb_frame *f, unsigned width, unsigned height, unsigned planes);
+/* The planes a frame has (ALB_FRAME_* bits). */
+unsigned alb_frame_planes(const alb_frame *f);
 void alb_frame_free(alb_frame *f);
-/* Deep copy into dst (allocated here); -1 if out of memory. */
+/* Deep copy into dst (allocated here, with the planes src has); -1 if out
+ * of memory. */
 int alb_frame_copy(alb_frame *dst, const alb_frame *src);
 
 /* Z in scene units of a depth store value: near / (d / 2^depth_bits);

@@ -56,6 +56,8 @@ typedef struct {
     unsigned frame_faces;     /* FACE packets a frame may carry (docs/limits.md) */
     /* the emulator, not the hardware */
     unsigned all_units;       /* 1: every shading unit for every sample (same pixels, slower) */
+    unsigned simd;            /* 1: the host's fastest SIMD forms, chosen at run time; 0: the
+                                 plain ones (same pixels and counts, slower) */
 } alb_profile;
 
 /* Fill *p with the named profile; returns 0, or -1 if unknown. */

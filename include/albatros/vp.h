@@ -56,7 +56,9 @@ alb_err alb_vp_texture(alb_vp *vp, const alb_ws_texture *t, alb_diag *d);
 void alb_vp_frame_begin(alb_vp *vp, const alb_ws_frame *f);
 /* Draw one face; ALB_ERR_STREAM if it uses a texture never loaded. */
 alb_err alb_vp_face(alb_vp *vp, const alb_ws_face *f, alb_diag *d);
-/* Resolve the samples into pixels; out must be allocated at the screen size. */
+/* Resolve the samples into pixels; out must be allocated at the screen size.
+ * Only the planes out has are resolved (alb_vp_frame_alloc_planes): a NULL
+ * plane costs nothing and stays NULL. */
 void alb_vp_frame_end(alb_vp *vp, alb_frame *out);
 const alb_vp_stats *alb_vp_stats_get(const alb_vp *vp);
 
@@ -69,8 +71,10 @@ int alb_vp_set_threads(alb_vp *vp, unsigned n);
 unsigned alb_vp_threads(const alb_vp *vp);
 unsigned alb_vp_cores(void);
 
-/* Allocate a frame of this VP's screen size. */
+/* Allocate a frame of this VP's screen size: every plane, or the planes
+ * given (ALB_FRAME_* bits, frame.h). */
 int alb_vp_frame_alloc(const alb_vp *vp, alb_frame *f, bool with_cycles);
+int alb_vp_frame_alloc_planes(const alb_vp *vp, alb_frame *f, unsigned planes);
 
 /* Run a whole word stream; sink is called with each finished frame. */
 typedef int (*alb_vp_frame_sink)(void *ctx, const alb_frame *f, const alb_vp_stats *st);

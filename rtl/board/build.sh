@@ -57,7 +57,7 @@ echo "build.sh: verilating the RTL board into $so (about a minute)" >&2
 # shellcheck disable=SC2086
 verilator --cc --exe --build -j 2 -Wall -Wno-fatal --top-module alb_bench_top \
     -I"$rtl" -I"$rtl/bench" -Mdir "$dir/obj" -o ../albatros-rtl-board.so $gflags \
-    -CFLAGS "-O2 -fPIC -std=c++17 -Wno-unused -I$top/include -I$top/firmware/sim -I$dir" \
+    -CFLAGS "-O2 -fPIC -std=c++17 -Wno-unused -I$top/include -I$top/firmware/sim -I$rtl/bench -I$dir" \
     -LDFLAGS "-shared -L$lib -lalbatros -Wl,-rpath,$lib" \
     "$rtl/bench/alb_bench_top.sv" "$rtl/bench/alb_frame_mem.sv" $(ls "$rtl"/alb_*.sv) \
     "$here/rtl_vp.cpp" > "$dir/build.log" 2>&1 || {

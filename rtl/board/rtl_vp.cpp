@@ -23,22 +23,9 @@
 #include <type_traits>
 #include <vector>
 
-namespace {
+#include "vbits.h"
 
-// Bits [lo, lo + w) of a signal, whatever width Verilator gave it.
-template <typename T> uint64_t bits(const T &v, unsigned lo, unsigned w)
-{
-    uint64_t r = 0;
-    if constexpr (std::is_integral_v<T>) {
-        r = (uint64_t)v >> lo;
-    } else {
-        for (unsigned i = 0; i < w && i < 64; i++) {
-            unsigned b = lo + i;
-            r |= (uint64_t)(v[b / 32] >> (b % 32) & 1) << i;
-        }
-    }
-    return w >= 64 ? r : r & ((1ull << w) - 1);
-}
+namespace {
 
 template <typename T> void flip_bit(T &v, unsigned b)
 {
