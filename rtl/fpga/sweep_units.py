@@ -52,7 +52,7 @@ def unit_params(unit, p):
         "alb_engine": {"LW": lw, "LH": lh, "EW": ew, "MAX_EDGES": q["MAX_EDGES"],
                        "E": q["EDGE_UNITS"]},
         "alb_fill_queue": {"DEPTH": q["FILL_QUEUE"]},
-        "alb_fill": {"RATE": q["FILL_RATE"]},
+        "alb_fill": {"RATE": q["FILL_RATE"], "LW": lw, "LH": lh},
         "alb_pipe": {"RATE": q["FILL_RATE"], "LW": lw, "LH": lh, "CB": q["COEF_BITS"],
                      "DB": q["DEPTH_BITS"], "COLB": q["COLOUR_BITS"], "RB": q["RECIP_BITS"],
                      "FI": q["SHADE_FRAC_BITS"], "DIV_LAT": q["DIVIDER_LATENCY"],
