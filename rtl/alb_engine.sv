@@ -170,7 +170,7 @@ module alb_engine #(
         inside_mask = '0;
         for (int j = 0; j < E; j++)
             if (lane_inside[j])
-                inside_mask[lane_e[j]] = 1'b1;
+                inside_mask = inside_mask | ME'(1) << lane_e[j];
     end
 
     wire [ME-1:0] rem_after = rem_in & ~sel;

@@ -157,7 +157,10 @@ module alb_pipe #(
                 depth_of = DB'(DW'(n) << sh);
         end else begin
             s = DW'(n) >> (-sh);
+            // (never true when DW = DB, as at up5k's widths)
+            /* verilator lint_off CMPCONST */
             depth_of = s > DW'(DMAX) ? DMAX : DB'(s);
+            /* verilator lint_on CMPCONST */
         end
     endfunction
 
@@ -471,7 +474,10 @@ module alb_pipe #(
     logic [RATE*(33+FI)-1:0] s4_vd;
     always @* begin
         for (int j = 0; j < RATE; j++) begin
+            // (bits above the texture memory's address unused when it is small)
+            /* verilator lint_off UNUSEDSIGNAL */
             logic [9:0] u, v;
+            /* verilator lint_on UNUSEDSIGNAL */
             logic [32:0] zq;
             zq = s4_zq[j*33 +: 33];
             // eq. (7): intensity = shade / depth, clamped to [0, 1]

@@ -193,6 +193,7 @@ lint a512 a512
 lint odd t32 --set aa=2 --set fill_rate=1 --set edge_units=1 --set face_slots=1 \
     --set fifo_depth=2 --set divider_latency=0 --set shade_latency=0 --set fill_queue=1
 lint wide a256 --set width=512 --set height=128 --set fill_rate=8 --set edge_units=3
+lint up5k up5k --rtl MAX_EDGES=6 --rtl TEX_WORDS=256 --rtl TEX_IDS=4 --rtl TAG_BITS=8   # the FPGA build (rtl/fpga/fpga.sh)
 synth_check 0
 
 if model t32 t32; then
