@@ -23,7 +23,7 @@ FX2_CODE    := 0x3d00
 FX2_CFLAGS  := -mmcs51 --model-small --stack-auto --std-c99 --opt-code-size --Werror
 FX2_LDFLAGS := --code-loc 0x0000 --code-size $(FX2_CODE) \
                --xram-loc $(FX2_CODE) --xram-size 0x0300 --iram-size 256
-FX2_HDRS    := firmware/proto.h firmware/core.h firmware/fx2/usb.h firmware/fx2/fx2regs.h
+FX2_HDRS    := firmware/proto.h firmware/core.h firmware/fx2/usb.h firmware/fx2/fx2regs.h firmware/fx2/board.h
 # main.rel first: sdcc links the module holding main() first
 FX2_REL     := $(addprefix $(FX2_OUT)/,main.rel usb.rel descriptors.rel core.rel crc32.rel)
 

@@ -50,6 +50,7 @@
  * callback reporting a frame done or a stream error.  Not checked on hardware:
  * the buffer ownership rules above follow the TRM and need a bring-up test
  * (a RESET, a WORDS packet seen on the FPGA's side, a RESULT record back). */
+#include "board.h"
 #include "usb.h"
 #include "fx2regs.h"
 
@@ -285,9 +286,9 @@ static void fifo_init(void)
 static void board_init(void)
 {
     fw_init(&fx2_core, &fx2_hal, rx_buf, FX2_MAX_PAYLOAD);
-    fx2_core.width = 640;   /* the FPGA design's frame store */
-    fx2_core.height = 480;
-    fx2_core.colour_bits = 8;
+    fx2_core.width = FX2_BOARD_WIDTH;   /* the FPGA design's frame store */
+    fx2_core.height = FX2_BOARD_HEIGHT;
+    fx2_core.colour_bits = FX2_BOARD_COLOUR_BITS;
     fx2_core.fw_version = 0x0100;
     fx2_core.serial = 1;
     memcpy(fx2_core.name, "FX2LP+FPGA VP", 13);

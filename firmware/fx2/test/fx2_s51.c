@@ -16,6 +16,7 @@
 #include "i8051.h"
 #include "listing.h"
 #include "speed.h"
+#include "../board.h"
 #include "../usb.h"
 #include "../../core.h"
 
@@ -28,9 +29,9 @@
 /* The FX2 board's identity and payload limit (firmware/fx2/main.c,
  * board_init; docs/usb-protocol.md: 512 − header − CRC). */
 #define BOARD_PAYLOAD (PROTO_BULK_MAXPKT - PROTO_HEADER - PROTO_TRAILER)
-#define BOARD_WIDTH   640
-#define BOARD_HEIGHT  480
-#define BOARD_CBITS   8
+#define BOARD_WIDTH   FX2_BOARD_WIDTH
+#define BOARD_HEIGHT  FX2_BOARD_HEIGHT
+#define BOARD_CBITS   FX2_BOARD_COLOUR_BITS
 #define BOARD_FW      0x0100
 #define BOARD_SERIAL  1u
 #define BOARD_NAME    "FX2LP+FPGA VP"
