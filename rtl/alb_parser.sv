@@ -236,7 +236,11 @@ module alb_parser #(
     logic        last;             // the packet's last word
     logic [20:0] len;              // the packet's length, at its header
     logic [TA:0] tex_base_new;
-    logic [TA+1:0] tex_size;
+    // a texture's texels, up to 2^20 whatever TEX_WORDS is: sized by the
+    // format, not by the memory, so a texture too large for a small memory
+    // is refused (E_TEX_FULL) rather than wrapped to a size of 0
+    localparam int SW = TA + 2 > 22 ? TA + 2 : 22;
+    logic [SW-1:0] tex_size;
     logic        tex_alloc;        // a TEXTURE header that takes a new region
 
     always @* begin
@@ -272,7 +276,7 @@ module alb_parser #(
                             bad_code = `E_CONFIG;
                         end
                     `K_TEXTURE: begin
-                        tex_size = (TA + 2)'(1) << {w[11:8], 1'b0};
+                        tex_size = SW'(1) << {w[11:8], 1'b0};
                         tex_alloc = !(tab_valid_w && tab_alloc_w >= w[11:8]);
                         tex_base_new = tex_alloc ? alloc_ptr[TA:0] : tab_base_w;
                         if (w[15:8] > 8'd10) begin
@@ -281,8 +285,8 @@ module alb_parser #(
                         end else if (w[7:0] != 8'd0) begin
                             bad = 1'b1;
                             bad_code = `E_RESERVED;
-                        end else if (!tid_w_ok || (tex_alloc && {1'b0, alloc_ptr} +
-                                                   {1'b0, tex_size} > (TA + 3)'(TEX_WORDS))) begin
+                        end else if (!tid_w_ok || (tex_alloc && (SW + 1)'(alloc_ptr) +
+                                                   (SW + 1)'(tex_size) > (SW + 1)'(TEX_WORDS))) begin
                             bad = 1'b1;
                             bad_code = `E_TEX_FULL;
                         end
@@ -442,7 +446,7 @@ module alb_parser #(
                         `K_TEXTURE: begin
                             t_base <= tex_base_new;
                             if (tex_alloc) begin
-                                alloc_ptr <= alloc_ptr + tex_size;
+                                alloc_ptr <= alloc_ptr + (TA + 2)'(tex_size);
                                 tab_alloc[ti_w] <= w[11:8];
                             end
                             tab_valid[ti_w] <= 1'b1;

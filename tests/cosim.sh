@@ -234,6 +234,26 @@ for v in shared-edges textured-far-plane moving-lit; do
 done
 icarus icarus-ties rtl/bench/scenes/ties.scene --profile t32
 
+# the FPGA build's sizes (rtl/fpga/fpga.sh: up5k, the depth store answering
+# in the next cycle as block RAM does, six edges a face, four texture ids):
+# the built-in scene through both, event by event
+if model up5k-fpga up5k --rtl ZR_REG=1 --rtl MAX_EDGES=6 --rtl TEX_IDS=4 --rtl TAG_BITS=8; then
+    mkdir -p "$out/up5k-builtin"
+    "$bin" gp --profile up5k -o "$out/up5k-builtin/s.stream" > /dev/null 2>&1 &&
+        cosim_stream up5k-builtin up5k-fpga "$out/up5k-builtin/s.stream" --profile up5k
+fi
+# a texture memory smaller than a texture (the built-in scene's first, 64 x 64
+# at word 3, against 256 texels) is refused there, E_TEX_FULL (12); a size
+# held in the memory's address width wrapped 4096 to 0 and drew wrong texels
+if model t32-tex256 t32 --rtl TEX_WORDS=256; then
+    if "$build/rtl/t32-tex256/cosim" --stream "$out/t32-builtin/s.stream" --expect-error 12@3 \
+        > "$out/t32-tex256.out" 2>&1; then
+        ok "t32-tex256: $(sed 's/^cosim: //' "$out/t32-tex256.out")"
+    else
+        bad "t32-tex256: a texture larger than TEX_WORDS" "$out/t32-tex256.out"
+    fi
+fi
+
 # malformed streams: the RTL's error output names the error and its word
 while IFS='|' read -r file prof want; do
     file=$(echo $file) prof=$(echo $prof) want=$(echo $want)
