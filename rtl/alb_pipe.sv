@@ -137,11 +137,22 @@ module alb_pipe #(
     logic [23:0] tex_mem [0:TEX_WORDS-1];
 
     // ---- the units (vp/units.h), at the widths of the profile ----
-    // N of a form at sample (x, y): origin + x step_c + y step_r, modulo 2^NB
+    // N of a form at sample (x, y): origin + x step_c + y step_r, modulo 2^NB.
+    // x and y are LW and LH bits: the products as shifts and adds (a step
+    // shifted by each set bit of the position), not multipliers — the same
+    // bits modulo 2^NB, and no DSP for an NB x LW product
     function automatic signed [NB-1:0] form_at(input signed [NB-1:0] o, input signed [NB-1:0] sc,
                                                input signed [NB-1:0] sr, input [LW-1:0] x,
                                                input [LH-1:0] y);
-        form_at = o + sc * $signed(NB'(x)) + sr * $signed(NB'(y));
+        logic [NB-1:0] acc;
+        acc = o;
+        for (int k = 0; k < LW; k++)
+            if (x[k])
+                acc = acc + (sc << k);
+        for (int k = 0; k < LH; k++)
+            if (y[k])
+                acc = acc + (sr << k);
+        form_at = acc;
     endfunction
 
     // the depth store value: near/Z as unsigned 0.DB, truncated, saturated
@@ -267,15 +278,22 @@ module alb_pipe #(
     endfunction
 
     // blend toward the fog colour, round half up: (c vis + f (ONE - vis) +
-    // ONE/2) >> FI, computed as (f ONE + (c - f) vis + ONE/2) >> FI
+    // ONE/2) >> FI, computed as (f ONE + (c - f) vis + ONE/2) >> FI.  The
+    // product of the COLB + 1-bit signed difference and vis as shifts and
+    // adds: vis shifted by each set bit of df, the sign bit's weight taken
+    // off (two's complement), modulo 2^(COLB + FI + 4) where t is exact
     function automatic [COLB-1:0] fog_blend(input [COLB-1:0] c, input [COLB-1:0] f,
                                             input [FI:0] vis);
-        logic signed [COLB+FI+3:0] t;
-        logic signed [COLB:0] df;
-        df = $signed({1'b0, c}) - $signed({1'b0, f});
-        t = $signed((COLB + FI + 4)'(f) << FI) + (COLB + FI + 4)'(df) * $signed((COLB + FI + 4)'(vis))
-          + $signed((COLB + FI + 4)'(ONE) >> 1);
-        fog_blend = COLB'(t >>> FI);
+        logic [COLB+FI+3:0] t;
+        logic [COLB:0] df;
+        df = {1'b0, c} - {1'b0, f};
+        t = ((COLB + FI + 4)'(f) << FI) + ((COLB + FI + 4)'(ONE) >> 1);
+        for (int k = 0; k < COLB; k++)
+            if (df[k])
+                t = t + ((COLB + FI + 4)'(vis) << k);
+        if (df[COLB])
+            t = t - ((COLB + FI + 4)'(vis) << COLB);
+        fog_blend = COLB'(t >> FI);
     endfunction
 
     // ================= S1: the forms at the sample =================
