@@ -144,15 +144,28 @@ module alb_pipe #(
     function automatic signed [NB-1:0] form_at(input signed [NB-1:0] o, input signed [NB-1:0] sc,
                                                input signed [NB-1:0] sr, input [LW-1:0] x,
                                                input [LH-1:0] y);
+        // (bits below k of a step shifted by k are 0: each add is NB - k
+        // bits wide, the bits below it pass through)
         logic [NB-1:0] acc;
         acc = o;
         for (int k = 0; k < LW; k++)
             if (x[k])
-                acc = acc + (sc << k);
+                acc = ((((acc >> k) + sc) << k) | (acc & ~({NB{1'b1}} << k)));
         for (int k = 0; k < LH; k++)
             if (y[k])
-                acc = acc + (sr << k);
+                acc = ((((acc >> k) + sr) << k) | (acc & ~({NB{1'b1}} << k)));
         form_at = acc;
+    endfunction
+
+    // a x b, 8 x 8 bits, as shifts and adds: a shifted by each set bit of b
+    // (DSPs are kept for the wider products)
+    function automatic [15:0] mul8(input [7:0] a, input [7:0] b);
+        logic [15:0] acc;
+        acc = '0;
+        for (int k = 0; k < 8; k++)
+            if (b[k])
+                acc = ((((acc >> k) + 16'(a)) << k) | (acc & ~(16'hFFFF << k)));
+        mul8 = acc;
     endfunction
 
     // the depth store value: near/Z as unsigned 0.DB, truncated, saturated
@@ -561,7 +574,7 @@ module alb_pipe #(
             texel = s5_flags[1] ? s5_fetched[j*24 +: 24] : 24'hFFFFFF;
             for (int c = 0; c < 3; c++) begin
                 logic [15:0] bt;
-                bt = 16'(s5_rgb[(2-c)*8 +: 8]) * 16'(texel[(2-c)*8 +: 8]);
+                bt = mul8(s5_rgb[(2-c)*8 +: 8], texel[(2-c)*8 +: 8]);
                 s5_m[(j*3+c)*MW +: MW] = MW'(bt) * MW'(s5_inten[j*(FI+1) +: FI+1]);
             end
             s5_vd2[j*(33+FI) +: 33+FI] = div_steps(s5_vd[j*(33+FI)+FI +: 33],
