@@ -99,6 +99,12 @@ module alb_pipe #(
     localparam int MW = 16 + FI;                    // base x texel x intensity
     localparam int XW = 17 + COLB;                  // the colour before / 65025
     localparam int ROM_N = 1 << (RB - 1);
+    // base x texel: how many of the three channels' 8 x 8 products are left
+    // as multipliers.  On the iCE40 UP5K (8 SB_MAC16, docs/fpga.md) the
+    // wider products — the forms times the reciprocal, x intensity — take 6
+    // a lane and two of base x texel fill the part; the forms at the sample
+    // and the fog blend are shifts and adds, cheaper in logic than these
+    localparam int BT_DSP = 2;
     localparam logic [FI:0] ONE = (FI + 1)'(1) << FI;          // intensity 1.0
     localparam logic [DB-1:0] DMAX = {DB{1'b1}};   // the largest depth (yosys 0.23 reads '1 here as 1)
     localparam logic [XW-1:0] D65025 = XW'(65025);
@@ -574,7 +580,12 @@ module alb_pipe #(
             texel = s5_flags[1] ? s5_fetched[j*24 +: 24] : 24'hFFFFFF;
             for (int c = 0; c < 3; c++) begin
                 logic [15:0] bt;
-                bt = mul8(s5_rgb[(2-c)*8 +: 8], texel[(2-c)*8 +: 8]);
+                // the first BT_DSP channels' products as multipliers (DSPs),
+                // the others as shifts and adds
+                if (c < BT_DSP)
+                    bt = 16'(s5_rgb[(2-c)*8 +: 8]) * 16'(texel[(2-c)*8 +: 8]);
+                else
+                    bt = mul8(s5_rgb[(2-c)*8 +: 8], texel[(2-c)*8 +: 8]);
                 s5_m[(j*3+c)*MW +: MW] = MW'(bt) * MW'(s5_inten[j*(FI+1) +: FI+1]);
             end
             s5_vd2[j*(33+FI) +: 33+FI] = div_steps(s5_vd[j*(33+FI)+FI +: 33],
