@@ -34,8 +34,11 @@
 // Widths follow the profile: a form's value at a sample is below
 // 2^(CB + P + 1) (docs/profiles.md), so NB = CB + P + 2 signed bits hold it
 // and modular arithmetic in them is exact; a form times the reciprocal needs
-// NB + RB + 1.  Multipliers are fine here: the form values at samples, the
-// ratios, the colour.
+// NB + RB + 1.  The narrow products (a form's steps times the sample's
+// LW- and LH-bit position, the fog blend, one channel of base x texel) are
+// shifts and adds; the wide ones (the forms times the reciprocal, x
+// intensity, two channels of base x texel) multipliers, which the UP5K's 8
+// DSPs hold (docs/fpga.md, "Products as shifts and adds").
 `include "alb_defs.svh"
 
 module alb_pipe #(

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # fpga-report.sh — make test's fast check of the FPGA report judge
 # (rtl/fpga/fpga_report.py, docs/fpga.md).  The committed report of the real
-# flow (docs/fpga/report.json, nextpnr --pack-only: the design is 2.4 times
-# the UP5K's logic cells and 2.5 times its DSPs, so it was never placed) must
+# flow (docs/fpga/report.json, nextpnr --pack-only: the design is 2.5 times
+# the UP5K's logic cells (its DSPs fit, 8 / 8), so it was never placed) must
 # be judged not to fit;
 # the same report planted to fit, with Fmax above both clocks, must pass;
 # planted one logic cell or one DSP over, or below the VP's clock, it must fail; without its
