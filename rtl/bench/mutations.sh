@@ -30,7 +30,7 @@ mutations=(
     "fifo-full-a-word-early|alb_fifo.sv|s/assign full = count == CW'(DEPTH);/assign full = count >= CW'(DEPTH - 1);/|--set fifo_depth=2|random|fifo/push"
     "tie-rule-flipped|alb_parser.sv|s/c = EW'(-(gamma <<< 1) - 64'sd1);/c = EW'(-(gamma <<< 1));/||ties|engine/cell"
     "equal-depth-wins|alb_pipe.sv|s/d != '0 \&\& d > zr_data/d != '0 \&\& d >= zr_data/||ties|pipe/write"
-    "fill-column-major|alb_fill.sv|s/= c0 + (i\[15:0\] \& ((16'd1 << wl) - 16'd1));/= c0 + 16'(i >> wl);/;s/= r0 + 16'(i >> wl);/= r0 + (i[15:0] \& ((16'd1 << wl) - 16'd1));/||ties|pipe/write"
+    "fill-column-major|alb_fill.sv|s/= c0 + (16'(i) \& ((16'd1 << wl) - 16'd1));/= c0 + 16'(iw >> wl);/;s/= r0 + 16'(iw >> wl);/= r0 + (16'(i) \& ((16'd1 << wl) - 16'd1));/||ties|pipe/write"
     "crc-byte-order|alb_frame_crc.sv|s/crc_after = crc_byte(crc_after, px\[39:32\]);/crc_after = crc_byte(crc_after, px[47:40]);/||ties|frame_crc/crc"
 )
 
