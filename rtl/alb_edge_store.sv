@@ -11,7 +11,9 @@ module alb_edge_store #(
     parameter int FACE_SLOTS = 2,
     parameter int MAX_EDGES = 64,
     parameter int EW = 27,
-    parameter int LANES = 8            // edge_units: edges the engine reads a cycle
+    parameter int LANES = 8,           // edge_units: edges the engine reads a cycle
+    parameter int LW = 5,              // log2 of the sample grid's width: dA's low LW + 1 bits are 0
+    parameter int LH = 5               // ... height: dB's low LH + 1 bits are 0
 ) (
     input  logic                       clk,
     input  logic                       rst,
@@ -19,8 +21,10 @@ module alb_edge_store #(
     input  logic                       ew_en,
     input  logic [5:0]                 ew_idx,
     input  logic [EW-1:0]              ew_c,
+    /* verilator lint_off UNUSEDSIGNAL */   // their low bits, zero (e_cab below)
     input  logic [EW-1:0]              ew_da,
     input  logic [EW-1:0]              ew_db,
+    /* verilator lint_on UNUSEDSIGNAL */
     input  logic                       fc_en,
     input  logic [`SETUP_W-1:0]        fc_setup,
     input  logic [6:0]                 fc_edges,
@@ -45,7 +49,10 @@ module alb_edge_store #(
 );
     localparam int SW = FACE_SLOTS > 1 ? $clog2(FACE_SLOTS) : 1;
 
-    logic [3*EW-1:0]     e_cab [0:(FACE_SLOTS << EB)-1];   // {db, da, c} of an edge
+    // an edge: c and the increments without their low bits, zero by the
+    // parser's shifts (dA = a 2^(LW+1), dB = b 2^(LH+1): docs/vp.md §2)
+    localparam int AB = EW - LW - 1, BB = EW - LH - 1, CAB = EW + AB + BB;
+    logic [CAB-1:0]      e_cab [0:(FACE_SLOTS << EB)-1];   // {db, da, c}
     logic [`SETUP_W-1:0] s_setup [0:FACE_SLOTS-1];
     logic [6:0]          s_edges [0:FACE_SLOTS-1];
     logic [15:0]         s_frame [0:FACE_SLOTS-1];
@@ -78,15 +85,16 @@ module alb_edge_store #(
     // the head slot after this cycle and the engine's next edges.  An edge
     // written this cycle (a face's last, when the engine starts it next
     // cycle) is forwarded.
-    logic [3*EW-1:0]  q_cab [0:LANES-1];
+    logic [CAB-1:0]   q_cab [0:LANES-1];
     logic [LANES-1:0] fwd;
-    logic [3*EW-1:0]  w_cab;
+    logic [CAB-1:0]   w_cab;
+    wire  [CAB-1:0]   ew_cab = {ew_db[EW-1 -: BB], ew_da[EW-1 -: AB], ew_c};
     generate
         for (genvar j = 0; j < LANES; j++) begin : g_read
-            wire [3*EW-1:0] cab = fwd[j] ? w_cab : q_cab[j];
+            wire [CAB-1:0] cab = fwd[j] ? w_cab : q_cab[j];
             assign rd_c[j*EW +: EW] = cab[EW-1:0];
-            assign rd_da[j*EW +: EW] = cab[2*EW-1:EW];
-            assign rd_db[j*EW +: EW] = cab[3*EW-1:2*EW];
+            assign rd_da[j*EW +: EW] = {cab[EW +: AB], (LW + 1)'(0)};
+            assign rd_db[j*EW +: EW] = {cab[EW + AB +: BB], (LH + 1)'(0)};
         end
     endgenerate
 
@@ -101,7 +109,7 @@ module alb_edge_store #(
 
     always_ff @(posedge clk) begin
         if (ew_en)
-            e_cab[eaddr(load_ptr, ew_idx)] <= {ew_db, ew_da, ew_c};
+            e_cab[eaddr(load_ptr, ew_idx)] <= ew_cab;
         for (int j = 0; j < LANES; j++)
             q_cab[j] <= e_cab[eaddr(done_next, rd_next[j*6 +: 6])];
     end
@@ -109,7 +117,7 @@ module alb_edge_store #(
     always_ff @(posedge clk) begin
         for (int j = 0; j < LANES; j++)
             fwd[j] <= ew_en && eaddr(load_ptr, ew_idx) == eaddr(done_next, rd_next[j*6 +: 6]);
-        w_cab <= {ew_db, ew_da, ew_c};
+        w_cab <= ew_cab;
         if (fc_en) begin
             s_setup[load_ptr] <= fc_setup;
             s_edges[load_ptr] <= fc_edges;

@@ -119,8 +119,10 @@ module alb_engine #(
     // the cell's offset in its parent: the bit of its position at its own size
     wire          dx = lvl != 5'd0 && lvl <= 5'(LW) && (c0 & (XB'(1) << wl)) != '0;
     wire          dy = lvl != 5'd0 && lvl <= 5'(LH) && (r0 & (YB'(1) << hl)) != '0;
-    wire [4:0]    sha = lvl < 5'(LW) ? lvl : 5'(LW);   // halvings of dA to this cell's width
-    wire [4:0]    shb = lvl < 5'(LH) ? lvl : 5'(LH);
+    // halvings of dA to this cell's width, of dB to its height (at most LW, LH)
+    localparam int SAW = $clog2(LW + 1), SBW = $clog2(LH + 1);
+    wire [SAW-1:0] sha = lvl < 5'(LW) ? SAW'(lvl) : SAW'(LW);
+    wire [SBW-1:0] shb = lvl < 5'(LH) ? SBW'(lvl) : SBW'(LH);
 
     // The next E active edges, lowest index first, were picked a cycle ago
     // from the step's next state (pick_q, below), so that the edge store
@@ -147,19 +149,32 @@ module alb_engine #(
     logic [E-1:0]  lane_out, lane_inside, lane_centre_in;
     always @* begin
         for (int j = 0; j < E; j++) begin
-            logic signed [EW-1:0] par, da, db, h, hmin, hmax, centre;
+            logic signed [EW-1:0] par, da, db, h, h_a, h_b, h_ab;
+            logic signed [EW:0]   centre2;
+            logic min_neg, max_neg;
             // level 0 is the screen: its corners come from the edge store
             par = lvl == 5'd0 ? $signed(rd_c[j*EW +: EW]) : $signed(lane_par[j]);
-            da = $signed(rd_da[j*EW +: EW]) >>> sha;
-            db = $signed(rd_db[j*EW +: EW]) >>> shb;
+            // (the low LW + 1 bits of dA, LH + 1 of dB are zero: the parser's shifts)
+            da = $signed({rd_da[j*EW + LW + 1 +: EW - LW - 1], (LW + 1)'(0)}) >>> sha;
+            db = $signed({rd_db[j*EW + LH + 1 +: EW - LH - 1], (LH + 1)'(0)}) >>> shb;
             h = par + (dx ? da : '0) + (dy ? db : '0);
-            hmin = h + (da < 0 ? da : '0) + (db < 0 ? db : '0);
-            hmax = h + (da > 0 ? da : '0) + (db > 0 ? db : '0);
-            centre = h + (da >>> 1) + (db >>> 1);        // the sample's centre
+            // the corners, modulo 2^EW; the least is h + min(dA, 0) + min(dB, 0),
+            // the greatest h + max(dA, 0) + max(dB, 0): picked by the signs
+            h_a = h + da;
+            h_b = h + db;
+            h_ab = h_a + db;
+            min_neg = da[EW-1] ? (db[EW-1] ? h_ab[EW-1] : h_a[EW-1])
+                               : (db[EW-1] ? h_b[EW-1] : h[EW-1]);
+            max_neg = da > 0 ? (db > 0 ? h_ab[EW-1] : h_a[EW-1])
+                             : (db > 0 ? h_b[EW-1] : h[EW-1]);
+            // the sample's centre, doubled: h + h_ab = 2 h + dA + dB (dA, dB
+            // are even at a sample's level; no corner or centre of the screen
+            // overflows EW bits: docs/vp.md §2)
+            centre2 = {h[EW-1], h} + {h_ab[EW-1], h_ab};
             lane_h[j] = h;
-            lane_out[j] = lane_v[j] && hmax < 0;
-            lane_inside[j] = lane_v[j] && hmin >= 0;
-            lane_centre_in[j] = !lane_v[j] || centre >= 0;
+            lane_out[j] = lane_v[j] && max_neg;
+            lane_inside[j] = lane_v[j] && !min_neg;
+            lane_centre_in[j] = !lane_v[j] || !centre2[EW];
         end
     end
 
