@@ -61,6 +61,7 @@ module alb_engine #(
     localparam int EB = ME > 1 ? $clog2(ME) : 1;     // an edge's index in an address
     localparam int LB = P > 1 ? $clog2(P) : 1;       // a parent level's in an address
     localparam int HA = LB + EB;
+    localparam int HW = EW + P;              // h times 2^level
     localparam logic [ME-1:0] FIRST_E = E >= ME ? {ME{1'b1}} : (ME'(1) << E) - ME'(1);
 
     // ---- state ----
@@ -82,7 +83,7 @@ module alb_engine #(
     logic [P-1:0]      stk_pend;
     logic [1:0]        stk_next [0:P-1];
     logic [ME-1:0]     stk_act [0:P-1];
-    logic [EW-1:0]     lvl_h [0:(P << EB)-1];   // per level: h_tl of the last cell evaluated
+    logic [HW-1:0]     lvl_h [0:(P << EB)-1];   // per level: h_tl (x 2^level) of the last cell evaluated
 
     function automatic [6:0] popcount(input [ME-1:0] m);
         logic [6:0] n;
@@ -120,9 +121,15 @@ module alb_engine #(
     wire          dx = lvl != 5'd0 && lvl <= 5'(LW) && (c0 & (XB'(1) << wl)) != '0;
     wire          dy = lvl != 5'd0 && lvl <= 5'(LH) && (r0 & (YB'(1) << hl)) != '0;
     // halvings of dA to this cell's width, of dB to its height (at most LW, LH)
-    localparam int SAW = $clog2(LW + 1), SBW = $clog2(LH + 1);
-    wire [SAW-1:0] sha = lvl < 5'(LW) ? SAW'(lvl) : SAW'(LW);
-    wire [SBW-1:0] shb = lvl < 5'(LH) ? SBW'(lvl) : SBW'(LH);
+    // h is held times 2^level (exact: below 2^(EW-1) unscaled, docs/vp.md
+    // §2), so the increments need no shift by the level: a cell's dA is the
+    // screen's halved min(level, LW) times, times 2^level.  Past LW (a grid
+    // higher than wide) that is dA shifted up by level - LW.
+    localparam int UA = LH > LW ? LH - LW : 0, UB = LW > LH ? LW - LH : 0;
+    localparam int UAW = $clog2(UA + 1) > 0 ? $clog2(UA + 1) : 1;
+    localparam int UBW = $clog2(UB + 1) > 0 ? $clog2(UB + 1) : 1;
+    wire [UAW-1:0] ua = UA == 0 || lvl <= 5'(LW) ? '0 : UAW'(lvl - 5'(LW));
+    wire [UBW-1:0] ub = UB == 0 || lvl <= 5'(LH) ? '0 : UBW'(lvl - 5'(LH));
 
     // The next E active edges, lowest index first, were picked a cycle ago
     // from the step's next state (pick_q, below), so that the edge store
@@ -142,39 +149,40 @@ module alb_engine #(
     end
 
     // the parent's h_tl of each lane's edge
-    logic [EW-1:0] lane_par [0:E-1];
+    logic [HW-1:0] lane_par [0:E-1];
 
     // the edge units: each an edge's corners over the cell, by adds and shifts
-    logic [EW-1:0] lane_h [0:E-1];
+    logic [HW-1:0] lane_h [0:E-1];
     logic [E-1:0]  lane_out, lane_inside, lane_centre_in;
     always @* begin
         for (int j = 0; j < E; j++) begin
-            logic signed [EW-1:0] par, da, db, h, h_a, h_b, h_ab;
-            logic signed [EW:0]   centre2;
+            logic signed [HW-1:0] da, db, par, h, h_a, h_b, h_ab;
+            logic signed [HW:0]   centre2;
             logic min_neg, max_neg;
-            // level 0 is the screen: its corners come from the edge store
-            par = lvl == 5'd0 ? $signed(rd_c[j*EW +: EW]) : $signed(lane_par[j]);
-            // (the low LW + 1 bits of dA, LH + 1 of dB are zero: the parser's shifts)
-            da = $signed({rd_da[j*EW + LW + 1 +: EW - LW - 1], (LW + 1)'(0)}) >>> sha;
-            db = $signed({rd_db[j*EW + LH + 1 +: EW - LH - 1], (LH + 1)'(0)}) >>> shb;
+            // the increments at this level, times 2^level: dA, dB themselves
+            // (the low LW + 1 bits of dA, LH + 1 of dB are zero: the parser's
+            // shifts), or shifted up past the level where a side stops splitting
+            da = HW'($signed({rd_da[j*EW + LW + 1 +: EW - LW - 1], (LW + 1)'(0)})) <<< ua;
+            db = HW'($signed({rd_db[j*EW + LH + 1 +: EW - LH - 1], (LH + 1)'(0)})) <<< ub;
+            // level 0 is the screen: its corners come from the edge store;
+            // below, twice the parent's (one level finer)
+            par = lvl == 5'd0 ? HW'($signed(rd_c[j*EW +: EW])) : $signed(lane_par[j]) <<< 1;
             h = par + (dx ? da : '0) + (dy ? db : '0);
-            // the corners, modulo 2^EW; the least is h + min(dA, 0) + min(dB, 0),
-            // the greatest h + max(dA, 0) + max(dB, 0): picked by the signs
+            // the corners; the least is h + min(dA, 0) + min(dB, 0), the
+            // greatest h + max(dA, 0) + max(dB, 0): picked by the signs
             h_a = h + da;
             h_b = h + db;
             h_ab = h_a + db;
-            min_neg = da[EW-1] ? (db[EW-1] ? h_ab[EW-1] : h_a[EW-1])
-                               : (db[EW-1] ? h_b[EW-1] : h[EW-1]);
-            max_neg = da > 0 ? (db > 0 ? h_ab[EW-1] : h_a[EW-1])
-                             : (db > 0 ? h_b[EW-1] : h[EW-1]);
-            // the sample's centre, doubled: h + h_ab = 2 h + dA + dB (dA, dB
-            // are even at a sample's level; no corner or centre of the screen
-            // overflows EW bits: docs/vp.md §2)
-            centre2 = {h[EW-1], h} + {h_ab[EW-1], h_ab};
+            min_neg = da[HW-1] ? (db[HW-1] ? h_ab[HW-1] : h_a[HW-1])
+                               : (db[HW-1] ? h_b[HW-1] : h[HW-1]);
+            max_neg = da > 0 ? (db > 0 ? h_ab[HW-1] : h_a[HW-1])
+                             : (db > 0 ? h_b[HW-1] : h[HW-1]);
+            // the sample's centre, doubled: h + h_ab = 2 h + dA + dB
+            centre2 = {h[HW-1], h} + {h_ab[HW-1], h_ab};
             lane_h[j] = h;
             lane_out[j] = lane_v[j] && max_neg;
             lane_inside[j] = lane_v[j] && !min_neg;
-            lane_centre_in[j] = !lane_v[j] || !centre2[EW];
+            lane_centre_in[j] = !lane_v[j] || !centre2[HW];
         end
     end
 
@@ -325,8 +333,8 @@ module alb_engine #(
     logic [HA-1:0] h_wa [0:E-1];
     logic [HA-1:0] h_ra [0:E-1];
     logic [E-1:0]  h_we;
-    logic [EW-1:0] h_q [0:E-1];
-    logic [EW-1:0] h_wq [0:E-1];
+    logic [HW-1:0] h_q [0:E-1];
+    logic [HW-1:0] h_wq [0:E-1];
     logic [E*E-1:0] h_hit;                  // [j*E + k]: lane j reads what lane k wrote
     always @* begin
         for (int j = 0; j < E; j++) begin
