@@ -72,6 +72,7 @@ module alb_engine #(
     logic [XB-1:0]     cur_c0;
     logic [YB-1:0]     cur_r0;
     logic [4:0]        cur_lvl;
+    logic              cur_dx, cur_dy;       // the cell's offset in its parent
     logic [6:0]        cur_n;                // active edges when the step began
     logic [ME-1:0]     rem;                  // edges of the step not evaluated yet
     logic              acc_out, acc_in;
@@ -118,8 +119,10 @@ module alb_engine #(
     wire [4:0]    hl = hl_of(lvl);
     wire          single = wl == 5'd0 && hl == 5'd0;
     // the cell's offset in its parent: the bit of its position at its own size
-    wire          dx = lvl != 5'd0 && lvl <= 5'(LW) && (c0 & (XB'(1) << wl)) != '0;
-    wire          dy = lvl != 5'd0 && lvl <= 5'(LH) && (r0 & (YB'(1) << hl)) != '0;
+    // (the walk knows it: 0 for the screen and a top-left child, the
+    // stack's offset for a child popped)
+    wire          dx = start ? 1'b0 : cur_dx;
+    wire          dy = start ? 1'b0 : cur_dy;
     // halvings of dA to this cell's width, of dB to its height (at most LW, LH)
     // h is held times 2^level (exact: below 2^(EW-1) unscaled, docs/vp.md
     // §2), so the increments need no shift by the level: a cell's dA is the
@@ -175,8 +178,8 @@ module alb_engine #(
             h_ab = h_a + db;
             min_neg = da[HW-1] ? (db[HW-1] ? h_ab[HW-1] : h_a[HW-1])
                                : (db[HW-1] ? h_b[HW-1] : h[HW-1]);
-            max_neg = da > 0 ? (db > 0 ? h_ab[HW-1] : h_a[HW-1])
-                             : (db > 0 ? h_b[HW-1] : h[HW-1]);
+            max_neg = !da[HW-1] ? (!db[HW-1] ? h_ab[HW-1] : h_a[HW-1])   // (an
+                                : (!db[HW-1] ? h_b[HW-1] : h[HW-1]);    // increment 0 adds 0)
             // the sample's centre, doubled: h + h_ab = 2 h + dA + dB
             centre2 = {h[HW-1], h} + {h_ab[HW-1], h_ab};
             lane_h[j] = h;
@@ -249,9 +252,12 @@ module alb_engine #(
     assign ev_slot = head_slot;
 
     // ---- the next state of the step ----
+    // the next step's active edges, counted: a split's or the popped child's
+    wire [6:0]     next_n = popcount(split ? act_now : top_act);
     logic [XB-1:0] c0_d;
     logic [YB-1:0] r0_d;
     logic [4:0]    lvl_d;
+    logic          dx_d, dy_d;
     logic [6:0]    n_d;
     logic [ME-1:0] rem_d, act_d;
     logic          out_d, in_d, stalled_d;
@@ -259,6 +265,8 @@ module alb_engine #(
         c0_d = cur_c0;
         r0_d = cur_r0;
         lvl_d = cur_lvl;
+        dx_d = cur_dx;
+        dy_d = cur_dy;
         n_d = cur_n;
         rem_d = rem;
         act_d = acc_act;
@@ -270,6 +278,8 @@ module alb_engine #(
             c0_d = c0;
             r0_d = r0;
             lvl_d = lvl;
+            dx_d = dx;
+            dy_d = dy;
             n_d = n_in;
             rem_d = rem_after;
             out_d = out_now;
@@ -281,6 +291,8 @@ module alb_engine #(
             c0_d = c0;
             r0_d = r0;
             lvl_d = lvl;
+            dx_d = dx;
+            dy_d = dy;
             n_d = n_in;
         end else if (advance) begin
             stalled_d = 1'b0;
@@ -289,14 +301,18 @@ module alb_engine #(
                 c0_d = c0;
                 r0_d = r0;
                 lvl_d = lvl + 5'd1;
-                n_d = popcount(act_now);
+                dx_d = 1'b0;
+                dy_d = 1'b0;
+                n_d = next_n;
                 rem_d = act_now;
                 act_d = act_now;
             end else if (pending) begin
                 c0_d = pop_c0;
                 r0_d = pop_r0;
                 lvl_d = top_l + 5'd1;
-                n_d = popcount(top_act);
+                dx_d = top_next[0];
+                dy_d = top_next[1];
+                n_d = next_n;
                 rem_d = top_act;
                 act_d = top_act;
             end
@@ -305,25 +321,32 @@ module alb_engine #(
         end
     end
 
-    // the next step's edges (the first E of rem_d; a new face's 0 .. E-1)
+    // the next step's edges: the first E of rem_d, or a new face's 0 .. E-1
+    // (only their indices then: its first step's lanes come from head_edges)
     always @* begin
         int n;
         n = 0;
         pick_sel = '0;
         for (int j = 0; j < E; j++) begin
             pick_v[j] = 1'b0;
-            pick_e[j] = busy_next ? 6'd0 : 6'(j);
+            pick_e[j] = 6'd0;
         end
-        if (busy_next)
+        if (E == 1) begin
+            pick_sel = rem_d & (~rem_d + ME'(1));     // the lowest bit set
+            pick_v[0] = rem_d != '0;
             for (int k = 0; k < ME; k++)
-                if (rem_d[k] && n < E) begin
-                    pick_v[n] = 1'b1;
-                    pick_e[n] = 6'(k);
-                    pick_sel[k] = 1'b1;
-                    n = n + 1;
-                end
+                if (pick_sel[k])
+                    pick_e[0] = pick_e[0] | 6'(k);
+        end else
+        for (int k = 0; k < ME; k++)
+            if (rem_d[k] && n < E) begin
+                pick_v[n] = 1'b1;
+                pick_e[n] = 6'(k);
+                pick_sel[k] = 1'b1;
+                n = n + 1;
+            end
         for (int j = 0; j < E; j++)
-            rd_next[j*6 +: 6] = pick_e[j];
+            rd_next[j*6 +: 6] = busy_next ? pick_e[j] : 6'(j);
     end
 
     // lvl_h, read a cycle ahead at the next step's parent level; a value
@@ -340,7 +363,7 @@ module alb_engine #(
         for (int j = 0; j < E; j++) begin
             h_we[j] = working && lane_v[j] && 32'(lvl) < P;
             h_wa[j] = {LB'(lvl), EB'(lane_e[j])};
-            h_ra[j] = {plvl_d, EB'(pick_e[j])};
+            h_ra[j] = {plvl_d, EB'(pick_e[j])};   // (the screen's step reads none)
         end
         for (int j = 0; j < E; j++) begin
             lane_par[j] = h_q[j];
@@ -388,6 +411,8 @@ module alb_engine #(
         cur_c0 <= c0_d;
         cur_r0 <= r0_d;
         cur_lvl <= lvl_d;
+        cur_dx <= dx_d;
+        cur_dy <= dy_d;
         cur_n <= n_d;
         rem <= rem_d;
         acc_out <= out_d;
