@@ -5,6 +5,9 @@
 // (the k-th face loaded goes to slot k % FACE_SLOTS) and drain in the same
 // order: the engine's face is always the oldest loaded one.  A slot is freed
 // in the cycle the engine finishes its face and can be refilled from the next.
+// The edges are read a cycle ahead, registered as block RAM answers (the
+// engine names its next edges), an edge written in the cycle forwarded; the
+// low bits of dA and dB, zero by the parser's shifts, are not stored.
 `include "alb_defs.svh"
 
 module alb_edge_store #(

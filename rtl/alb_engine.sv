@@ -7,15 +7,22 @@
 // stalls until the queue has room.
 //
 // Multiplier-free (docs/vp.md §2): an edge's h = a C + b R + c is linear, so
-// over a cell its corners are h_tl, h_tl + dA, h_tl + dB, h_tl + dA + dB,
-// where dA, dB are the edge's increments across the screen halved once per
-// level (arithmetic shifts, exact: they are multiples of 2^(levels+1)).  A
-// child's top-left corner is its parent's plus half the parent's increment
-// along each split side — the mean of two corners.  The engine keeps, per
-// level, the last cell's h_tl of every edge it evaluated: that cell is the
-// parent of every cell popped at the next level (the walk is depth-first),
-// so the stack itself holds only positions and active-edge masks.  Adders,
-// shifts and comparators only: no `*` (checked by yosys in tests/cosim.sh).
+// over a cell of level l its corners are h_tl + {0, dA_l} + {0, dB_l}, dA_l
+// the screen's increment halved min(l, LW) times (exact: dA is a multiple of
+// 2^(LW+1), dB of 2^(LH+1)), and a child's h_tl is its parent's plus dA_l or
+// dB_l where it lies right or below — the mean of two corners.  The engine
+// holds h times 2^l (below 2^(EW-1+l): no corner or centre of the screen
+// overflows EW bits, docs/vp.md §2), so a child's is twice its parent's plus
+// dA or dB themselves, and the corners need no shift by the level.  It keeps,
+// per level, the last cell's h_tl of every edge it evaluated (lvl_h): that
+// cell is the parent of every cell popped at the next level (the walk is
+// depth-first).  For the same reason at most one parent per level has
+// children left, so the stack has one entry a level — which child is next and
+// the parent's active edges; the parent's position is the current cell's cut
+// to the parent's size.  lvl_h and the edge store are read a cycle ahead
+// (block RAM on an FPGA), at addresses from the step's next state (rd_next),
+// this cycle's writes forwarded.  Adders, comparators and fixed shifts only:
+// no `*` (checked by yosys in tests/cosim.sh).
 `include "alb_defs.svh"
 
 module alb_engine #(
