@@ -129,6 +129,7 @@ struct Fx2Config {
     unsigned flag_lag = 0;          // extra IFCLK edges before a flag shows a change
     unsigned ep8_stall_every = 3;   // every N-th record, the 8051 lets EP8 fill up
     unsigned ep8_hold = 300;        // ... and leaves it full this many IFCLKs
+    unsigned ep8_stall_max = 40000; // ... or gives up waiting after this many
     unsigned ep4_pace = 1;          // IFCLKs the 8051 takes per byte it copies into EP4
     unsigned restart_clocks = 48;   // VP_RESTART high (the 8051's ep4_reset): 1 us at 48 MHz
     uint32_t seed = 1;
@@ -158,18 +159,19 @@ public:
         src_next_ = 0;
     }
     // The 8051's fx2_vp_restart: PA1 as given, PA0 high, EP4 reset, PA0 low.
+    // EP4's FIFO reset comes some clocks after PA0 rises (FIFORESET = NAKALL,
+    // SYNCDELAY, FIFORESET = 0x04: about 16 IFCLKs), PA0 falls after it.  EP8
+    // is left as it is, as main.c leaves it.
     void restart(bool new_stream)
     {
         pa1_ = new_stream;
         pa0_ = true;
-        st_ = S_RESTART;
-        busy_until_ = now_ + c_.restart_clocks;
-        ep4_.clear();
+        st_ = S_RESTART_HIGH;
+        busy_until_ = now_ + 16;
         fill_.clear();
         chunk_left_ = 0;
-        committed_ = 0;
     }
-    bool restarting() const { return st_ == S_RESTART; }
+    bool restarting() const { return st_ == S_RESTART_HIGH || st_ == S_RESTART; }
     bool source_done() const { return src_next_ == src_.size() && fill_.empty() && ep4_.empty(); }
     bool ep8_idle() const { return ep8_fill_.empty() && ep8_done_.empty(); }
 
@@ -178,16 +180,14 @@ public:
     {
         const bool slrd = !t.slrd_n, slwr = !t.slwr_n, pktend = !t.pktend_n;
         const unsigned adr = t.fifoadr;
-        if (fpga_phase < 0 && adr == 0 && (slrd || slwr || pktend)) {
-            // before the first VP_RESTART: the FPGA's flip-flops start at 0,
-            // so its active-low strobes are low until its first IFCLK edge;
-            // FIFOADR 00 is EP2, whose buffers are the 8051's (manual OUT):
-            // the FX2 has nothing there to read, write or end
-            if (!stray_)
-                std::printf("top_bench: note: IFCLK %" PRIu64 ": %s%s%s low with FIFOADR 00 "
-                            "before the first VP_RESTART (ignored)\n", now_,
-                            slrd ? "SLRD " : "", slwr ? "SLWR " : "", pktend ? "PKTEND " : "");
-            stray_++;
+        if (now_ == 0 && adr == 0 && (slrd || slwr || pktend)) {
+            // the FPGA's flip-flops start at 0, so its active-low strobes are
+            // low until its first IFCLK edge; FIFOADR 00 is EP2, whose buffers
+            // are the 8051's (manual OUT): the FX2 has nothing there to read,
+            // write or end
+            std::printf("top_bench: note: IFCLK 0: %s%s%slow with FIFOADR 00 at the FPGA's "
+                        "first edge (its flip-flops start at 0; ignored)\n",
+                        slrd ? "SLRD " : "", slwr ? "SLWR " : "", pktend ? "PKTEND " : "");
             run_8051();
             now_++;
             return;
@@ -305,7 +305,7 @@ private:
         std::vector<uint16_t> beats;
         size_t next = 0;
     };
-    enum State { S_IDLE, S_COPY, S_COPIED, S_WAIT_EMPTY, S_FIFORESET, S_RESTART };
+    enum State { S_IDLE, S_COPY, S_COPIED, S_WAIT_EMPTY, S_FIFORESET, S_RESTART_HIGH, S_RESTART };
 
     unsigned rnd(unsigned n) { return n ? (unsigned)(rng_() % n) : 0; }
     bool ep8_full() const { return ep8_done_.size() >= 2; }
@@ -320,6 +320,12 @@ private:
         if (now_ < busy_until_)
             return;
         switch (st_) {
+        case S_RESTART_HIGH:
+            ep4_.clear();
+            committed_ = 0;
+            st_ = S_RESTART;
+            busy_until_ = now_ + (c_.restart_clocks > 16 ? c_.restart_clocks - 16 : 0);
+            break;
         case S_RESTART:
             pa0_ = false;
             st_ = S_IDLE;
@@ -377,6 +383,8 @@ private:
             take_at_ = 0;
             return;
         }
+        if (stalling_ && now_ - stall_from_ > c_.ep8_stall_max)
+            stalling_ = false;   // nothing more came: the 8051 is not busy for ever
         if (stalling_) {
             if (!ep8_full()) {
                 full_since_ = 0;
@@ -399,6 +407,7 @@ private:
         if (c_.ep8_stall_every && ++records_ % c_.ep8_stall_every == 0) {
             stalling_ = true;
             full_since_ = 0;
+            stall_from_ = now_;
         }
     }
 
@@ -416,12 +425,12 @@ private:
     int ep8_phase_ = 0;
     bool ep8_mixed_ = false;
     std::deque<Packet> ep8_done_, taken_;
-    uint64_t take_at_ = 0, full_since_ = 0, records_ = 0;
+    uint64_t take_at_ = 0, full_since_ = 0, stall_from_ = 0, records_ = 0;
     bool stalling_ = false;
     bool pa0_ = false, pa1_ = false;
     uint8_t flag_hist_[8] = {2, 2, 2, 2, 2, 2, 2, 2};   // EP4 empty, EP8 not full
     bool prev_fx2_ = false, prev_fpga_ = false, was_full_ = false;
-    uint64_t stray_ = 0;
+
     uint64_t beats_read_ = 0, bad_reads_ = 0, full_episodes_ = 0, full_clocks_ = 0,
              empty_waits_ = 0;
 };
@@ -727,6 +736,11 @@ int run(const Options &o)
         }
         if (bytes != 20) {
             f.fail("a record of %zu bytes (RESULT is 20, an error 4)", bytes);
+            // the firmware rejects it (fw_vp_error ~0): it stood for the next frame owed
+            if (!error_case && pk.phase >= 0 && (size_t)pk.phase < phases.size() &&
+                !phases[(size_t)pk.phase].owed.empty()) {
+                phases[(size_t)pk.phase].owed.pop_front();   // (not seen: a RESUME resends it)
+            }
             return;
         }
         results++;
