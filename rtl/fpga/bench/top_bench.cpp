@@ -127,7 +127,7 @@ struct Result {
 
 struct Fx2Config {
     unsigned flag_lag = 0;          // extra IFCLK edges before a flag shows a change
-    unsigned ep8_stall_every = 3;   // every N-th record, the 8051 lets EP8 fill up
+    unsigned ep8_stall_every = 2;   // every N-th record, the 8051 lets EP8 fill up
     unsigned ep8_hold = 300;        // ... and leaves it full this many IFCLKs
     unsigned ep8_stall_max = 40000; // ... or gives up waiting after this many
     unsigned ep4_pace = 1;          // IFCLKs the 8051 takes per byte it copies into EP4
@@ -877,18 +877,20 @@ int run(const Options &o)
                 done_at = vp_cycles;
             if (done_at && vp_cycles >= done_at + 4000)
                 stop = true;   // time for a record nobody expected to show
-            if (vp_cycles - last_progress > 400000) {
-                if (error_case)
-                    f.fail("no error record (the VP %s)", error_seen ? "reported its error" :
-                           "reported no error");
+            const bool stuck = vp_cycles - last_progress > 400000;
+            if (stuck || vp_cycles >= o.max_cycles) {
+                char why[64];
+                if (stuck)
+                    std::snprintf(why, sizeof why, "nothing for 400000 VP cycles");
                 else
-                    f.fail("nothing for 400000 VP cycles: %zu of %zu words taken, %zu RESULTs "
-                           "owed, the model %s", p.taken, p.words.size(), p.owed.size(),
+                    std::snprintf(why, sizeof why, "--max-cycles %" PRIu64 " reached", o.max_cycles);
+                if (error_case)
+                    f.fail("%s: no error record (the VP %s)", why,
+                           error_seen ? "reported its error" : "reported no error");
+                else
+                    f.fail("%s: %zu of %zu words taken, %zu RESULTs owed, the model %s", why,
+                           p.taken, p.words.size(), p.owed.size(),
                            p.model && alb_model_done(p.model) ? "done" : "not done");
-                stop = true;
-            }
-            if (vp_cycles >= o.max_cycles) {
-                f.fail("--max-cycles %" PRIu64 " reached", o.max_cycles);
                 stop = true;
             }
         }
