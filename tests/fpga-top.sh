@@ -177,7 +177,7 @@ if ((mutations)); then
         "ep4-flag-a-clock-early|alb_fx2_fifo.sv|/half <= !half;/,/wait_n <= 2'd1;/s/wait_n <= 2'd1;/wait_n <= 2'd0;/|SLRD while EP4 is empty"
         "no-pktend|alb_fx2_fifo.sv|s/pktend_n <= 1'b0; /pktend_n <= 1'b1; /|RESULTs owed"
         "words-fifo-never-full|alb_afifo.sv|s/assign full = (wbin\[A\] != rbin_w\[A\])/assign full = 1'b0 \&\& (wbin[A] != rbin_w[A])/|the VP takes"
-        "no-config-replay|alb_fpga_top.sv|s/wire replay = cfg_given < cfg_kept;/wire replay = 1'b0;/|VP reports error"
+        "no-config-replay|alb_fpga_top.sv|s/wire replay = cfg_given < cfg_kept;/wire replay = 1'b0;/|the VP takes f0"
     )
     for m in "${muts[@]}"; do
         IFS='|' read -r name file script pat pat2 <<< "$m"
