@@ -42,7 +42,10 @@ module alb_fpga_top #(
     parameter int MAX_EDGES = 64,
     parameter int TEX_WORDS = 256,
     parameter int TEX_IDS = 4,
-    parameter int TAG_BITS = 8
+    parameter int TAG_BITS = 8,
+    // the board: 1 if its LEDs light when their pin is low (the iCEBreaker's),
+    // 0 if when high (the HX8K breakout's)
+    parameter int LED_LOW = 1
 ) (
     input  logic        clk_vp,        // the board's oscillator: the VP's clock
     input  logic        ifclk,         // from the FX2
@@ -56,8 +59,8 @@ module alb_fpga_top #(
     output logic        pktend_n,
     input  logic        vp_restart,    // PA0
     input  logic        vp_new_stream, // PA1
-    output logic [1:0]  led_n          // active low: [0] error, memory conflict or a record lost;
-                                       // [1] the VP's clock, blinking
+    output logic [1:0]  led            // lit: [0] an error, a memory conflict or a record lost;
+                                       // [1] the VP's clock, blinking (LED_LOW: the polarity)
 );
     localparam int LW = $clog2(WIDTH) + AA;
     localparam int LH = $clog2(HEIGHT) + AA;
@@ -246,7 +249,8 @@ module alb_fpga_top #(
     logic [23:0] alive;
     always_ff @(posedge clk_vp)
         alive <= alive + 24'd1;
-    assign led_n = ~{alive[23], lost || mem_conflict || error};
+    wire [1:0] lit = {alive[23], lost || mem_conflict || error};
+    assign led = LED_LOW != 0 ? ~lit : lit;
     // this board's frame store is one lane (alb_fpga_mem)
     wire unused = ^{ev_pop, error_code, ev_pop_word[31:24], FILL_RATE == 1};
 endmodule
