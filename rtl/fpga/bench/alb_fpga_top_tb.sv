@@ -45,7 +45,7 @@ module alb_fpga_top_tb #(
     output logic        pktend_n,
     input  logic        vp_restart,
     input  logic        vp_new_stream,
-    output logic [1:0]  led_n,
+    output logic [1:0]  led,           // LED_LOW 1: lit when low
     // inside the top, for the bench's checks
     output logic        vp_rst,        // the VP's reset
     output logic        rst_if,        // the FX2 side's reset
@@ -70,7 +70,7 @@ module alb_fpga_top_tb #(
         .TEX_WORDS(TEX_WORDS), .TEX_IDS(TEX_IDS), .TAG_BITS(TAG_BITS)
     ) u_top (
         .clk_vp, .ifclk, .fd, .flaga_n, .flagb_n, .slrd_n, .slwr_n, .sloe_n, .fifoadr,
-        .pktend_n, .vp_restart, .vp_new_stream, .led_n
+        .pktend_n, .vp_restart, .vp_new_stream, .led
     );
 
     assign fpga_fd_oe = u_top.fd_oe;

@@ -896,7 +896,7 @@ int run(const Options &o)
         }
     }
     (void)error_at;
-    if (!error_case && !(top->led_n & 1))
+    if (!error_case && !(top->led & 1))   // LED_LOW 1: lit when low
         f.fail("the error LED is lit (an error, a memory conflict or a lost record)");
     if (error_case && !error_seen)
         f.fail("the VP reported no error");
