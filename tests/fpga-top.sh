@@ -21,6 +21,11 @@ done
 bin=$build/albatros
 out=$build/fpga-top
 export ALB_LIB=$build/lib ALBATROS=$bin
+# a library built under ASan/UBSan (make asan) needs their runtime first in
+# the bench (as tests/cosim.sh does it)
+if ldd "$build/lib/libalbatros.so" 2>/dev/null | grep -q 'libasan'; then
+    export ALB_BENCH_LDFLAGS="-fsanitize=address,undefined"
+fi
 mkdir -p "$out"
 pass=0 fail=0
 ok() { pass=$((pass + 1)); echo "ok   $1"; }

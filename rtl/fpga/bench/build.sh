@@ -10,8 +10,9 @@
 # and the FPGA build's own sizes, as rtl/fpga/fpga.sh gives them to yosys.
 # ALB_FPGA_RTL names a folder holding the board's four files
 # (alb_fpga_top.sv, alb_fx2_fifo.sv, alb_afifo.sv, alb_fpga_mem.sv) instead
-# of rtl/fpga/: a planted bug (tests/fpga-top.sh --mutations).  Rebuilt only
-# when the parameters changed or a source is newer.
+# of rtl/fpga/: a planted bug (tests/fpga-top.sh --mutations).
+# ALB_BENCH_LDFLAGS is added to the link, as in rtl/bench/verilate.sh.
+# Rebuilt only when the parameters changed or a source is newer.
 set -eu
 [ $# -ge 2 ] || { echo "usage: build.sh DIR PROFILE [--set KEY=VALUE ...]" >&2; exit 2; }
 dir=$1
@@ -34,7 +35,8 @@ all=$("$rtl/profile-params.sh" --format shell --albatros "$ALBATROS" "$@"
       printf '%s\n' MAX_EDGES=6 TEX_WORDS=256 TEX_IDS=4 TAG_BITS=8)
 mkdir -p "$dir"
 dir=$(realpath "$dir")
-stamp=$(printf '%s\n' "$lib" "$board" "$all")
+bench_ldflags=${ALB_BENCH_LDFLAGS:-}   # -fsanitize=... for a library built under them (make asan)
+stamp=$(printf '%s\n' "$lib" "$board" "$bench_ldflags" "$all")
 if [ -x "$dir/top_bench" ] && [ -f "$dir/params" ] && [ "$(cat "$dir/params")" = "$stamp" ] &&
    [ -z "$(find "$rtl" "$board" -newer "$dir/top_bench" \( -name '*.sv' -o -name '*.svh' -o \
            -name '*.cpp' -o -name build.sh \) 2>/dev/null)" ]; then
@@ -47,7 +49,7 @@ echo "build.sh: verilating alb_fpga_top into $dir/top_bench (a minute or two)" >
 verilator --cc --exe --build -j 2 --trace -Wall -Wno-fatal --x-initial 0 \
     --top-module alb_fpga_top_tb -I"$rtl" -Mdir "$dir/obj" -o ../top_bench $gflags \
     -CFLAGS "-O1 -std=c++17 -Wno-unused -I$top/include" \
-    -LDFLAGS "-L$lib -lalbatros -Wl,-rpath,$lib" \
+    -LDFLAGS "$bench_ldflags -L$lib -lalbatros -Wl,-rpath,$lib" \
     "$here/alb_fpga_top_tb.sv" "$board/alb_fpga_top.sv" "$board/alb_fx2_fifo.sv" \
     "$board/alb_afifo.sv" "$board/alb_fpga_mem.sv" \
     $(ls "$rtl"/alb_*.sv) "$here/top_bench.cpp" > "$dir/build.log" 2>&1 || {
