@@ -6,17 +6,14 @@
 // order: the engine's face is always the oldest loaded one.  A slot is freed
 // in the cycle the engine finishes its face and can be refilled from the next.
 // The edges are read a cycle ahead, registered as block RAM answers (the
-// engine names its next edges), an edge written in the cycle forwarded; the
-// low bits of dA and dB, zero by the parser's shifts, are not stored.
+// engine names its next edges), an edge written in the cycle forwarded.
 `include "alb_defs.svh"
 
 module alb_edge_store #(
     parameter int FACE_SLOTS = 2,
     parameter int MAX_EDGES = 64,
     parameter int EW = 27,
-    parameter int LANES = 8,           // edge_units: edges the engine reads a cycle
-    parameter int LW = 5,              // log2 of the sample grid's width: dA's low LW + 1 bits are 0
-    parameter int LH = 5               // ... height: dB's low LH + 1 bits are 0
+    parameter int LANES = 8            // edge_units: edges the engine reads a cycle
 ) (
     input  logic                       clk,
     input  logic                       rst,
@@ -24,10 +21,8 @@ module alb_edge_store #(
     input  logic                       ew_en,
     input  logic [5:0]                 ew_idx,
     input  logic [EW-1:0]              ew_c,
-    /* verilator lint_off UNUSEDSIGNAL */   // their low bits, zero (e_cab below)
     input  logic [EW-1:0]              ew_da,
     input  logic [EW-1:0]              ew_db,
-    /* verilator lint_on UNUSEDSIGNAL */
     input  logic                       fc_en,
     input  logic [`SETUP_W-1:0]        fc_setup,
     input  logic [6:0]                 fc_edges,
@@ -52,10 +47,8 @@ module alb_edge_store #(
 );
     localparam int SW = FACE_SLOTS > 1 ? $clog2(FACE_SLOTS) : 1;
 
-    // an edge: c and the increments without their low bits, zero by the
-    // parser's shifts (dA = a 2^(LW+1), dB = b 2^(LH+1): docs/vp.md §2)
-    localparam int AB = EW - LW - 1, BB = EW - LH - 1, CAB = EW + AB + BB;
-    logic [CAB-1:0]      e_cab [0:(FACE_SLOTS << EB)-1];   // {db, da, c}
+    localparam int CAB = 3 * EW;
+    logic [CAB-1:0]      e_cab [0:(FACE_SLOTS << EB)-1];   // {db, da, c} of an edge
     logic [`SETUP_W-1:0] s_setup [0:FACE_SLOTS-1];
     logic [6:0]          s_edges [0:FACE_SLOTS-1];
     logic [15:0]         s_frame [0:FACE_SLOTS-1];
@@ -91,13 +84,13 @@ module alb_edge_store #(
     logic [CAB-1:0]   q_cab [0:LANES-1];
     logic [LANES-1:0] fwd;
     logic [CAB-1:0]   w_cab;
-    wire  [CAB-1:0]   ew_cab = {ew_db[EW-1 -: BB], ew_da[EW-1 -: AB], ew_c};
+    wire  [CAB-1:0]   ew_cab = {ew_db, ew_da, ew_c};
     generate
         for (genvar j = 0; j < LANES; j++) begin : g_read
             wire [CAB-1:0] cab = fwd[j] ? w_cab : q_cab[j];
             assign rd_c[j*EW +: EW] = cab[EW-1:0];
-            assign rd_da[j*EW +: EW] = {cab[EW +: AB], (LW + 1)'(0)};
-            assign rd_db[j*EW +: EW] = {cab[EW + AB +: BB], (LH + 1)'(0)};
+            assign rd_da[j*EW +: EW] = cab[EW +: EW];
+            assign rd_db[j*EW +: EW] = cab[2*EW +: EW];
         end
     endgenerate
 

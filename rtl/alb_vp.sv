@@ -157,7 +157,7 @@ module alb_vp #(
     logic [EDGE_UNITS*6-1:0]  rd_next;
     logic [EDGE_UNITS*EW-1:0] rd_c, rd_da, rd_db;
     alb_edge_store #(.FACE_SLOTS(FACE_SLOTS), .MAX_EDGES(MAX_EDGES), .EW(EW),
-                     .LANES(EDGE_UNITS), .LW(LW), .LH(LH)) u_edge_store (
+                     .LANES(EDGE_UNITS)) u_edge_store (
         .clk, .rst, .ew_en, .ew_idx, .ew_c, .ew_da, .ew_db, .fc_en, .fc_setup, .fc_edges,
         .fc_frame, .slot_free, .load_slot, .head_valid, .head_frame, .head_setup, .head_edges,
         .head_slot, .rd_next, .rd_c, .rd_da, .rd_db, .face_done, .any_loaded, .frame_open,
