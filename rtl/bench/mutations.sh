@@ -24,8 +24,10 @@ albatros=$(realpath "$albatros")
 export ALB_ROOT=$(dirname "$rtl") ALB_LIB=$(dirname "$albatros")/lib
 
 # name | file | sed script | profile --set ... | scene | expected unit/event
+# (classifier-off-by-one: a cell inside only if its least corner is >= 1,
+# not >= 0 — every corner nonzero as well as none negative)
 mutations=(
-    "classifier-off-by-one|alb_engine.sv|s/lane_inside\[j\] = lane_v\[j\] \&\& hmin >= 0;/lane_inside[j] = lane_v[j] \&\& hmin >= 1;/||ties|engine/cell"
+    "classifier-off-by-one|alb_engine.sv|s/lane_inside\[j\] = lane_v\[j\] \&\& !min_neg;/lane_inside[j] = lane_v[j] \&\& !min_neg \&\& h != 0 \&\& h_a != 0 \&\& h_b != 0 \&\& h_ab != 0;/||ties|engine/cell"
     "pipeline-stage-added|alb_pipe.sv|s/localparam int L = 1 + DIV_LAT + SHADE_LAT;/localparam int L = 2 + DIV_LAT + SHADE_LAT;/||random|pipe/write"
     "fifo-full-a-word-early|alb_fifo.sv|s/assign full = count == CW'(DEPTH);/assign full = count >= CW'(DEPTH - 1);/|--set fifo_depth=2|random|fifo/push"
     "tie-rule-flipped|alb_parser.sv|s/c = EW'(-(gamma <<< 1) - 64'sd1);/c = EW'(-(gamma <<< 1));/||ties|engine/cell"
