@@ -69,5 +69,6 @@
 `define E_OVERFLOW     8'd14   // word pushed while the FIFO was full
 `define E_FRAMES_AHEAD 8'd15   // more FRAMEs taken ahead than FRAME_QUEUE holds
 `define E_TAG_ALIAS    8'd16   // 2^(TAG_BITS-1) - 1 scan-outs of a store cut off in a row
+`define E_UNIT         8'd17   // a packet or flag needing a unit this build leaves out
 
 `endif
