@@ -75,6 +75,12 @@ module alb_parser #(
     localparam int IW = TEX_IDS > 1 ? $clog2(TEX_IDS) : 1;
     localparam logic [31:0] ILIM = 32'd1 << (3 + F);           // intercepts below 2^(3+F)
     localparam logic signed [31:0] MLIM = (32'sd1 <<< (CB - 1)) - 32'sd1;
+    // Without shade and texture units a face's colour at every sample is its
+    // base colour scaled to the frame store, (2 c TOP + 255) / 510 — what
+    // the output stage makes of c x 255 x 1.0 (vp_flat_colour) and what a
+    // FRAME's background gets: scaled here once a face (sharing the
+    // background's divider), not in the pipeline a sample
+    localparam bit FLAT_RGB = SHADE_UNIT == 0 && TEX_UNIT == 0 && 3 * COLB <= 24;
 
     // ---- packet state ----
     logic        in_pkt;            // inside a packet: its header was taken
@@ -539,7 +545,7 @@ module alb_parser #(
                             if (wi == 21'd1)
                                 f_id <= w;
                             if (wi == 21'd2)
-                                f_rgb <= w[23:0];
+                                f_rgb <= FLAT_RGB ? 24'(scale_rgb(w[23:0])) : w[23:0];
                             if (in_forms) begin
                                 case (form_word)
                                     2'd0: fm_exp <= w[7:0];

@@ -151,6 +151,10 @@ module alb_pipe #(
     localparam bit TEX = TEX_UNIT != 0;
     localparam bit FOG = FOG_UNIT != 0;
     localparam bit RECIP = SHADE || TEX || FOG;
+    // neither shade nor texture: the parser has scaled the face's colour to
+    // the frame store (alb_parser's FLAT_RGB), and the output stage's
+    // product and division go too
+    localparam bit FLAT_RGB = !SHADE && !TEX && 3 * COLB <= 24;
 
     // ---- the units (vp/units.h), at the widths of the profile ----
     // N of a form at sample (x, y): origin + x step_c + y step_r, modulo 2^NB.
@@ -675,6 +679,9 @@ module alb_pipe #(
 
     // ================= S5: base x texel x intensity =================
     logic [RATE*3*MW-1:0] s5_m;
+    // (the base colour in frame-store units when FLAT_RGB; the cast keeps
+    // the selects in range when it is not)
+    wire [3*COLB-1:0] s5_flat = (3 * COLB)'(s5_rgb);
     logic [RATE*(33+FI)-1:0] s5_vd2;
     always @* begin
         for (int j = 0; j < RATE; j++) begin
@@ -691,9 +698,14 @@ module alb_pipe #(
                     bt = 16'(s5_rgb[(2-c)*8 +: 8]) * 16'(texel[(2-c)*8 +: 8]);
                 else
                     bt = mul8(s5_rgb[(2-c)*8 +: 8], texel[(2-c)*8 +: 8]);
-                // without Gouraud shading the intensity is 1.0: a shift
-                s5_m[(j*3+c)*MW +: MW] = SHADE ? MW'(bt) * MW'(s5_inten[j*(FI+1) +: FI+1])
-                                               : MW'(bt) << FI;
+                // without Gouraud shading the intensity is 1.0: a shift;
+                // flat only, the colour itself (in the quotient's place, S7)
+                if (FLAT_RGB)
+                    s5_m[(j*3+c)*MW +: MW] = MW'(s5_flat[(2-c)*COLB +: COLB]);
+                else if (SHADE)
+                    s5_m[(j*3+c)*MW +: MW] = MW'(bt) * MW'(s5_inten[j*(FI+1) +: FI+1]);
+                else
+                    s5_m[(j*3+c)*MW +: MW] = MW'(bt) << FI;
             end
         end
     end
@@ -735,8 +747,9 @@ module alb_pipe #(
     always @*
         for (int j = 0; j < RATE; j++)
             for (int c = 0; c < 3; c++)
-                s6_cd[(j*3+c)*(XW+COLB) +: XW+COLB] =
-                    col_div(colour_scale(s6_m[(j*3+c)*MW +: MW]), '0, COLB - 1, COLB - C6);
+                s6_cd[(j*3+c)*(XW+COLB) +: XW+COLB] = FLAT_RGB
+                    ? (XW + COLB)'(s6_m[(j*3+c)*MW +: COLB])
+                    : col_div(colour_scale(s6_m[(j*3+c)*MW +: MW]), '0, COLB - 1, COLB - C6);
     generate
         if (FOG) begin : g_s6_fog
             always @*
@@ -770,7 +783,8 @@ module alb_pipe #(
             for (int c = 0; c < 3; c++) begin
                 logic [XW+COLB-1:0] cd;
                 cd = s7_cd[(j*3+c)*(XW+COLB) +: XW+COLB];
-                cd = col_div(cd[COLB +: XW], cd[COLB-1:0], COLB - C6 - 1, 0);
+                if (!FLAT_RGB)
+                    cd = col_div(cd[COLB +: XW], cd[COLB-1:0], COLB - C6 - 1, 0);
                 s7_rgb[j*3*COLB + (2-c)*COLB +: COLB] = cd[COLB-1:0];
             end
     generate
