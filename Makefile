@@ -123,6 +123,7 @@ help:
 	@echo "make cosim      the reference RTL (rtl/) against the cycle model, everything (rtl/README.md)"
 	@echo "make fpga       the VP for an iCE40 HX8K board: bitstream and nextpnr report (docs/fpga.md)"
 	@echo "make fpga-check make fpga, then: does it fit and meet its clock"
+	@echo "make fpga-top   the FPGA top simulated with the FX2's side, and its planted bugs (rtl/fpga/README.md)"
 	@echo "make -j2 fpga-sweep  the design-space view: cells per unit against cycles per frame (docs/fpga.md)"
 	@echo "make clean"
 

@@ -116,7 +116,10 @@ module alb_frame_store #(
     endfunction
 
     logic          draw_store;
-    logic [63:0]   prev_retire;
+    // cycles since the previous retirement (the first frame's: since the
+    // cycle before reset), counted rather than a difference of two 64-bit
+    // registers: where nothing reads `cycle` (an FPGA board) it is gone
+    logic [63:0]   since_retire;
     logic [15:0]   ends_taken;
     logic [FRW-1:0] fq [0:FRAME_QUEUE-1];
     logic [FQW-1:0] fq_head, fq_tail;
@@ -146,7 +149,7 @@ module alb_frame_store #(
     assign retire_number = head_number;
     assign ev_frame = retire;
     assign ev_frame_number = head_number;
-    assign ev_frame_cycles = cycle - prev_retire;
+    assign ev_frame_cycles = since_retire;
     assign err_frames = fr_en && fq_count == (FQW + 1)'(FRAME_QUEUE) && !retire;
 
     wire [TAG_BITS-1:0] draw_tag = frame_open[TAG_BITS-1:0];
@@ -173,7 +176,7 @@ module alb_frame_store #(
             fq[fq_tail] <= {fr_number, fr_bg, fr_fog, fr_fog_rgb, fr_fog_near, fr_fog_far};
         if (rst) begin
             cycle <= '0;
-            prev_retire <= '1;
+            since_retire <= 64'd1;
             draw_store <= 1'b0;
             frames_taken <= '0;
             ends_taken <= '0;
@@ -183,6 +186,7 @@ module alb_frame_store #(
             fq_count <= '0;
         end else begin
             cycle <= cycle + 64'd1;
+            since_retire <= retire ? 64'd1 : since_retire + 64'd1;
             if (fr_en) begin
                 frames_taken <= frames_taken + 16'd1;
                 fq_tail <= inc(fq_tail);
@@ -190,7 +194,6 @@ module alb_frame_store #(
             ends_taken <= ends_next;
             if (retire) begin
                 frame_open <= frame_open + 16'd1;
-                prev_retire <= cycle;
                 draw_store <= !draw_store;
                 fq_head <= inc(fq_head);
             end

@@ -54,6 +54,7 @@ run install bash tests/install.sh "$build"
 run usb-umockdev bash tests/usb-umockdev.sh "$build" "$bin"
 run cosim bash tests/cosim.sh "$build"
 run fpga-report bash tests/fpga-report.sh
+run fpga-top bash tests/fpga-top.sh "$build"
 run fpga-sweep bash tests/fpga-sweep.sh "$bin"
 echo "$total_pass passed, $total_fail failed"
 [[ $status -eq 0 && $total_fail -eq 0 ]]

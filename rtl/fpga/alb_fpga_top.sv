@@ -46,7 +46,10 @@ module alb_fpga_top #(
     // the shading units built (1) or left out (0; rtl/README.md)
     parameter int SHADE_UNIT = 1,
     parameter int TEX_UNIT = 1,
-    parameter int FOG_UNIT = 1
+    parameter int FOG_UNIT = 1,
+    // the board: 1 if its LEDs light when their pin is low (the iCEBreaker's),
+    // 0 if when high (the HX8K breakout's)
+    parameter int LED_LOW = 1
 ) (
     input  logic        clk_vp,        // the board's oscillator: the VP's clock
     input  logic        ifclk,         // from the FX2
@@ -60,8 +63,8 @@ module alb_fpga_top #(
     output logic        pktend_n,
     input  logic        vp_restart,    // PA0
     input  logic        vp_new_stream, // PA1
-    output logic [1:0]  led_n          // active low: [0] error, memory conflict or a record lost;
-                                       // [1] the VP's clock, blinking
+    output logic [1:0]  led            // lit: [0] an error, a memory conflict or a record lost;
+                                       // [1] the VP's clock, blinking (LED_LOW: the polarity)
 );
     localparam int LW = $clog2(WIDTH) + AA;
     localparam int LH = $clog2(HEIGHT) + AA;
@@ -189,12 +192,21 @@ module alb_fpga_top #(
     logic [23:0] res_frame, res_faces;
     logic [63:0] res_cycles;
     logic        res_wait;
-    // the record being sent, 16 bits at a time
+    // the record being sent, 16 bits at a time: held whole while it goes
+    // out and its beats picked by number (a 160-bit shift register would
+    // put a multiplexer before every flip-flop)
     logic [159:0] out_bits;
-    logic [3:0]  out_left;
+    logic [3:0]  out_left, out_beat;
     logic        err_sent, lost;
+    logic [15:0] beat;
+    always_comb begin
+        beat = out_bits[15:0];
+        for (int i = 1; i < 10; i++)
+            if (out_beat == 4'(i))
+                beat = out_bits[16*i +: 16];
+    end
     assign r_push = out_left != 4'd0 && !r_full;
-    assign r_in = {out_left == 4'd1, out_bits[15:0]};
+    assign r_in = {out_left == 4'd1, beat};
     always_ff @(posedge clk_vp) begin
         if (rst_vp) begin
             fq_in <= '0;
@@ -209,7 +221,7 @@ module alb_fpga_top #(
                 fq_in <= fq_in + 1'b1;
             end
             if (r_push) begin
-                out_bits <= out_bits >> 16;
+                out_beat <= out_beat + 4'd1;
                 out_left <= out_left - 4'd1;
             end
             if (ev_crc && res_wait && ev_crc_number == res_frame) begin
@@ -218,11 +230,13 @@ module alb_fpga_top #(
                 else begin
                     out_bits <= {8'd0, res_faces, res_cycles, ev_crc_value, 8'd0, res_frame};
                     out_left <= 4'd10;
+                    out_beat <= 4'd0;
                 end
                 res_wait <= 1'b0;
             end else if (error && !err_sent && out_left == 4'd0) begin
                 out_bits <= {128'd0, error_word};
                 out_left <= 4'd2;
+                out_beat <= 4'd0;
                 err_sent <= 1'b1;
             end
             if (ev_frame) begin
@@ -240,7 +254,8 @@ module alb_fpga_top #(
     logic [23:0] alive;
     always_ff @(posedge clk_vp)
         alive <= alive + 24'd1;
-    assign led_n = ~{alive[23], lost || mem_conflict || error};
+    wire [1:0] lit = {alive[23], lost || mem_conflict || error};
+    assign led = LED_LOW != 0 ? ~lit : lit;
     // this board's frame store is one lane (alb_fpga_mem)
     wire unused = ^{ev_pop, error_code, ev_pop_word[31:24], FILL_RATE == 1};
 endmodule

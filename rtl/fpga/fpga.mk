@@ -1,23 +1,33 @@
 # fpga.mk — the VP on an FPGA and the family's design-space view
 # (docs/fpga.md), included from the top Makefile.
-.PHONY: fpga fpga-check fpga-sweep fpga-sweep-chart fpga-sweep-prep fpga-sweep-jobs
+.PHONY: fpga fpga-check fpga-top fpga-sweep fpga-sweep-chart fpga-sweep-prep fpga-sweep-jobs
 
 FPGA_PROFILE ?= up5k
+# the board (rtl/fpga/fpga.sh --board): icebreaker or hx8k-breakout
+FPGA_BOARD ?= icebreaker
+# more of the RTL's own sizes (fpga.sh --rtl), e.g. FPGA_RTL="TEX_UNIT=0"
+FPGA_RTL ?=
 # --noabc: the sweep's synthesis without ABC (docs/fpga.md)
 FPGA_SWEEP_ABC ?=
 
 # yosys synth_ice40, nextpnr-ice40 (--report), icepack: $(BUILD)/fpga/ (the
 # iCEBreaker's UP5K)
 fpga: $(ALBATROS)
-	@bash rtl/fpga/fpga.sh --build $(BUILD) --profile $(FPGA_PROFILE)
+	@bash rtl/fpga/fpga.sh --build $(BUILD) --profile $(FPGA_PROFILE) --board $(FPGA_BOARD) $(FPGA_RTL:%=--rtl %)
 
 # the real flow, then its report judged: fits the part, meets the VP's clock
 # (the profile's clock_khz) and the FX2's 48 MHz IFCLK
 fpga-check: $(ALBATROS)
-	@bash rtl/fpga/fpga.sh --build $(BUILD) --profile $(FPGA_PROFILE) || true
+	@bash rtl/fpga/fpga.sh --build $(BUILD) --profile $(FPGA_PROFILE) --board $(FPGA_BOARD) $(FPGA_RTL:%=--rtl %) || true
 	@r=$(BUILD)/fpga/report.json; [ -e $$r ] || r=$(BUILD)/fpga/pack-report.json; \
 	python3 rtl/fpga/fpga_report.py $$r \
 	    --clock clk_vp=$$(awk '{ print $$1 / 1000 }' $(BUILD)/fpga/clock_khz) --clock ifclk=48
+
+# alb_fpga_top simulated with the FX2's side of the board, every RESULT
+# against the model (rtl/fpga/README.md), and the planted bugs it must catch
+# (a Verilator build each: about five minutes; make test runs the cases only)
+fpga-top: $(ALBATROS) $(LIBALB_SO)
+	@bash tests/fpga-top.sh $(BUILD) --mutations
 
 # the design-space view (docs/fpga.md): one job per point and unit (yosys's
 # generic synth of that unit at the point's parameters) and one per point
