@@ -413,7 +413,8 @@ const char *error_name(unsigned code)
         "face count", "texture size, or a texture never loaded", "fog far not beyond fog near",
         "texture memory full (TEX_WORDS)", "a word after END", "word pushed into a full FIFO",
         "more FRAMEs ahead than FRAME_QUEUE",
-        "frame tags could alias: 2^(TAG_BITS-1) - 1 scan-outs of one store cut off in a row"};
+        "frame tags could alias: 2^(TAG_BITS-1) - 1 scan-outs of one store cut off in a row",
+        "needs a unit this build leaves out (SHADE_UNIT, TEX_UNIT, FOG_UNIT)"};
     return code < sizeof names / sizeof names[0] ? names[code] : "?";
 }
 

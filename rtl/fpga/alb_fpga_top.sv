@@ -43,6 +43,10 @@ module alb_fpga_top #(
     parameter int TEX_WORDS = 256,
     parameter int TEX_IDS = 4,
     parameter int TAG_BITS = 8,
+    // the shading units built (1) or left out (0; rtl/README.md)
+    parameter int SHADE_UNIT = 1,
+    parameter int TEX_UNIT = 1,
+    parameter int FOG_UNIT = 1,
     // the board: 1 if its LEDs light when their pin is low (the iCEBreaker's),
     // 0 if when high (the HX8K breakout's)
     parameter int LED_LOW = 1
@@ -180,7 +184,8 @@ module alb_fpga_top #(
              .FILL_QUEUE(FILL_QUEUE), .FRAME_QUEUE(FRAME_QUEUE),
              .DIVIDER_LATENCY(DIVIDER_LATENCY), .SHADE_LATENCY(SHADE_LATENCY),
              .FRAME_FACES(FRAME_FACES), .MAX_EDGES(MAX_EDGES), .TEX_WORDS(TEX_WORDS),
-             .TEX_IDS(TEX_IDS), .SCAN_PIXELS(1), .TAG_BITS(TAG_BITS), .ZR_REG(1)) u_vp (
+             .TEX_IDS(TEX_IDS), .SCAN_PIXELS(1), .TAG_BITS(TAG_BITS), .ZR_REG(1),
+             .SHADE_UNIT(SHADE_UNIT), .TEX_UNIT(TEX_UNIT), .FOG_UNIT(FOG_UNIT)) u_vp (
         .clk(clk_vp), .rst(rst_vp), .in_valid, .in_data, .in_full,
         .mem_zr_addr(zr_addr), .mem_zr_data(zr_data), .mem_zw_en(zw_en), .mem_zw_addr(zw_addr),
         .mem_zw_data(zw_data), .mem_cw_en(cw_en), .mem_cw_addr(cw_addr), .mem_cw_data(cw_data),
