@@ -193,9 +193,11 @@ lint a512 a512
 lint odd t32 --set aa=2 --set fill_rate=1 --set edge_units=1 --set face_slots=1 \
     --set fifo_depth=2 --set divider_latency=0 --set shade_latency=0 --set fill_queue=1
 lint wide a256 --set width=512 --set height=128 --set fill_rate=8 --set edge_units=3
-lint up5k up5k --rtl MAX_EDGES=6 --rtl TEX_WORDS=256 --rtl TEX_IDS=4 --rtl TAG_BITS=8   # the FPGA build (rtl/fpga/fpga.sh)
-lint up5k-flat up5k --rtl MAX_EDGES=6 --rtl TEX_WORDS=256 --rtl TEX_IDS=4 --rtl TAG_BITS=8 \
-    --rtl SHADE_UNIT=0 --rtl TEX_UNIT=0 --rtl FOG_UNIT=0   # ... with flat faces only
+lint up5k up5k --rtl MAX_EDGES=6 --rtl TEX_WORDS=256 --rtl TEX_IDS=4 --rtl TAG_BITS=8   # the FPGA sizes, every unit
+# the FPGA board's build: its sizes are rtl/fpga/board.sizes (flat faces only)
+board_rtl=$(sed -e 's/#.*//' -e '/^ *$/d' -e 's/^/--rtl /' rtl/fpga/board.sizes)
+# shellcheck disable=SC2086
+lint up5k-flat up5k $board_rtl
 synth_check 0
 
 if model t32 t32; then
@@ -284,8 +286,8 @@ mkdir -p "$u"
 # lost often; the built-in scene's first TEXTURE refused; and a stream
 # without TEXTURE packets or fog (tex-fog-flat.scene without its fog, its
 # TEXTUREs cut out) refused at its first textured FACE
-if model up5k-flat up5k --rtl ZR_REG=1 --rtl MAX_EDGES=6 --rtl TEX_WORDS=256 --rtl TEX_IDS=4 \
-    --rtl TAG_BITS=8 --rtl SHADE_UNIT=0 --rtl TEX_UNIT=0 --rtl FOG_UNIT=0; then
+# shellcheck disable=SC2086
+if model up5k-flat up5k --rtl ZR_REG=1 $board_rtl; then
     cosim_scene up5k-flat-quads up5k-flat rtl/bench/scenes/flat-quads.scene --profile up5k
     n=$(first_word "$u/b5.hex" '$3 == "TEXTURE"')
     expect_error up5k-flat-texture up5k-flat "$u/b5.stream" "17@${n:-none}"

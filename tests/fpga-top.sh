@@ -76,10 +76,9 @@ nframes=$(wc -l < "$out/quads.want")
 "$bin" gp --profile up5k -o "$out/builtin.stream" > /dev/null 2>&1 &&
     "$bin" dump "$out/builtin.stream" > "$out/builtin.dump" 2>&1 ||
     { bad "albatros gp/dump of the built-in scene" "$out/builtin.dump"; finish; }
-# the first TEXTURE larger than the build's 256 texels is refused:
-# E_TEX_FULL (12, rtl/README.md) at its header's word offset
-tex_at=$(awk '/ TEXTURE / { split($NF, s, /[=x]/); if (s[2] * s[3] > 256) { print $1; exit } }' \
-         "$out/builtin.dump")
+# the build has no texture unit (rtl/fpga/board.sizes): the first TEXTURE
+# is refused, E_UNIT (17, rtl/README.md), at its header's word offset
+tex_at=$(awk '/ TEXTURE / { print $1; exit }' "$out/builtin.dump")
 tex_word=${tex_at:+$((16#$tex_at / 4))}
 
 # ---- the cases ----
@@ -153,10 +152,10 @@ for n in draw-48mhz draw-30mhz; do
     else bad "$n: EP8 went full ${full:-0} times: the back-pressure is not exercised"; fi
 done
 if [[ -n $tex_word ]]; then
-    run builtin-tex-full "error 0 $tex_word" --stream "$out/builtin.stream" \
-        --expect-error "$tex_word:12"
+    run builtin-no-tex "error 0 $tex_word" --stream "$out/builtin.stream" \
+        --expect-error "$tex_word:17"
 else
-    bad "the built-in scene has no TEXTURE beyond 256 texels (E_TEX_FULL expected)"
+    bad "the built-in scene has no TEXTURE (E_UNIT expected)"
 fi
 # a RESUME late in the stream (the host resends from the first frame without
 # a RESULT: the CONFIG replayed, then a FRAME), a RESET (the whole stream again)
