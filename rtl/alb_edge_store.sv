@@ -5,6 +5,8 @@
 // (the k-th face loaded goes to slot k % FACE_SLOTS) and drain in the same
 // order: the engine's face is always the oldest loaded one.  A slot is freed
 // in the cycle the engine finishes its face and can be refilled from the next.
+// The edges are read a cycle ahead, registered as block RAM answers (the
+// engine names its next edges), an edge written in the cycle forwarded.
 `include "alb_defs.svh"
 
 module alb_edge_store #(
@@ -33,7 +35,7 @@ module alb_edge_store #(
     output logic [`SETUP_W-1:0]        head_setup,
     output logic [6:0]                 head_edges,
     output logic [7:0]                 head_slot,
-    input  logic [LANES*6-1:0]         rd_idx,        // edges the engine evaluates
+    input  logic [LANES*6-1:0]         rd_next,       // edges the engine evaluates next cycle
     output logic [LANES*EW-1:0]        rd_c,
     output logic [LANES*EW-1:0]        rd_da,
     output logic [LANES*EW-1:0]        rd_db,
@@ -44,11 +46,9 @@ module alb_edge_store #(
     output logic                       waiting_next   // after this cycle a face of frame_open waits
 );
     localparam int SW = FACE_SLOTS > 1 ? $clog2(FACE_SLOTS) : 1;
-    localparam int NE = FACE_SLOTS * MAX_EDGES;
 
-    logic [EW-1:0]       e_c [0:NE-1];
-    logic [EW-1:0]       e_da [0:NE-1];
-    logic [EW-1:0]       e_db [0:NE-1];
+    localparam int CAB = 3 * EW;
+    logic [CAB-1:0]      e_cab [0:(FACE_SLOTS << EB)-1];   // {db, da, c} of an edge
     logic [`SETUP_W-1:0] s_setup [0:FACE_SLOTS-1];
     logic [6:0]          s_edges [0:FACE_SLOTS-1];
     logic [15:0]         s_frame [0:FACE_SLOTS-1];
@@ -59,9 +59,14 @@ module alb_edge_store #(
         inc = p == SW'(FACE_SLOTS - 1) ? '0 : p + 1'b1;
     endfunction
 
-    function automatic integer eaddr(input [SW-1:0] s, input [5:0] e);
-        eaddr = 32'(s) * MAX_EDGES + 32'(e);
+    // an edge's address: its slot, its index (MAX_EDGES rounded up to a power of two)
+    localparam int EB = MAX_EDGES > 1 ? $clog2(MAX_EDGES) : 1;
+    localparam int AW = (FACE_SLOTS > 1 ? SW : 0) + EB;
+    /* verilator lint_off UNUSEDSIGNAL */   // the index's bits above EB, the slot with one slot
+    function automatic [AW-1:0] eaddr(input [SW-1:0] s, input [5:0] e);
+        eaddr = AW'({s, EB'(e)});
     endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
 
     assign slot_free = !s_valid[load_ptr];
     assign load_slot = 8'(load_ptr);
@@ -72,11 +77,20 @@ module alb_edge_store #(
     assign head_slot = 8'(done_ptr);
     assign any_loaded = |s_valid;
 
+    // Read a cycle ahead (block RAM answers a cycle after its address):
+    // the head slot after this cycle and the engine's next edges.  An edge
+    // written this cycle (a face's last, when the engine starts it next
+    // cycle) is forwarded.
+    logic [CAB-1:0]   q_cab [0:LANES-1];
+    logic [LANES-1:0] fwd;
+    logic [CAB-1:0]   w_cab;
+    wire  [CAB-1:0]   ew_cab = {ew_db, ew_da, ew_c};
     generate
         for (genvar j = 0; j < LANES; j++) begin : g_read
-            assign rd_c[j*EW +: EW] = e_c[eaddr(done_ptr, rd_idx[j*6 +: 6])];
-            assign rd_da[j*EW +: EW] = e_da[eaddr(done_ptr, rd_idx[j*6 +: 6])];
-            assign rd_db[j*EW +: EW] = e_db[eaddr(done_ptr, rd_idx[j*6 +: 6])];
+            wire [CAB-1:0] cab = fwd[j] ? w_cab : q_cab[j];
+            assign rd_c[j*EW +: EW] = cab[EW-1:0];
+            assign rd_da[j*EW +: EW] = cab[EW +: EW];
+            assign rd_db[j*EW +: EW] = cab[2*EW +: EW];
         end
     endgenerate
 
@@ -90,11 +104,16 @@ module alb_edge_store #(
     assign waiting_next = valid_next && frame_next == frame_open;
 
     always_ff @(posedge clk) begin
-        if (ew_en) begin
-            e_c[eaddr(load_ptr, ew_idx)] <= ew_c;
-            e_da[eaddr(load_ptr, ew_idx)] <= ew_da;
-            e_db[eaddr(load_ptr, ew_idx)] <= ew_db;
-        end
+        if (ew_en)
+            e_cab[eaddr(load_ptr, ew_idx)] <= ew_cab;
+        for (int j = 0; j < LANES; j++)
+            q_cab[j] <= e_cab[eaddr(done_next, rd_next[j*6 +: 6])];
+    end
+
+    always_ff @(posedge clk) begin
+        for (int j = 0; j < LANES; j++)
+            fwd[j] <= ew_en && eaddr(load_ptr, ew_idx) == eaddr(done_next, rd_next[j*6 +: 6]);
+        w_cab <= ew_cab;
         if (fc_en) begin
             s_setup[load_ptr] <= fc_setup;
             s_edges[load_ptr] <= fc_edges;

@@ -159,13 +159,13 @@ module alb_vp #(
     logic [`SETUP_W-1:0] head_setup;
     logic [6:0]          head_edges;
     logic [7:0]          head_slot, load_slot;
-    logic [EDGE_UNITS*6-1:0]  rd_idx;
+    logic [EDGE_UNITS*6-1:0]  rd_next;
     logic [EDGE_UNITS*EW-1:0] rd_c, rd_da, rd_db;
     alb_edge_store #(.FACE_SLOTS(FACE_SLOTS), .MAX_EDGES(MAX_EDGES), .EW(EW),
                      .LANES(EDGE_UNITS)) u_edge_store (
         .clk, .rst, .ew_en, .ew_idx, .ew_c, .ew_da, .ew_db, .fc_en, .fc_setup, .fc_edges,
         .fc_frame, .slot_free, .load_slot, .head_valid, .head_frame, .head_setup, .head_edges,
-        .head_slot, .rd_idx, .rd_c, .rd_da, .rd_db, .face_done, .any_loaded, .frame_open,
+        .head_slot, .rd_next, .rd_c, .rd_da, .rd_db, .face_done, .any_loaded, .frame_open,
         .waiting_next);
 
     // ---- engine ----
@@ -173,7 +173,7 @@ module alb_vp #(
     logic [`CELL_W-1:0] enq_cell;
     alb_engine #(.LW(LW), .LH(LH), .EW(EW), .MAX_EDGES(MAX_EDGES), .E(EDGE_UNITS)) u_engine (
         .clk, .rst, .head_valid, .head_frame, .head_edges, .head_id(head_setup[`SU_ID +: 32]),
-        .head_slot, .frame_open, .rd_idx, .rd_c, .rd_da, .rd_db, .face_done, .q_full, .enq,
+        .head_slot, .frame_open, .rd_next, .rd_c, .rd_da, .rd_db, .face_done, .q_full, .enq,
         .enq_cell, .busy(engine_busy), .busy_next(engine_busy_next), .ev_start, .ev_cell,
         .ev_cell_result, .ev_cell_edges, .ev_cell_cell, .ev_end, .ev_face(ev_engine_face),
         .ev_slot(ev_engine_slot));
