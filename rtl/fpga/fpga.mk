@@ -19,6 +19,7 @@ fpga: $(ALBATROS)
 # the real flow, then its report judged: fits the part, meets the VP's clock
 # (the profile's clock_khz) and the FX2's 48 MHz IFCLK
 fpga-check: $(ALBATROS)
+	@rm -f $(BUILD)/fpga/report.json $(BUILD)/fpga/pack-report.json
 	@bash rtl/fpga/fpga.sh --build $(BUILD) --profile $(FPGA_PROFILE) --board $(FPGA_BOARD) $(FPGA_RTL:%=--rtl %) || true
 	@r=$(BUILD)/fpga/report.json; [ -e $$r ] || r=$(BUILD)/fpga/pack-report.json; \
 	python3 rtl/fpga/fpga_report.py $$r \

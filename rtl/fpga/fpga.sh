@@ -35,7 +35,8 @@ for tool in yosys nextpnr-ice40 icepack; do
     command -v $tool > /dev/null || { echo "fpga.sh: $tool is not installed (make setup)" >&2; exit 1; }
 done
 # the RTL's own sizes for the board (rtl/fpga/board.sizes), then --rtl's
-rtl_sizes="$(sed -e 's/#.*//' rtl/fpga/board.sizes | tr -s ' \n' ' ') ${extra[*]} LED_LOW=$led_low"
+# shellcheck disable=SC2046,SC2116
+rtl_sizes=$(echo $(sed -e 's/#.*//' rtl/fpga/board.sizes) "${extra[@]}" LED_LOW=$led_low)
 chp=""
 for kv in $(rtl/profile-params.sh --albatros "$build/albatros" --format shell "$profile") $rtl_sizes; do
     chp="$chp -chparam ${kv%%=*} ${kv#*=}"
