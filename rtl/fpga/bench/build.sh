@@ -39,7 +39,7 @@ bench_ldflags=${ALB_BENCH_LDFLAGS:-}   # -fsanitize=... for a library built unde
 stamp=$(printf '%s\n' "$lib" "$board" "$bench_ldflags" "$all")
 if [ -x "$dir/top_bench" ] && [ -f "$dir/params" ] && [ "$(cat "$dir/params")" = "$stamp" ] &&
    [ -z "$(find "$rtl" "$board" -newer "$dir/top_bench" \( -name '*.sv' -o -name '*.svh' -o \
-           -name '*.cpp' -o -name build.sh -o -name board.sizes \) 2>/dev/null)" ]; then
+           -name '*.cpp' -o -name '*.h' -o -name build.sh -o -name board.sizes \) 2>/dev/null)" ]; then
     exit 0
 fi
 rm -f "$dir/top_bench"

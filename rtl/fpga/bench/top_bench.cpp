@@ -15,6 +15,7 @@
 //
 // Exit status: 0 every check passed, 1 a check failed, 2 bad usage or input.
 #include "Valb_fpga_top_tb.h"
+#include "../../bench/stream_file.h"
 #include "verilated.h"
 #include "verilated_vcd_c.h"
 
@@ -38,26 +39,6 @@ extern "C" {   // the public headers have no C++ guards of their own
 namespace {
 
 // ---- the stream ----
-
-std::vector<uint32_t> read_stream(const char *path, std::string &err)
-{
-    std::vector<uint32_t> w;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        err = std::string(path) + ": cannot open: " + std::strerror(errno);
-        return w;
-    }
-    std::vector<unsigned char> b((std::istreambuf_iterator<char>(in)), {});
-    if (b.size() % 4) {
-        err = std::string(path) + ": offset " + std::to_string(b.size() - b.size() % 4) +
-              ": file length is not a whole number of 32-bit words";
-        return w;
-    }
-    for (size_t i = 0; i + 3 < b.size(); i += 4)
-        w.push_back((uint32_t)b[i] | (uint32_t)b[i + 1] << 8 | (uint32_t)b[i + 2] << 16 |
-                    (uint32_t)b[i + 3] << 24);
-    return w;
-}
 
 // Where the stream's packets are (docs/word-format.md): the FRAME headers and
 // the FRAME_END counts, in order.  Only the lengths are decoded; the VP and
