@@ -11,7 +11,8 @@
 // value N 2^(exp - P) (docs/vp.md §4).
 `define SU_ID          0     // [31:0]  face id
 `define SU_FLAGS       32    // [34:32] bit 0 S, bit 1 T, bit 2 F
-`define SU_RGB         35    // [58:35] R G B, 8 bits each, R highest
+`define SU_RGB         35    // [58:35] R G B, 8 bits each, R highest (in frame-store
+                                   // units, colour_bits each, in a flat-only build: alb_parser)
 `define SU_TBASE       59    // [82:59] texture base in texture memory
 `define SU_TLG         83    // [86:83] log2 of the texture side
 `define SU_FORM(f)     (87 + 200 * (f))   // form f: exp[7:0], origin, step_c, step_r
@@ -69,5 +70,6 @@
 `define E_OVERFLOW     8'd14   // word pushed while the FIFO was full
 `define E_FRAMES_AHEAD 8'd15   // more FRAMEs taken ahead than FRAME_QUEUE holds
 `define E_TAG_ALIAS    8'd16   // 2^(TAG_BITS-1) - 1 scan-outs of a store cut off in a row
+`define E_UNIT         8'd17   // a packet or flag needing a unit this build leaves out
 
 `endif

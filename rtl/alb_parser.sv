@@ -7,6 +7,9 @@
 // docs/vp.md §2 and §4 as the words arrive: an edge's corner value and
 // increments when its second word comes, a form's evaluation terms when its
 // C mantissa comes — shifts and adds only, since S_W and S_H are powers of two.
+// A build without a shading unit (SHADE_UNIT, TEX_UNIT, FOG_UNIT 0) refuses
+// what would need it, E_UNIT, and without the texture unit has no texture
+// table and writes no texture memory.
 `include "alb_defs.svh"
 
 module alb_parser #(
@@ -19,7 +22,10 @@ module alb_parser #(
     parameter int MAX_EDGES = 64,
     parameter int TEX_WORDS = 65536,
     parameter int TEX_IDS = 256,        // texture ids the table holds (the format has 256)
-    parameter int FRAME_FACES = 16777215
+    parameter int FRAME_FACES = 16777215,
+    parameter int SHADE_UNIT = 1,       // 0: no Gouraud shading; a FACE with S is refused
+    parameter int TEX_UNIT = 1,         // 0: no texture; TEXTURE, and a FACE with T, refused
+    parameter int FOG_UNIT = 1          // 0: no fog; a FRAME with fog on is refused
 ) (
     input  logic                 clk,
     input  logic                 rst,
@@ -69,6 +75,12 @@ module alb_parser #(
     localparam int IW = TEX_IDS > 1 ? $clog2(TEX_IDS) : 1;
     localparam logic [31:0] ILIM = 32'd1 << (3 + F);           // intercepts below 2^(3+F)
     localparam logic signed [31:0] MLIM = (32'sd1 <<< (CB - 1)) - 32'sd1;
+    // Without shade and texture units a face's colour at every sample is its
+    // base colour scaled to the frame store, (2 c TOP + 255) / 510 — what
+    // the output stage makes of c x 255 x 1.0 (vp_flat_colour) and what a
+    // FRAME's background gets: scaled here once a face (sharing the
+    // background's divider), not in the pipeline a sample
+    localparam bit FLAT_RGB = SHADE_UNIT == 0 && TEX_UNIT == 0 && 3 * COLB <= 24;
 
     // ---- packet state ----
     logic        in_pkt;            // inside a packet: its header was taken
@@ -91,19 +103,14 @@ module alb_parser #(
     logic [`FORM_W-1:0] f_form [0:3];
     logic        e_u, e_r;
     logic [31:0] e_x1;
-    // TEXTURE
+    // TEXTURE: the region being written
     logic [TA:0] t_base;
     // FRAME
     logic [23:0] fr_num_r;
     logic [3*COLB-1:0] fr_bg_r, fr_fogc_r;
     logic        fr_fog_r;
     logic [31:0] fr_near_r;
-    // texture table: where each id's texels are
-    logic [TEX_IDS-1:0] tab_valid;
-    logic [TA:0] tab_base [0:TEX_IDS-1];
-    logic [3:0]  tab_lg [0:TEX_IDS-1];
-    logic [3:0]  tab_alloc [0:TEX_IDS-1];   // log2 side the region was allocated for
-    logic [TA+1:0] alloc_ptr;
+    logic [TA+1:0] alloc_ptr;           // texture memory's first free texel
 
     // ---- this cycle's word ----
     wire [31:0] w = fifo_head;
@@ -114,12 +121,10 @@ module alb_parser #(
     wire        tid_f_ok = 32'(w[7:0]) < TEX_IDS;
     wire [IW-1:0] ti_w = IW'(w[23:16]);
     wire [IW-1:0] ti_f = IW'(w[7:0]);
-    wire        tab_valid_w = tid_w_ok && tab_valid[ti_w];
-    wire        tab_valid_f = tid_f_ok && tab_valid[ti_f];
-    wire [3:0]  tab_alloc_w = tab_alloc[ti_w];
-    wire [TA:0] tab_base_w = tab_base[ti_w];
-    wire [TA:0] tab_base_f = tab_base[ti_f];
-    wire [3:0]  tab_lg_f = tab_lg[ti_f];
+    // the texture table's entries for those ids (below, with the texture unit)
+    logic       tab_valid_w, tab_valid_f;
+    logic [3:0] tab_alloc_w, tab_lg_f;
+    logic [TA:0] tab_base_w, tab_base_f;
 
     function automatic [2:0] kind_of(input [7:0] o);
         case (o)
@@ -285,6 +290,9 @@ module alb_parser #(
                         end else if (w[7:0] != 8'd0) begin
                             bad = 1'b1;
                             bad_code = `E_RESERVED;
+                        end else if (TEX_UNIT == 0) begin
+                            bad = 1'b1;
+                            bad_code = `E_UNIT;
                         end else if (!tid_w_ok || (tex_alloc && (SW + 1)'(alloc_ptr) +
                                                    (SW + 1)'(tex_size) > (SW + 1)'(TEX_WORDS))) begin
                             bad = 1'b1;
@@ -295,6 +303,9 @@ module alb_parser #(
                         if (w[15:11] != 5'd0) begin
                             bad = 1'b1;
                             bad_code = `E_RESERVED;
+                        end else if ((w[8] && SHADE_UNIT == 0) || (w[9] && TEX_UNIT == 0)) begin
+                            bad = 1'b1;
+                            bad_code = `E_UNIT;
                         end else if (w[23:16] > 8'(MAX_EDGES)) begin
                             bad = 1'b1;
                             bad_code = `E_EDGES;
@@ -344,6 +355,9 @@ module alb_parser #(
                     if ((wi == 21'd1 && w[31:24] != 8'd0) || (wi == 21'd2 && w[30:24] != 7'd0)) begin
                         bad = 1'b1;
                         bad_code = `E_RESERVED;
+                    end else if (wi == 21'd2 && w[31] && FOG_UNIT == 0) begin
+                        bad = 1'b1;
+                        bad_code = `E_UNIT;
                     end else if (wi == 21'd4 && fr_fog_r && w <= fr_near_r) begin
                         bad = 1'b1;
                         bad_code = `E_FOG;
@@ -391,7 +405,10 @@ module alb_parser #(
             forms_now[form_slot] = cur_form;
     end
     assign fc_en = take && face_word && last;
-    assign fc_setup = {forms_now[3], forms_now[2], forms_now[1], forms_now[0], f_tlg, f_tbase,
+    // (the forms of a unit left out are 0: a FACE that has them is refused)
+    assign fc_setup = {TEX_UNIT != 0 ? forms_now[3] : `FORM_W'(0),
+                       TEX_UNIT != 0 ? forms_now[2] : `FORM_W'(0),
+                       SHADE_UNIT != 0 ? forms_now[1] : `FORM_W'(0), forms_now[0], f_tlg, f_tbase,
                        f_rgb, f_flags, f_id};
     assign fc_edges = f_edges;
     assign fc_frame = frames_taken - 16'd1;
@@ -399,15 +416,59 @@ module alb_parser #(
     assign fr_en = take && in_pkt && kind == `K_FRAME && last;
     assign fr_number = fr_num_r;
     assign fr_bg = fr_bg_r;
-    assign fr_fog = fr_fog_r;
-    assign fr_fog_rgb = fr_fogc_r;
-    assign fr_fog_near = fr_near_r;
-    assign fr_fog_far = w;
+    // (without the fog unit a FRAME with fog on is refused: fog is off, its
+    // registers 0)
+    assign fr_fog = FOG_UNIT != 0 && fr_fog_r;
+    assign fr_fog_rgb = FOG_UNIT != 0 ? fr_fogc_r : '0;
+    assign fr_fog_near = FOG_UNIT != 0 ? fr_near_r : '0;
+    assign fr_fog_far = FOG_UNIT != 0 ? w : '0;
     assign end_taken = take && !in_pkt && kind_of(op) == `K_FRAME_END;
 
-    assign tw_en = take && in_pkt && kind == `K_TEXTURE;
-    assign tw_addr = TA'(t_base + TA'(wi - 21'd1));
-    assign tw_data = w[23:0];
+    assign tw_en = TEX_UNIT != 0 && take && in_pkt && kind == `K_TEXTURE;
+    assign tw_addr = TEX_UNIT != 0 ? TA'(t_base + TA'(wi - 21'd1)) : '0;
+    assign tw_data = TEX_UNIT != 0 ? w[23:0] : '0;
+
+    // ---- the texture table: where each id's texels are ----
+    generate
+        if (TEX_UNIT != 0) begin : g_tex_table
+            logic [TEX_IDS-1:0] tab_valid;
+            logic [TA:0] tab_base [0:TEX_IDS-1];
+            logic [3:0]  tab_lg [0:TEX_IDS-1];
+            logic [3:0]  tab_alloc [0:TEX_IDS-1];   // log2 side the region was allocated for
+            assign tab_valid_w = tid_w_ok && tab_valid[ti_w];
+            assign tab_valid_f = tid_f_ok && tab_valid[ti_f];
+            assign tab_alloc_w = tab_alloc[ti_w];
+            assign tab_base_w = tab_base[ti_w];
+            assign tab_base_f = tab_base[ti_f];
+            assign tab_lg_f = tab_lg[ti_f];
+            always_ff @(posedge clk)
+                if (rst) begin
+                    alloc_ptr <= '0;
+                    tab_valid <= '0;
+                end else if (take && !in_pkt && kind_of(op) == `K_TEXTURE) begin
+                    t_base <= tex_base_new;
+                    if (tex_alloc) begin
+                        alloc_ptr <= alloc_ptr + (TA + 2)'(tex_size);
+                        tab_alloc[ti_w] <= w[11:8];
+                    end
+                    tab_valid[ti_w] <= 1'b1;
+                    tab_base[ti_w] <= tex_base_new;
+                    tab_lg[ti_w] <= w[11:8];
+                end
+        end else begin : g_no_tex_table
+            // every TEXTURE is refused: no texture was ever loaded
+            assign tab_valid_w = 1'b0;
+            assign tab_valid_f = 1'b0;
+            assign tab_alloc_w = '0;
+            assign tab_base_w = '0;
+            assign tab_base_f = '0;
+            assign tab_lg_f = '0;
+            assign alloc_ptr = '0;
+            assign t_base = '0;
+            wire unused_tex = tid_w_ok | tid_f_ok | (|ti_w) | (|ti_f) | (|tex_base_new) |
+                              tex_alloc | (|tex_size);
+        end
+    endgenerate
 
     always_ff @(posedge clk) begin
         if (rst) begin
@@ -423,8 +484,6 @@ module alb_parser #(
             err <= 1'b0;
             err_code <= `E_NONE;
             err_word <= '0;
-            alloc_ptr <= '0;
-            tab_valid <= '0;
         end else begin
             if (pop && bad) begin
                 err <= 1'b1;
@@ -443,19 +502,10 @@ module alb_parser #(
                     in_pkt <= !last;
                     wi <= 21'd1;
                     case (kind_of(op))
-                        `K_TEXTURE: begin
-                            t_base <= tex_base_new;
-                            if (tex_alloc) begin
-                                alloc_ptr <= alloc_ptr + (TA + 2)'(tex_size);
-                                tab_alloc[ti_w] <= w[11:8];
-                            end
-                            tab_valid[ti_w] <= 1'b1;
-                            tab_base[ti_w] <= tex_base_new;
-                            tab_lg[ti_w] <= w[11:8];
-                        end
                         `K_FACE: begin
                             f_edges <= w[22:16];
-                            f_flags <= w[10:8];
+                            // (a flag of a unit left out is refused: 0 here)
+                            f_flags <= w[10:8] & {1'b1, TEX_UNIT != 0, SHADE_UNIT != 0};
                             f_tbase <= 24'(tab_base_f);
                             f_tlg <= tab_lg_f;
                             for (int k = 0; k < 4; k++)
@@ -495,7 +545,7 @@ module alb_parser #(
                             if (wi == 21'd1)
                                 f_id <= w;
                             if (wi == 21'd2)
-                                f_rgb <= w[23:0];
+                                f_rgb <= FLAT_RGB ? 24'(scale_rgb(w[23:0])) : w[23:0];
                             if (in_forms) begin
                                 case (form_word)
                                     2'd0: fm_exp <= w[7:0];

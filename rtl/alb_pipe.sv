@@ -39,6 +39,15 @@
 // shifts and adds; the wide ones (the forms times the reciprocal, x
 // intensity, two channels of base x texel) multipliers, which the UP5K's 8
 // DSPs hold (docs/fpga.md, "Products as shifts and adds").
+//
+// Units left out (SHADE_UNIT, TEX_UNIT, FOG_UNIT 0; the parser refuses what
+// would need them, E_UNIT) are not built: their generate blocks drive their
+// results as constants — intensity 1.0, the white texel, no fog — and the
+// stage registers that would carry their values carry zeros, which synthesis
+// drops; the stages, and so L, stay as they are.  The shade form needs the
+// reciprocal and a form times it, texture the u and v forms, the reciprocal,
+// two products and texture memory, fog the reciprocal and the visibility's
+// division; the reciprocal ROM is built if any of the three is.
 `include "alb_defs.svh"
 
 module alb_pipe #(
@@ -53,7 +62,10 @@ module alb_pipe #(
     parameter int DIV_LAT = 8,          // divider_latency
     parameter int SHADE_LAT = 4,        // shade_latency
     parameter int TEX_WORDS = 65536,
-    parameter int ZR_REG = 0            // 1: the depth store answers in the next cycle
+    parameter int ZR_REG = 0,           // 1: the depth store answers in the next cycle
+    parameter int SHADE_UNIT = 1,       // 0: no Gouraud intensity (eq. 7): 1.0
+    parameter int TEX_UNIT = 1,         // 0: no texture memory or addressing: white texels
+    parameter int FOG_UNIT = 1          // 0: no fog distance, visibility or blend
 ) (
     input  logic                      clk,
     input  logic                      rst,
@@ -134,16 +146,15 @@ module alb_pipe #(
     // COLB bits over S6 and S7
     localparam int V4 = (FI + 3) / 4, V5 = (FI + 2) / 4, V6 = (FI + 1) / 4, V7 = FI / 4;
     localparam int C6 = (COLB + 1) / 2;
-
-    // ---- the reciprocal ROM: rm = floor(2^(2RB-1) / dm), dm in [2^(RB-1), 2^RB) ----
-    logic [RB:0] recip_rom [0:ROM_N-1];
-    initial begin
-        for (int i = 0; i < ROM_N; i++)
-            recip_rom[i] = (RB + 1)'((64'd1 << (2 * RB - 1)) / (64'(ROM_N) + 64'(i)));
-    end
-
-    // ---- texture memory ----
-    logic [23:0] tex_mem [0:TEX_WORDS-1];
+    // the units built (the header); the reciprocal for any of them
+    localparam bit SHADE = SHADE_UNIT != 0;
+    localparam bit TEX = TEX_UNIT != 0;
+    localparam bit FOG = FOG_UNIT != 0;
+    localparam bit RECIP = SHADE || TEX || FOG;
+    // neither shade nor texture: the parser has scaled the face's colour to
+    // the frame store (alb_parser's FLAT_RGB), and the output stage's
+    // product and division go too
+    localparam bit FLAT_RGB = !SHADE && !TEX && 3 * COLB <= 24;
 
     // ---- the units (vp/units.h), at the widths of the profile ----
     // N of a form at sample (x, y): origin + x step_c + y step_r, modulo 2^NB.
@@ -319,7 +330,8 @@ module alb_pipe #(
     endfunction
 
     // ================= S1: the forms at the sample =================
-    wire [2:0]  s1_flags = setup[`SU_FLAGS +: 3];
+    // (a flag of a unit left out never reaches here: the parser refuses it)
+    wire [2:0]  s1_flags = setup[`SU_FLAGS +: 3] & {FOG, TEX, SHADE};
     wire [`FORM_W-1:0] fz = setup[`SU_FORM(`F_DEPTH) +: `FORM_W];
     wire [`FORM_W-1:0] fs = setup[`SU_FORM(`F_SHADE) +: `FORM_W];
     wire [`FORM_W-1:0] fu = setup[`SU_FORM(`F_TEX_U) +: `FORM_W];
@@ -335,10 +347,10 @@ module alb_pipe #(
     // the exponents of the shifts after the reciprocal, less its shift (S3)
     wire signed [KW-1:0] s1_zsh = ez - KW'(P) + KW'(DB);
     wire signed [KW-1:0] kt0 = -ez - KW'(2 * RB - 1) + KW'(s1_tlg);
-    wire signed [KW-1:0] s1_ks0 = es - ez - KW'(2 * RB - 1) + KW'(FI);
-    wire signed [KW-1:0] s1_ku0 = eu + kt0;
-    wire signed [KW-1:0] s1_kv0 = ev + kt0;
-    wire signed [KW-1:0] s1_kz0 = KW'(P) - ez - KW'(2 * RB - 1) + KW'(8);
+    wire signed [KW-1:0] s1_ks0 = SHADE ? es - ez - KW'(2 * RB - 1) + KW'(FI) : '0;
+    wire signed [KW-1:0] s1_ku0 = TEX ? eu + kt0 : '0;
+    wire signed [KW-1:0] s1_kv0 = TEX ? ev + kt0 : '0;
+    wire signed [KW-1:0] s1_kz0 = FOG ? KW'(P) - ez - KW'(2 * RB - 1) + KW'(8) : '0;
 
     logic [RATE*LW-1:0] s1_x;
     logic [RATE*LH-1:0] s1_y;
@@ -349,14 +361,33 @@ module alb_pipe #(
             s1_y[j*LH +: LH] = lane_y[j*16 +: LH];
             s1_nz[j*NB +: NB] = form_at(fz[`FORM_ORIGIN +: NB], fz[`FORM_STEP_C +: NB],
                                        fz[`FORM_STEP_R +: NB], lane_x[j*16 +: LW], lane_y[j*16 +: LH]);
-            s1_ns[j*NB +: NB] = form_at(fs[`FORM_ORIGIN +: NB], fs[`FORM_STEP_C +: NB],
-                                       fs[`FORM_STEP_R +: NB], lane_x[j*16 +: LW], lane_y[j*16 +: LH]);
-            s1_nu[j*NB +: NB] = form_at(fu[`FORM_ORIGIN +: NB], fu[`FORM_STEP_C +: NB],
-                                       fu[`FORM_STEP_R +: NB], lane_x[j*16 +: LW], lane_y[j*16 +: LH]);
-            s1_nv[j*NB +: NB] = form_at(fv[`FORM_ORIGIN +: NB], fv[`FORM_STEP_C +: NB],
-                                       fv[`FORM_STEP_R +: NB], lane_x[j*16 +: LW], lane_y[j*16 +: LH]);
         end
     end
+    generate
+        if (SHADE) begin : g_s1_shade
+            always @*
+                for (int j = 0; j < RATE; j++)
+                    s1_ns[j*NB +: NB] = form_at(fs[`FORM_ORIGIN +: NB], fs[`FORM_STEP_C +: NB],
+                                               fs[`FORM_STEP_R +: NB], lane_x[j*16 +: LW],
+                                               lane_y[j*16 +: LH]);
+        end else begin : g_s1_no_shade
+            assign s1_ns = '0;
+        end
+        if (TEX) begin : g_s1_tex
+            always @*
+                for (int j = 0; j < RATE; j++) begin
+                    s1_nu[j*NB +: NB] = form_at(fu[`FORM_ORIGIN +: NB], fu[`FORM_STEP_C +: NB],
+                                               fu[`FORM_STEP_R +: NB], lane_x[j*16 +: LW],
+                                               lane_y[j*16 +: LH]);
+                    s1_nv[j*NB +: NB] = form_at(fv[`FORM_ORIGIN +: NB], fv[`FORM_STEP_C +: NB],
+                                               fv[`FORM_STEP_R +: NB], lane_x[j*16 +: LW],
+                                               lane_y[j*16 +: LH]);
+                end
+        end else begin : g_s1_no_tex
+            assign s1_nu = '0;
+            assign s1_nv = '0;
+        end
+    endgenerate
 
     // ---- boundary A ----
     localparam int GA = 37 + 3 + 5 * KW + 4 + TA + 24;
@@ -418,13 +449,18 @@ module alb_pipe #(
             // strictly nearer wins; 0 is "no surface" (docs/vp.md §4)
             assign s2_win[j] = s2_v[j] && d != '0 && d > zr_data_seen;
             assign s2_d[j*DB +: DB] = d;
-            // the reciprocal unit: N_z normalised to RB bits (a winner has N_z > 0)
-            wire [7:0] nb = bitlen(nz);
-            wire [DMW-1:0] dm = nb > 8'(RB) ? DMW'(NB'(nz)) >> (nb - 8'(RB))
-                                            : DMW'(NB'(nz)) << (8'(RB) - nb);
-            assign s2_idx[j*(RB-1) +: RB-1] = dm[RB-2:0];
-            wire unused_dm = |dm[DMW-1:RB-1];
-            assign s2_rsh[j*KW +: KW] = KW'(nb) - KW'(RB);
+            if (RECIP) begin : g_recip_index
+                // the reciprocal unit: N_z normalised to RB bits (a winner has N_z > 0)
+                wire [7:0] nb = bitlen(nz);
+                wire [DMW-1:0] dm = nb > 8'(RB) ? DMW'(NB'(nz)) >> (nb - 8'(RB))
+                                                : DMW'(NB'(nz)) << (8'(RB) - nb);
+                assign s2_idx[j*(RB-1) +: RB-1] = dm[RB-2:0];
+                wire unused_dm = |dm[DMW-1:RB-1];
+                assign s2_rsh[j*KW +: KW] = KW'(nb) - KW'(RB);
+            end else begin : g_no_recip_index
+                assign s2_idx[j*(RB-1) +: RB-1] = '0;
+                assign s2_rsh[j*KW +: KW] = '0;
+            end
             assign s2_wr[j*WR +: WR] = {s2_win[j], s2_x[j*LW +: LW], s2_y[j*LH +: LH], d};
         end
     endgenerate
@@ -454,14 +490,25 @@ module alb_pipe #(
             s2_wr, s2_rsh, s2_ns, s2_nu, s2_nv}),
         .q({s3_gid, s3_flags, s3_ks0, s3_ku0, s3_kv0, s3_kz0, s3_tlg, s3_tbase, s3_rgb,
             s3_wr, s3_rsh, s3_ns, s3_nu, s3_nv}));
+    // the reciprocal ROM: rm = floor(2^(2RB-1) / dm), dm in [2^(RB-1), 2^RB)
     generate
-        for (genvar j = 0; j < RATE; j++) begin : g_rom
-            if (ON_B) begin : g_sync
-                always_ff @(posedge clk)
-                    s3_rm[j*(RB+1) +: RB+1] <= recip_rom[s2_idx[j*(RB-1) +: RB-1]];
-            end else begin : g_async
-                assign s3_rm[j*(RB+1) +: RB+1] = recip_rom[s2_idx[j*(RB-1) +: RB-1]];
+        if (RECIP) begin : g_recip
+            logic [RB:0] recip_rom [0:ROM_N-1];
+            initial begin
+                for (int i = 0; i < ROM_N; i++)
+                    recip_rom[i] = (RB + 1)'((64'd1 << (2 * RB - 1)) / (64'(ROM_N) + 64'(i)));
             end
+            for (genvar j = 0; j < RATE; j++) begin : g_rom
+                if (ON_B) begin : g_sync
+                    always_ff @(posedge clk)
+                        s3_rm[j*(RB+1) +: RB+1] <= recip_rom[s2_idx[j*(RB-1) +: RB-1]];
+                end else begin : g_async
+                    assign s3_rm[j*(RB+1) +: RB+1] = recip_rom[s2_idx[j*(RB-1) +: RB-1]];
+                end
+            end
+        end else begin : g_no_recip
+            assign s3_rm = '0;
+            wire unused_recip = (|s2_idx) | (|s3_rsh);
         end
     endgenerate
 
@@ -469,21 +516,49 @@ module alb_pipe #(
     logic [RATE*PW-1:0] s3_ps, s3_pu, s3_pv;
     logic [RATE*KW-1:0] s3_ks, s3_ku, s3_kv;
     logic [RATE*33-1:0] s3_zq;
-    always @* begin
-        for (int j = 0; j < RATE; j++) begin
-            logic signed [KW-1:0] rsh;
-            logic [RB:0] rm;
-            rm = s3_rm[j*(RB+1) +: RB+1];
-            rsh = s3_rsh[j*KW +: KW];
-            s3_ps[j*PW +: PW] = $signed(PW'($signed(s3_ns[j*NB +: NB]))) * $signed(PW'(rm));
-            s3_pu[j*PW +: PW] = $signed(PW'($signed(s3_nu[j*NB +: NB]))) * $signed(PW'(rm));
-            s3_pv[j*PW +: PW] = $signed(PW'($signed(s3_nv[j*NB +: NB]))) * $signed(PW'(rm));
-            s3_ks[j*KW +: KW] = s3_ks0 - rsh;
-            s3_ku[j*KW +: KW] = s3_ku0 - rsh;
-            s3_kv[j*KW +: KW] = s3_kv0 - rsh;
-            s3_zq[j*33 +: 33] = fog_distance(rm, s3_kz0 - rsh);
+    generate
+        if (SHADE) begin : g_s3_shade
+            always @*
+                for (int j = 0; j < RATE; j++) begin
+                    s3_ps[j*PW +: PW] = $signed(PW'($signed(s3_ns[j*NB +: NB])))
+                                      * $signed(PW'(s3_rm[j*(RB+1) +: RB+1]));
+                    s3_ks[j*KW +: KW] = s3_ks0 - s3_rsh[j*KW +: KW];
+                end
+        end else begin : g_s3_no_shade
+            assign s3_ps = '0;
+            assign s3_ks = '0;
+            wire unused_shade = (|s3_ns) | (|s3_ks0);
         end
-    end
+        if (TEX) begin : g_s3_tex
+            always @*
+                for (int j = 0; j < RATE; j++) begin
+                    s3_pu[j*PW +: PW] = $signed(PW'($signed(s3_nu[j*NB +: NB])))
+                                      * $signed(PW'(s3_rm[j*(RB+1) +: RB+1]));
+                    s3_pv[j*PW +: PW] = $signed(PW'($signed(s3_nv[j*NB +: NB])))
+                                      * $signed(PW'(s3_rm[j*(RB+1) +: RB+1]));
+                    s3_ku[j*KW +: KW] = s3_ku0 - s3_rsh[j*KW +: KW];
+                    s3_kv[j*KW +: KW] = s3_kv0 - s3_rsh[j*KW +: KW];
+                end
+        end else begin : g_s3_no_tex
+            assign s3_pu = '0;
+            assign s3_pv = '0;
+            assign s3_ku = '0;
+            assign s3_kv = '0;
+            wire unused_tex = (|s3_nu) | (|s3_nv) | (|s3_ku0) | (|s3_kv0);
+        end
+        if (FOG) begin : g_s3_fog
+            always @*
+                for (int j = 0; j < RATE; j++)
+                    s3_zq[j*33 +: 33] = fog_distance(s3_rm[j*(RB+1) +: RB+1],
+                                                     s3_kz0 - s3_rsh[j*KW +: KW]);
+        end else begin : g_s3_no_fog
+            assign s3_zq = '0;
+            wire unused_fog = |s3_kz0;
+        end
+        if (!RECIP) begin : g_s3_no_recip
+            wire unused_rm = |s3_rm;
+        end
+    endgenerate
 
     // ---- boundary C ----
     localparam int GC = 37 + 3 + 4 + TA + 24;
@@ -512,27 +587,50 @@ module alb_pipe #(
     logic [RATE*TA-1:0]     s4_taddr;
     logic [RATE*2-1:0]      s4_vm;
     logic [RATE*(33+FI)-1:0] s4_vd;
-    always @* begin
-        for (int j = 0; j < RATE; j++) begin
-            // (bits above the texture memory's address unused when it is small)
-            /* verilator lint_off UNUSEDSIGNAL */
-            logic [9:0] u, v;
-            /* verilator lint_on UNUSEDSIGNAL */
-            logic [32:0] zq;
-            zq = s4_zq[j*33 +: 33];
+    generate
+        if (SHADE) begin : g_s4_shade
             // eq. (7): intensity = shade / depth, clamped to [0, 1]
-            s4_inten[j*(FI+1) +: FI+1] = s4_flags[0]
-                ? intensity_of(s4_ps[j*PW +: PW], s4_ks[j*KW +: KW]) : ONE;
+            always @*
+                for (int j = 0; j < RATE; j++)
+                    s4_inten[j*(FI+1) +: FI+1] = s4_flags[0]
+                        ? intensity_of(s4_ps[j*PW +: PW], s4_ks[j*KW +: KW]) : ONE;
+        end else begin : g_s4_no_shade
+            assign s4_inten = {RATE{ONE}};
+            wire unused_shade = (|s4_ps) | (|s4_ks);
+        end
+        if (TEX) begin : g_s4_tex
             // texture: the fractions of u and v address the nearest texel
-            u = fraction_of(s4_pu[j*PW +: PW], s4_ku[j*KW +: KW], s4_tlg);
-            v = fraction_of(s4_pv[j*PW +: PW], s4_kv[j*KW +: KW], s4_tlg);
-            s4_taddr[j*TA +: TA] = TA'(s4_tbase + TA'((TA'(v) << s4_tlg) + TA'(u)));
+            always @*
+                for (int j = 0; j < RATE; j++) begin
+                    // (bits above the texture memory's address unused when it is small)
+                    /* verilator lint_off UNUSEDSIGNAL */
+                    logic [9:0] u, v;
+                    /* verilator lint_on UNUSEDSIGNAL */
+                    u = fraction_of(s4_pu[j*PW +: PW], s4_ku[j*KW +: KW], s4_tlg);
+                    v = fraction_of(s4_pv[j*PW +: PW], s4_kv[j*KW +: KW], s4_tlg);
+                    s4_taddr[j*TA +: TA] = TA'(s4_tbase + TA'((TA'(v) << s4_tlg) + TA'(u)));
+                end
+        end else begin : g_s4_no_tex
+            assign s4_taddr = '0;
+            wire unused_tex = (|s4_pu) | (|s4_pv) | (|s4_ku) | (|s4_kv) | (|s4_tlg) | (|s4_tbase);
+        end
+        if (FOG) begin : g_s4_fog
             // fog: the distance Z/near = 2^P / N_z in 24.8, visibility linear
             // between fog near and far, truncated
-            s4_vm[j*2 +: 2] = zq <= 33'(fog_near) ? 2'b10 : zq >= 33'(fog_far) ? 2'b01 : 2'b00;
-            s4_vd[j*(33+FI) +: 33+FI] = div_steps(33'(fog_far) - zq, '0, fog_span, V4);
+            always @*
+                for (int j = 0; j < RATE; j++) begin
+                    logic [32:0] zq;
+                    zq = s4_zq[j*33 +: 33];
+                    s4_vm[j*2 +: 2] = zq <= 33'(fog_near) ? 2'b10
+                                    : zq >= 33'(fog_far) ? 2'b01 : 2'b00;
+                    s4_vd[j*(33+FI) +: 33+FI] = div_steps(33'(fog_far) - zq, '0, fog_span, V4);
+                end
+        end else begin : g_s4_no_fog
+            assign s4_vm = '0;
+            assign s4_vd = '0;
+            wire unused_fog = (|s4_zq) | (|fog_near) | (|fog_far) | (|fog_span);
         end
-    end
+    endgenerate
 
     // ---- boundary D (texture memory's read register) ----
     localparam int GD = 37 + 3 + 24;
@@ -553,7 +651,11 @@ module alb_pipe #(
     // retirement, docs/microarchitecture.md), so lane 0 shares one port with
     // the parser's writes: a single-port RAM.
     generate
-        if (ON_D) begin : g_tex_sync
+        if (!TEX) begin : g_no_tex_mem
+            assign s5_fetched = '0;
+            wire unused_tex = tw_en | (|tw_addr) | (|tw_data) | (|s5_taddr);
+        end else if (ON_D) begin : g_tex_sync
+            logic [23:0] tex_mem [0:TEX_WORDS-1];
             wire [TA-1:0] a0 = tw_en ? tw_addr : s4_taddr[0 +: TA];
             always_ff @(posedge clk)
                 if (tw_en)
@@ -565,6 +667,7 @@ module alb_pipe #(
                     s5_fetched[j*24 +: 24] <= tex_mem[s4_taddr[j*TA +: TA]];
             end
         end else begin : g_tex_async
+            logic [23:0] tex_mem [0:TEX_WORDS-1];
             always_ff @(posedge clk)
                 if (tw_en)
                     tex_mem[tw_addr] <= tw_data;
@@ -576,6 +679,9 @@ module alb_pipe #(
 
     // ================= S5: base x texel x intensity =================
     logic [RATE*3*MW-1:0] s5_m;
+    // (the base colour in frame-store units when FLAT_RGB; the cast keeps
+    // the selects in range when it is not)
+    wire [3*COLB-1:0] s5_flat = (3 * COLB)'(s5_rgb);
     logic [RATE*(33+FI)-1:0] s5_vd2;
     always @* begin
         for (int j = 0; j < RATE; j++) begin
@@ -584,17 +690,42 @@ module alb_pipe #(
             for (int c = 0; c < 3; c++) begin
                 logic [15:0] bt;
                 // the first BT_DSP channels' products as multipliers (DSPs),
-                // the others as shifts and adds
-                if (c < BT_DSP)
+                // the others as shifts and adds; without texture the texel
+                // is 255: base x 256 - base
+                if (!TEX)
+                    bt = (16'(s5_rgb[(2-c)*8 +: 8]) << 8) - 16'(s5_rgb[(2-c)*8 +: 8]);
+                else if (c < BT_DSP)
                     bt = 16'(s5_rgb[(2-c)*8 +: 8]) * 16'(texel[(2-c)*8 +: 8]);
                 else
                     bt = mul8(s5_rgb[(2-c)*8 +: 8], texel[(2-c)*8 +: 8]);
-                s5_m[(j*3+c)*MW +: MW] = MW'(bt) * MW'(s5_inten[j*(FI+1) +: FI+1]);
+                // without Gouraud shading the intensity is 1.0: a shift;
+                // flat only, the colour itself (in the quotient's place, S7)
+                if (FLAT_RGB)
+                    s5_m[(j*3+c)*MW +: MW] = MW'(s5_flat[(2-c)*COLB +: COLB]);
+                else if (SHADE)
+                    s5_m[(j*3+c)*MW +: MW] = MW'(bt) * MW'(s5_inten[j*(FI+1) +: FI+1]);
+                else
+                    s5_m[(j*3+c)*MW +: MW] = MW'(bt) << FI;
             end
-            s5_vd2[j*(33+FI) +: 33+FI] = div_steps(s5_vd[j*(33+FI)+FI +: 33],
-                                                   s5_vd[j*(33+FI) +: FI], fog_span, V5);
         end
     end
+    generate
+        if (FOG) begin : g_s5_fog
+            always @*
+                for (int j = 0; j < RATE; j++)
+                    s5_vd2[j*(33+FI) +: 33+FI] = div_steps(s5_vd[j*(33+FI)+FI +: 33],
+                                                           s5_vd[j*(33+FI) +: FI], fog_span, V5);
+        end else begin : g_s5_no_fog
+            assign s5_vd2 = '0;
+            wire unused_fog = |s5_vd;
+        end
+        if (!SHADE) begin : g_s5_no_shade
+            wire unused_shade = |s5_inten;
+        end
+        if (!TEX) begin : g_s5_no_tex
+            wire unused_tex = (|s5_fetched) | s5_flags[1];
+        end
+    endgenerate
 
     // ---- boundary E ----
     localparam int GE = 37 + 1;
@@ -614,13 +745,22 @@ module alb_pipe #(
     logic [RATE*3*(XW+COLB)-1:0] s6_cd;
     logic [RATE*(33+FI)-1:0] s6_vd2;
     always @*
-        for (int j = 0; j < RATE; j++) begin
+        for (int j = 0; j < RATE; j++)
             for (int c = 0; c < 3; c++)
-                s6_cd[(j*3+c)*(XW+COLB) +: XW+COLB] =
-                    col_div(colour_scale(s6_m[(j*3+c)*MW +: MW]), '0, COLB - 1, COLB - C6);
-            s6_vd2[j*(33+FI) +: 33+FI] = div_steps(s6_vd[j*(33+FI)+FI +: 33],
-                                                   s6_vd[j*(33+FI) +: FI], fog_span, V6);
+                s6_cd[(j*3+c)*(XW+COLB) +: XW+COLB] = FLAT_RGB
+                    ? (XW + COLB)'(s6_m[(j*3+c)*MW +: COLB])
+                    : col_div(colour_scale(s6_m[(j*3+c)*MW +: MW]), '0, COLB - 1, COLB - C6);
+    generate
+        if (FOG) begin : g_s6_fog
+            always @*
+                for (int j = 0; j < RATE; j++)
+                    s6_vd2[j*(33+FI) +: 33+FI] = div_steps(s6_vd[j*(33+FI)+FI +: 33],
+                                                           s6_vd[j*(33+FI) +: FI], fog_span, V6);
+        end else begin : g_s6_no_fog
+            assign s6_vd2 = '0;
+            wire unused_fog = |s6_vd;
         end
+    endgenerate
 
     // ---- boundary F ----
     localparam int LF = WR + 3 * (XW + COLB) + 2 + 33 + FI;
@@ -639,18 +779,29 @@ module alb_pipe #(
     logic [RATE*(FI+1)-1:0] s7_vis;
     logic [RATE*(33+FI)-1:0] s7_vd2;     // the remainders are not needed
     always @*
-        for (int j = 0; j < RATE; j++) begin
+        for (int j = 0; j < RATE; j++)
             for (int c = 0; c < 3; c++) begin
                 logic [XW+COLB-1:0] cd;
                 cd = s7_cd[(j*3+c)*(XW+COLB) +: XW+COLB];
-                cd = col_div(cd[COLB +: XW], cd[COLB-1:0], COLB - C6 - 1, 0);
+                if (!FLAT_RGB)
+                    cd = col_div(cd[COLB +: XW], cd[COLB-1:0], COLB - C6 - 1, 0);
                 s7_rgb[j*3*COLB + (2-c)*COLB +: COLB] = cd[COLB-1:0];
             end
-            s7_vd2[j*(33+FI) +: 33+FI] = div_steps(s7_vd[j*(33+FI)+FI +: 33],
-                                                   s7_vd[j*(33+FI) +: FI], fog_span, V7);
-            s7_vis[j*(FI+1) +: FI+1] = s7_vm[j*2+1] ? ONE : s7_vm[j*2] ? '0
-                                     : (FI + 1)'(s7_vd2[j*(33+FI) +: FI]);
+    generate
+        if (FOG) begin : g_s7_fog
+            always @*
+                for (int j = 0; j < RATE; j++) begin
+                    s7_vd2[j*(33+FI) +: 33+FI] = div_steps(s7_vd[j*(33+FI)+FI +: 33],
+                                                           s7_vd[j*(33+FI) +: FI], fog_span, V7);
+                    s7_vis[j*(FI+1) +: FI+1] = s7_vm[j*2+1] ? ONE : s7_vm[j*2] ? '0
+                                             : (FI + 1)'(s7_vd2[j*(33+FI) +: FI]);
+                end
+        end else begin : g_s7_no_fog
+            assign s7_vd2 = '0;
+            assign s7_vis = '0;
+            wire unused_fog = (|s7_vd) | (|s7_vm) | (|s6_vm) | (|s5_vm);
         end
+    endgenerate
 
     // ---- boundary G ----
     localparam int LG = WR + 3 * COLB + FI + 1;
@@ -665,15 +816,22 @@ module alb_pipe #(
 
     // ================= S8: fog blend =================
     logic [RATE*3*COLB-1:0] s8_rgb;
-    always @*
-        for (int j = 0; j < RATE; j++)
-            for (int c = 0; c < 3; c++) begin
-                s8_rgb[j*3*COLB + c*COLB +: COLB] = s8_rgb0[j*3*COLB + c*COLB +: COLB];
-                if (s8_fogged)
-                    s8_rgb[j*3*COLB + c*COLB +: COLB] =
-                        fog_blend(s8_rgb0[j*3*COLB + c*COLB +: COLB], fog_rgb[c*COLB +: COLB],
-                                  s8_vis[j*(FI+1) +: FI+1]);
-            end
+    generate
+        if (FOG) begin : g_s8_fog
+            always @*
+                for (int j = 0; j < RATE; j++)
+                    for (int c = 0; c < 3; c++) begin
+                        s8_rgb[j*3*COLB + c*COLB +: COLB] = s8_rgb0[j*3*COLB + c*COLB +: COLB];
+                        if (s8_fogged)
+                            s8_rgb[j*3*COLB + c*COLB +: COLB] =
+                                fog_blend(s8_rgb0[j*3*COLB + c*COLB +: COLB],
+                                          fog_rgb[c*COLB +: COLB], s8_vis[j*(FI+1) +: FI+1]);
+                    end
+        end else begin : g_s8_no_fog
+            assign s8_rgb = s8_rgb0;
+            wire unused_fog = s8_fogged | (|s8_vis) | fog_on | (|fog_rgb);
+        end
+    endgenerate
 
     // ================= the rest of the stages: a delay =================
     localparam int LO = 37 + RATE * (WR + 3 * COLB);

@@ -40,6 +40,10 @@ module alb_vp #(
     parameter int SCAN_PIXELS = 1,      // pixels the output stage resolves a cycle
     parameter int TAG_BITS = 8,         // frame tag of a stored depth (alb_frame_store)
     parameter int ZR_REG = 0,           // 1: depth reads answered in the next cycle (block RAM)
+    // the shading units built (1) or left out (0, what needs one refused: E_UNIT)
+    parameter int SHADE_UNIT = 1,       // Gouraud intensity (a FACE's S flag)
+    parameter int TEX_UNIT = 1,         // texture table, memory and addressing (TEXTURE, T)
+    parameter int FOG_UNIT = 1,         // fog distance, visibility, blend (a FRAME's fog on)
     // derived
     parameter int LW = $clog2(WIDTH) + AA,
     parameter int LH = $clog2(HEIGHT) + AA,
@@ -140,7 +144,8 @@ module alb_vp #(
     wire frame_room = 16'(frames_taken - frame_open) < 16'(FRAME_QUEUE);
     alb_parser #(.F(EDGE_FRAC_BITS), .CB(COEF_BITS), .COLB(COLOUR_BITS), .LW(LW), .LH(LH),
                  .EW(EW), .MAX_EDGES(MAX_EDGES), .TEX_WORDS(TEX_WORDS), .TEX_IDS(TEX_IDS),
-                 .FRAME_FACES(FRAME_FACES)) u_parser (
+                 .FRAME_FACES(FRAME_FACES), .SHADE_UNIT(SHADE_UNIT), .TEX_UNIT(TEX_UNIT),
+                 .FOG_UNIT(FOG_UNIT)) u_parser (
         .clk, .rst, .fifo_empty, .fifo_head, .pop, .slot_free, .drained, .frame_room,
         .frames_taken,
         .ew_en, .ew_idx, .ew_c, .ew_da, .ew_db, .fc_en, .fc_setup, .fc_edges, .fc_frame,
@@ -204,7 +209,8 @@ module alb_vp #(
     alb_pipe #(.RATE(FILL_RATE), .LW(LW), .LH(LH), .CB(COEF_BITS), .DB(DEPTH_BITS),
                .COLB(COLOUR_BITS), .RB(RECIP_BITS), .FI(SHADE_FRAC_BITS),
                .DIV_LAT(DIVIDER_LATENCY), .SHADE_LAT(SHADE_LATENCY), .TEX_WORDS(TEX_WORDS),
-               .ZR_REG(ZR_REG)) u_pipe (
+               .ZR_REG(ZR_REG), .SHADE_UNIT(SHADE_UNIT), .TEX_UNIT(TEX_UNIT),
+               .FOG_UNIT(FOG_UNIT)) u_pipe (
         .clk, .rst, .lane_v, .lane_x, .lane_y, .setup(fill_setup), .level(fill_level), .fog_on,
         .fog_rgb, .fog_near, .fog_far, .zr_data, .zw_en, .zw_x, .zw_y, .zw_data, .cw_en(ev_write),
         .cw_x(ev_write_x), .cw_y(ev_write_y), .cw_depth(ev_write_depth), .cw_rgb(ev_write_rgb),

@@ -23,11 +23,12 @@ rtl-synth:
 
 # the RTL board of `albatros stream --sim=rtl` for one profile (rtl/board/,
 # docs/usb-protocol.md): make rtl-board PROFILE=a256 [SET='edge_units=3 ...']
-# [RTL_BOARD_DIR=DIR]; without SET it goes where albatros looks for it
+# [RTL='FOG_UNIT=0 ...'] [RTL_BOARD_DIR=DIR]; without SET it goes where
+# albatros looks for it (RTL: parameters of the RTL's own, rtl/README.md)
 PROFILE ?= t32
 RTL_BOARD_DIR ?= $(BUILD)/rtl-board/$(PROFILE)
 .PHONY: rtl-board
 rtl-board: $(ALBATROS) $(LIBALB_SO)
 	@ALBATROS=$(ALBATROS) ALB_LIB=$(BUILD)/lib bash rtl/board/build.sh $(RTL_BOARD_DIR) $(PROFILE) \
-	  $(foreach s,$(SET),--set $(s))
+	  $(foreach s,$(SET),--set $(s)) $(foreach r,$(RTL),--rtl $(r))
 	@echo "rtl-board: $(RTL_BOARD_DIR)/albatros-rtl-board.so"

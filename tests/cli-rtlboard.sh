@@ -108,6 +108,15 @@ expect 1 "warning: --rtl-board .*EDGE_UNITS=8, the profile has EDGE_UNITS=3" \
 # the same pixels; the RTL's cycles those of the cycle model at EDGE_UNITS 8
 expect 1 "frame 0: DIFFERS: CRC ([0-9a-f]+) \(emulator \1\), $c0 cycles \(emulator [0-9]+\)" \
     "$bin" stream --sim=rtl --profile t32 --set edge_units=3 --rtl-board "$build/rtl-board/t32"
+# --no-cycle-check (a real FPGA board, whose words come as USB delivers them):
+# the same run matches on its CRCs, the cycles reported and not compared;
+# a wrong pixel still fails it
+expect 0 "frame 0: CRC ([0-9a-f]+) matches; $c0 cycles \(emulator [0-9]+, not compared" \
+    "$bin" stream --sim=rtl --profile t32 --set edge_units=3 --rtl-board "$build/rtl-board/t32" \
+    --no-cycle-check
+expect 0 '"cycles_compared": false' "$bin" stream --sim=rtl --profile t32 --set edge_units=3 \
+    --rtl-board "$build/rtl-board/t32" --no-cycle-check --json
+expect 1 "frame 0: DIFFERS: CRC" "$bin" stream --sim=rtl --profile t32 --fault flip=0 --no-cycle-check
 
 # a board that is not there, or not for this profile, is said so (exit 3:
 # no board), with what to build

@@ -193,7 +193,11 @@ lint a512 a512
 lint odd t32 --set aa=2 --set fill_rate=1 --set edge_units=1 --set face_slots=1 \
     --set fifo_depth=2 --set divider_latency=0 --set shade_latency=0 --set fill_queue=1
 lint wide a256 --set width=512 --set height=128 --set fill_rate=8 --set edge_units=3
-lint up5k up5k --rtl MAX_EDGES=6 --rtl TEX_WORDS=256 --rtl TEX_IDS=4 --rtl TAG_BITS=8   # the FPGA build (rtl/fpga/fpga.sh)
+lint up5k up5k --rtl MAX_EDGES=6 --rtl TEX_WORDS=256 --rtl TEX_IDS=4 --rtl TAG_BITS=8   # the FPGA sizes, every unit
+# the FPGA board's build: its sizes are rtl/fpga/board.sizes (flat faces only)
+board_rtl=$(sed -e 's/#.*//' -e '/^ *$/d' -e 's/^/--rtl /' rtl/fpga/board.sizes)
+# shellcheck disable=SC2086
+lint up5k-flat up5k $board_rtl
 synth_check 0
 
 if model t32 t32; then
@@ -252,6 +256,64 @@ if model t32-tex256 t32 --rtl TEX_WORDS=256; then
     else
         bad "t32-tex256: a texture larger than TEX_WORDS" "$out/t32-tex256.out"
     fi
+fi
+
+# Builds that leave shading units out (SHADE_UNIT, TEX_UNIT, FOG_UNIT 0;
+# rtl/README.md): what they draw is the model's, event by event, and what
+# needs a unit left out is refused, E_UNIT (17), at the word the model's
+# stream dump (albatros gp --hex) shows: a TEXTURE's header, a FACE's header
+# (its flags), a FRAME's fog word (header + 2).
+expect_error() {   # CASE MODEL STREAM CODE@WORD
+    if "$build/rtl/$2/cosim" --stream "$3" --expect-error "$4" > "$out/$1.out" 2>&1; then
+        ok "$1: $(sed 's/^cosim: //' "$out/$1.out")"
+    else
+        bad "$1: expected error $4" "$out/$1.out"
+    fi
+}
+first_word() {     # HEX AWK-CONDITION: the index of the first word whose dump line matches
+    local off
+    off=$(awk "$2 { print \$1; exit }" "$1")
+    [[ -n $off ]] && echo $((16#$off / 4))
+}
+u=$out/units
+mkdir -p "$u"
+"$bin" gp --profile t32 -o "$u/b32.stream" --hex "$u/b32.hex" -q > /dev/null 2>&1 ||
+    bad "units: gp of the built-in scene at t32"
+"$bin" gp --profile up5k -o "$u/b5.stream" --hex "$u/b5.hex" -q > /dev/null 2>&1 ||
+    bad "units: gp of the built-in scene at up5k"
+# the FPGA build's sizes with flat shading only: flat faces of at most four
+# vertices (six edges with the bounding ones), four frames, the depth test
+# lost often; the built-in scene's first TEXTURE refused; and a stream
+# without TEXTURE packets or fog (tex-fog-flat.scene without its fog, its
+# TEXTUREs cut out) refused at its first textured FACE
+# shellcheck disable=SC2086
+if model up5k-flat up5k --rtl ZR_REG=1 $board_rtl; then
+    cosim_scene up5k-flat-quads up5k-flat rtl/bench/scenes/flat-quads.scene --profile up5k
+    n=$(first_word "$u/b5.hex" '$3 == "TEXTURE"')
+    expect_error up5k-flat-texture up5k-flat "$u/b5.stream" "17@${n:-none}"
+    grep -v '^fog ' rtl/bench/scenes/tex-fog-flat.scene > "$u/tex-flat.scene"
+    "$bin" gp "$u/tex-flat.scene" --profile up5k --hex - -q 2> /dev/null |
+        awk '$3 != "TEXTURE" && $3 !~ /^texel/' > "$u/notex.hex"
+    python3 -c 'import struct, sys
+sys.stdout.buffer.write(b"".join(struct.pack("<I", int(l.split()[1], 16)) for l in sys.stdin))' \
+        < "$u/notex.hex" > "$u/notex.stream"
+    # (renumbered: the index is the line's, the offsets are the uncut stream's)
+    n=$(awk '$3 == "FACE" { print NR - 1 ($5 ~ /^flags=-T/ ? "" : " not-textured-only"); exit }' "$u/notex.hex")
+    expect_error up5k-flat-textured-face up5k-flat "$u/notex.stream" "17@${n:-none}"
+fi
+# without the shade unit: textures and fog drawn as the model does; the
+# built-in scene (its textures loaded) refused at its first Gouraud FACE
+if model t32-noshade t32 --rtl SHADE_UNIT=0; then
+    cosim_scene t32-noshade-tex-fog t32-noshade rtl/bench/scenes/tex-fog-flat.scene --profile t32
+    n=$(first_word "$u/b32.hex" '$3 == "FACE" && $5 ~ /^flags=S/')
+    expect_error t32-noshade-shaded-face t32-noshade "$u/b32.stream" "17@${n:-none}"
+fi
+# without the fog unit: textures and Gouraud shading drawn as the model
+# does; the built-in scene refused at its first FRAME's fog word
+if model t32-nofog t32 --rtl FOG_UNIT=0; then
+    cosim_scene t32-nofog-tex-shade t32-nofog rtl/bench/scenes/tex-shade.scene --profile t32
+    n=$(first_word "$u/b32.hex" '$3 ~ /^frame.fog=on/')
+    expect_error t32-nofog-fogged-frame t32-nofog "$u/b32.stream" "17@${n:-none}"
 fi
 
 # malformed streams: the RTL's error output names the error and its word

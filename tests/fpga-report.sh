@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # fpga-report.sh — make test's fast check of the FPGA report judge
 # (rtl/fpga/fpga_report.py, docs/fpga.md).  The committed report of the real
-# flow (docs/fpga/report.json, nextpnr --pack-only: the design is 2.5 times
-# the UP5K's logic cells (its DSPs fit, 8 / 8), so it was never placed) must
-# be judged not to fit;
-# the same report planted to fit, with Fmax above both clocks, must pass;
-# planted one logic cell or one DSP over, or below the VP's clock, it must fail; without its
-# fmax section or cut off it is an input error (exit 2).  The real flow is
-# make fpga-check.
+# flow (docs/fpga/report.json: the flat build placed and routed on the HX8K
+# breakout) must be judged to fit and meet both clocks; the UP5K's packed
+# report of the same build (docs/fpga/pack-report-icebreaker.json, 108% of its
+# logic cells, never placed) must be judged not to; the HX8K's report planted
+# one logic cell or one block RAM over, or with the VP's clock below the
+# profile's, must fail; without its fmax section or cut off it is an input
+# error (exit 2).  The real flow is make fpga-check.
 set -u
 pass=0 fail=0
 ok() { pass=$((pass + 1)); echo "ok   $1"; }
@@ -26,32 +26,30 @@ expect() {   # WHAT STATUS REPORT
     got=$?
     if [[ $got -eq $want ]]; then ok "$what (exit $got)"; else bad "$what: exit $got, expected $want"; sed 's/^/     /' "$tmp/out"; fi
 }
-expect "the committed report (logic cells over the part, not placed) is rejected" 1 "$rep"
+expect "the committed report (the flat build on the HX8K, placed) fits and meets its clocks" 0 "$rep"
+expect "the UP5K's packed report of the same build (logic cells over, not placed) is rejected" 1 \
+    docs/fpga/pack-report-icebreaker.json
 python3 - "$rep" "$tmp" <<'PY'
 import json, sys
 rep = json.load(open(sys.argv[1]))
-fits = json.loads(json.dumps(rep))
-for u in fits["utilization"].values():
-    u["used"] = min(u["used"], u["available"])
-fits["fmax"] = {"clk_vp$SB_IO_IN_$glb_clk": {"achieved": 20.5, "constraint": 12.0},
-                "ifclk$SB_IO_IN_$glb_clk": {"achieved": 60.0, "constraint": 48.0}}
-json.dump(fits, open(sys.argv[2] + "/fits.json", "w"))
-over = json.loads(json.dumps(fits))
-over["utilization"]["ICESTORM_LC"]["used"] = over["utilization"]["ICESTORM_LC"]["available"] + 1
-json.dump(over, open(sys.argv[2] + "/over.json", "w"))
-dsp = json.loads(json.dumps(fits))
-dsp["utilization"]["ICESTORM_DSP"]["used"] = dsp["utilization"]["ICESTORM_DSP"]["available"] + 1
-json.dump(dsp, open(sys.argv[2] + "/dsp.json", "w"))
-slow = json.loads(json.dumps(fits))
-slow["fmax"]["clk_vp$SB_IO_IN_$glb_clk"]["achieved"] = 11.9
-json.dump(slow, open(sys.argv[2] + "/slow.json", "w"))
-nofmax = json.loads(json.dumps(fits))
-del nofmax["fmax"]
-json.dump(nofmax, open(sys.argv[2] + "/nofmax.json", "w"))
+def planted(name, edit):
+    r = json.loads(json.dumps(rep))
+    edit(r)
+    json.dump(r, open(sys.argv[2] + "/" + name + ".json", "w"))
+def over(res):
+    def edit(r):
+        r["utilization"][res]["used"] = r["utilization"][res]["available"] + 1
+    return edit
+planted("over", over("ICESTORM_LC"))
+planted("ram", over("ICESTORM_RAM"))
+def slow(r):
+    (k,) = [k for k in r["fmax"] if k.startswith("clk_vp")]
+    r["fmax"][k]["achieved"] = 11.9
+planted("slow", slow)
+planted("nofmax", lambda r: r.pop("fmax"))
 PY
-expect "the report planted to fit, Fmax above both clocks, passes" 0 "$tmp/fits.json"
 expect "planted one logic cell over the part, rejected" 1 "$tmp/over.json"
-expect "planted one DSP over the part, rejected" 1 "$tmp/dsp.json"
+expect "planted one block RAM over the part, rejected" 1 "$tmp/ram.json"
 expect "planted with the VP's clock at 11.9 MHz, rejected" 1 "$tmp/slow.json"
 expect "planted without its fmax section, an input error" 2 "$tmp/nofmax.json"
 echo '{"utilization": ' > "$tmp/cut.json"

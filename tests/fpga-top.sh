@@ -76,10 +76,9 @@ nframes=$(wc -l < "$out/quads.want")
 "$bin" gp --profile up5k -o "$out/builtin.stream" > /dev/null 2>&1 &&
     "$bin" dump "$out/builtin.stream" > "$out/builtin.dump" 2>&1 ||
     { bad "albatros gp/dump of the built-in scene" "$out/builtin.dump"; finish; }
-# the first TEXTURE larger than the build's 256 texels is refused:
-# E_TEX_FULL (12, rtl/README.md) at its header's word offset
-tex_at=$(awk '/ TEXTURE / { split($NF, s, /[=x]/); if (s[2] * s[3] > 256) { print $1; exit } }' \
-         "$out/builtin.dump")
+# the build has no texture unit (rtl/fpga/board.sizes): the first TEXTURE
+# is refused, E_UNIT (17, rtl/README.md), at its header's word offset
+tex_at=$(awk '/ TEXTURE / { print $1; exit }' "$out/builtin.dump")
 tex_word=${tex_at:+$((16#$tex_at / 4))}
 
 # ---- the cases ----
@@ -153,22 +152,32 @@ for n in draw-48mhz draw-30mhz; do
     else bad "$n: EP8 went full ${full:-0} times: the back-pressure is not exercised"; fi
 done
 if [[ -n $tex_word ]]; then
-    run builtin-tex-full "error 0 $tex_word" --stream "$out/builtin.stream" \
-        --expect-error "$tex_word:12"
+    run builtin-no-tex "error 0 $tex_word" --stream "$out/builtin.stream" \
+        --expect-error "$tex_word:17"
 else
-    bad "the built-in scene has no TEXTURE beyond 256 texels (E_TEX_FULL expected)"
+    bad "the built-in scene has no TEXTURE (E_UNIT expected)"
 fi
 # a RESUME late in the stream (the host resends from the first frame without
 # a RESULT: the CONFIG replayed, then a FRAME), a RESET (the whole stream again)
 run resume-late records --stream "$q" --seed 3 --resume 1000
 run reset records --stream "$q" --seed 4 --reset 900
 
-# known failures (rtl/fpga/README.md, "What the bench found")
-known resume-early "phase 1, RESULT of frame 2: u32 1 \(CRC\)" --stream "$q" --resume 300
-known restart-in-record "beats from before and after a VP_RESTART" --stream "$q" \
-    --restart-in-record 5
-known power-up "0 of [0-9]+ words taken" --stream "$q" --power-up --max-cycles 50000
-known flag-lag-1 "SLRD while EP4 is empty" --stream "$q" --flag-lag 1
+# what the bench found in the top, now mended (rtl/fpga/README.md): a RESUME
+# within the first frames after a reset (stale depths whose tags the new
+# frames repeat: the top clears the frame store after every reset), a restart
+# in the middle of a record (the record goes out whole), the stream from
+# power-up without a host RESET (the IFCLK side's own power-up reset), a flag
+# a clock later than the FX2's datasheet has it (a clock of margin)
+run resume-early records --stream "$q" --seed 5 --resume 300
+run restart-in-record records --stream "$q" --seed 6 --restart-in-record 5
+if grep -q ', 1 records across one)' "$out/restart-in-record.log"; then
+    ok "restart-in-record: the record the restart cut into went out whole"
+else
+    bad "restart-in-record: no record across the restart" "$out/restart-in-record.log"
+fi
+run power-up records --stream "$q" --seed 7 --power-up --max-cycles 100000
+run flag-lag-1 records --stream "$q" --seed 8 --flag-lag 1
+known flag-lag-2 "SLRD while EP4 is empty" --stream "$q" --flag-lag 2
 
 # ---- planted bugs: each in a copy of rtl/fpga/, caught by a case ----
 
@@ -180,10 +189,13 @@ if ((mutations)); then
         "record-cycles-words-swapped|alb_fpga_top.sv|s/res_faces, res_cycles, ev_crc_value/res_faces, res_cycles[31:0], res_cycles[63:32], ev_crc_value/|u32 2 \(cycles low\)"
         "record-beats-swapped|alb_fpga_top.sv|s/if (out_beat == 4'(i))/if (out_beat == 4'(i ^ 1))/|u32 0 \(frame\)"
         "record-no-last-beat|alb_fpga_top.sv|s/assign r_in = {out_left == 4'd1, beat};/assign r_in = {out_left == 4'd0, beat};/|record of|RESULTs owed"
-        "ep4-flag-a-clock-early|alb_fx2_fifo.sv|/half <= !half;/,/wait_n <= 2'd1;/s/wait_n <= 2'd1;/wait_n <= 2'd0;/|SLRD while EP4 is empty"
-        "no-pktend|alb_fx2_fifo.sv|s/pktend_n <= 1'b0; /pktend_n <= 1'b1; /|RESULTs owed"
+        "ep4-flag-a-clock-early|alb_fx2_fifo.sv|/half <= !half;/,/wait_n <= 2'd2;/s/wait_n <= 2'd2;/wait_n <= 2'd0;/|SLRD while EP4 is empty"
+        "no-pktend|alb_fx2_fifo.sv|s/pe_n <= 1'b0; /pe_n <= 1'b1; /|RESULTs owed"
         "words-fifo-never-full|alb_afifo.sv|s/assign full = (wbin\[A\] != rbin_w\[A\])/assign full = 1'b0 \&\& (wbin[A] != rbin_w[A])/|the VP takes"
         "no-config-replay|alb_fpga_top.sv|s/wire replay = cfg_given < cfg_kept;/wire replay = 1'b0;/|the VP takes f0"
+        "no-clear-after-reset|alb_fpga_top.sv|s/wire clearing = !clr_n\[AW\];/wire clearing = 1'b0;/|u32 1 \(CRC\)"
+        "records-fifo-reset-by-restart|alb_fpga_top.sv|s/\.wclk(clk_vp), \.wrst(pwr_vp)/.wclk(clk_vp), .wrst(rst_vp)/|record of|RESULT"
+        "no-ifclk-power-up-reset|alb_fpga_top.sv|s/wire pwr_if = por_if != 4'hF; /wire pwr_if = 1'b0; /|words taken"
     )
     for m in "${muts[@]}"; do
         IFS='|' read -r name file script pat pat2 <<< "$m"
@@ -201,7 +213,10 @@ if ((mutations)); then
             bad "mutation $name: the mutant does not build" "$work/build.out"; continue
         fi
         caught=""
-        for c in "draw --stream $q --seed 1" "resume --stream $q --seed 3 --resume 1000"; do
+        for c in "draw --stream $q --seed 1" "resume --stream $q --seed 3 --resume 1000" \
+                 "resume-early --stream $q --seed 5 --resume 300" \
+                 "in-record --stream $q --seed 6 --restart-in-record 5" \
+                 "power-up --stream $q --seed 7 --power-up --max-cycles 100000"; do
             read -ra args <<< "${c#* }"
             "$work/bench/top_bench" --quiet "${args[@]}" > "$work/${c%% *}.log" 2>&1 &&
                 continue

@@ -10,6 +10,7 @@
 #include "albatros/stream.h"
 #include "albatros/sim.h"
 #include "../firmware/sim/board.h"
+#include "../firmware/sim/rtl_load.h"
 
 #include <signal.h>
 #include <stdio.h>
@@ -695,4 +696,38 @@ TEST(bridge_frames_mode_displays_the_frames)
     }
     free(rgb);
     free_fixture(&x);
+}
+
+/* An RTL board built with shading units left out (rtl/README.md: SHADE_UNIT,
+ * TEX_UNIT, FOG_UNIT) still matches the profile it was built for, and the
+ * units it lacks are named for the warning of --sim=rtl. */
+TEST(bridge_rtl_board_units_left_out)
+{
+    alb_profile p;
+    CHECK(alb_profile_lookup("up5k", &p) == 0);
+    char want[600], have[700], why[200], units[160];
+    sim_rtl_params(&p, want, sizeof want);
+    snprintf(have, sizeof have, "%s MAX_EDGES=6 SHADE_UNIT=0 TEX_UNIT=0 FOG_UNIT=0", want);
+    CHECK_EQ(sim_rtl_params_differ(want, have, why, sizeof why), 0);
+    CHECK_EQ(sim_rtl_units_out(have, units, sizeof units), 3);
+    CHECK_MSG(!strcmp(units, "the shade, texture and fog units (SHADE_UNIT=0 TEX_UNIT=0 FOG_UNIT=0)"),
+              "units: %s", units);
+    snprintf(have, sizeof have, "%s SHADE_UNIT=1 TEX_UNIT=0 FOG_UNIT=0", want);
+    CHECK_EQ(sim_rtl_units_out(have, units, sizeof units), 2);
+    CHECK_MSG(!strcmp(units, "the texture and fog units (TEX_UNIT=0 FOG_UNIT=0)"), "units: %s", units);
+    snprintf(have, sizeof have, "FOG_UNIT=0 %s", want);
+    CHECK_EQ(sim_rtl_units_out(have, units, sizeof units), 1);
+    CHECK_MSG(!strcmp(units, "the fog unit (FOG_UNIT=0)"), "units: %s", units);
+    /* every unit built: absent, 1, or a name that only ends like one */
+    CHECK_EQ(sim_rtl_units_out(want, units, sizeof units), 0);
+    CHECK(units[0] == 0);
+    CHECK_EQ(sim_rtl_units_out("SHADE_UNIT=1 TEX_UNIT=1 XFOG_UNIT=0", units, sizeof units), 0);
+    /* a profile field still differs as before */
+    snprintf(have, sizeof have, "%s TEX_UNIT=0", want);
+    char *w = strstr(have, "EDGE_UNITS=1");
+    CHECK(w != NULL);
+    if (w)
+        w[11] = '2';
+    CHECK_EQ(sim_rtl_params_differ(want, have, why, sizeof why), 1);
+    CHECK_MSG(strstr(why, "EDGE_UNITS=2") != NULL, "why: %s", why);
 }

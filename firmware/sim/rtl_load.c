@@ -75,6 +75,36 @@ int sim_rtl_params_differ(const char *want, const char *have, char *why, size_t 
     return 0;
 }
 
+/* The shading units an RTL's parameters leave out (rtl/README.md: SHADE_UNIT,
+ * TEX_UNIT, FOG_UNIT 0; absent or 1, the unit is built): not profile fields,
+ * so a board without them runs any profile, refusing a stream that needs one
+ * (E_UNIT).  Their names into buf ("the texture and fog units (TEX_UNIT=0
+ * FOG_UNIT=0)"); how many. */
+int sim_rtl_units_out(const char *have, char *buf, size_t len)
+{
+    static const char *const param[3] = {"SHADE_UNIT", "TEX_UNIT", "FOG_UNIT"};
+    static const char *const unit[3] = {"shade", "texture", "fog"};
+    size_t out[3], n = 0;
+    for (size_t i = 0; i < 3; i++) {
+        char val[32];
+        if (param_value(have, param[i], strlen(param[i]), val, sizeof val) && !strcmp(val, "0"))
+            out[n++] = i;
+    }
+    if (len)
+        buf[0] = 0;
+    if (!n)
+        return 0;
+    char names[64] = "", params[64] = "";
+    for (size_t i = 0; i < n; i++) {
+        size_t at = strlen(names), pat = strlen(params);
+        snprintf(names + at, sizeof names - at, "%s%s", i == 0 ? "" : i + 1 == n ? " and " : ", ",
+                 unit[out[i]]);
+        snprintf(params + pat, sizeof params - pat, "%s%s=0", i ? " " : "", param[out[i]]);
+    }
+    snprintf(buf, len, "the %s unit%s (%s)", names, n > 1 ? "s" : "", params);
+    return (int)n;
+}
+
 /* <directory of this program>/rtl-board/PROFILE/albatros-rtl-board.so, where
  * `make rtl-board PROFILE=...` puts it beside build/albatros. */
 static int default_path(const alb_profile *p, char *out, size_t len)
@@ -157,6 +187,16 @@ int sim_rtl_load(sim_rtl *r, const alb_profile *p, const char *path, char *warn,
         if (warn)
             snprintf(warn, warnlen, "--rtl-board %s: %s: its frames may differ from the "
                      "emulator's", path, why);
+    }
+    /* units left out: usable for any profile, but say so, since a stream
+     * that needs one stops at its first such word (the board's VP error) */
+    char units[160];
+    int nout = sim_rtl_units_out(r->api->params, units, sizeof units);
+    if (warn && warnlen && nout) {
+        size_t at = strlen(warn);
+        snprintf(warn + at, warnlen - at, "%sthe RTL board %s leaves out %s: a stream using "
+                 "%s is refused (E_UNIT, rtl/README.md)", at ? "; " : "", file, units,
+                 nout > 1 ? "them" : "it");
     }
     snprintf(r->file, sizeof r->file, "%s", file);
     return 0;

@@ -28,5 +28,9 @@ void sim_rtl_params(const alb_profile *p, char *buf, size_t len);
 /* The first parameter of want missing from have or different there, into
  * why: 1; 0 if all agree. */
 int sim_rtl_params_differ(const char *want, const char *have, char *why, size_t len);
+/* The shading units an RTL's parameter list leaves out (SHADE_UNIT,
+ * TEX_UNIT, FOG_UNIT 0), named into buf ("the texture and fog units
+ * (TEX_UNIT=0 FOG_UNIT=0)", "" if none); how many. */
+int sim_rtl_units_out(const char *have, char *buf, size_t len);
 
 #endif

@@ -28,7 +28,10 @@ module alb_bench_top #(
     parameter int SCAN_PIXELS = 1,
     parameter int TAG_BITS = 8,
     parameter int ZR_REG = 0,
-    parameter int TEX_IDS = 256
+    parameter int TEX_IDS = 256,
+    parameter int SHADE_UNIT = 1,
+    parameter int TEX_UNIT = 1,
+    parameter int FOG_UNIT = 1
 ) (
     input  logic                            clk,
     input  logic                            rst,
@@ -114,7 +117,8 @@ module alb_bench_top #(
              .FILL_QUEUE(FILL_QUEUE), .DIVIDER_LATENCY(DIVIDER_LATENCY),
              .SHADE_LATENCY(SHADE_LATENCY), .FRAME_FACES(FRAME_FACES), .MAX_EDGES(MAX_EDGES),
              .TEX_WORDS(TEX_WORDS), .FRAME_QUEUE(FRAME_QUEUE), .SCAN_PIXELS(SCAN_PIXELS),
-             .TAG_BITS(TAG_BITS), .ZR_REG(ZR_REG), .TEX_IDS(TEX_IDS)) u_vp (
+             .TAG_BITS(TAG_BITS), .ZR_REG(ZR_REG), .TEX_IDS(TEX_IDS), .SHADE_UNIT(SHADE_UNIT),
+             .TEX_UNIT(TEX_UNIT), .FOG_UNIT(FOG_UNIT)) u_vp (
         .clk, .rst, .in_valid, .in_data, .in_full,
         .mem_zr_addr(zr_addr), .mem_zr_data(zr_data), .mem_zw_en(zw_en), .mem_zw_addr(zw_addr),
         .mem_zw_data(zw_data), .mem_cw_en(cw_en), .mem_cw_addr(cw_addr), .mem_cw_data(cw_data),

@@ -20,6 +20,7 @@
 #include "Valb_bench_top__Syms.h"   // the memory model's arrays, for --dump
 #include "events.h"
 #include "scoreboard.h"
+#include "stream_file.h"
 #include "verilated.h"
 #include "verilated_vcd_c.h"
 
@@ -336,26 +337,6 @@ struct Result {
     double seconds = 0, rtl_seconds = 0;     // the whole run; the RTL's evaluations alone
 };
 
-std::vector<uint32_t> read_stream(const char *path, std::string &err)
-{
-    std::vector<uint32_t> w;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        err = std::string(path) + ": cannot open: " + std::strerror(errno);
-        return w;
-    }
-    std::vector<unsigned char> b((std::istreambuf_iterator<char>(in)), {});
-    if (b.size() % 4) {
-        err = std::string(path) + ": offset " + std::to_string(b.size() - b.size() % 4) +
-              ": file length is not a whole number of 32-bit words";
-        return w;
-    }
-    for (size_t i = 0; i + 3 < b.size(); i += 4)
-        w.push_back((uint32_t)b[i] | (uint32_t)b[i + 1] << 8 | (uint32_t)b[i + 2] << 16 |
-                    (uint32_t)b[i + 3] << 24);
-    return w;
-}
-
 // The RTL's events of this cycle (outputs after the clock-low evaluation).
 void rtl_events(const Valb_bench_top &v, uint64_t t, std::vector<Event> &out)
 {
@@ -413,7 +394,8 @@ const char *error_name(unsigned code)
         "face count", "texture size, or a texture never loaded", "fog far not beyond fog near",
         "texture memory full (TEX_WORDS)", "a word after END", "word pushed into a full FIFO",
         "more FRAMEs ahead than FRAME_QUEUE",
-        "frame tags could alias: 2^(TAG_BITS-1) - 1 scan-outs of one store cut off in a row"};
+        "frame tags could alias: 2^(TAG_BITS-1) - 1 scan-outs of one store cut off in a row",
+        "needs a unit this build leaves out (SHADE_UNIT, TEX_UNIT, FOG_UNIT)"};
     return code < sizeof names / sizeof names[0] ? names[code] : "?";
 }
 

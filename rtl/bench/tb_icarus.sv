@@ -27,6 +27,9 @@ module tb_icarus #(
     parameter int SHADE_LATENCY = 4,
     parameter int FRAME_FACES = 16777215,
     parameter int SCAN_PIXELS = 8,
+    parameter int SHADE_UNIT = 1,
+    parameter int TEX_UNIT = 1,
+    parameter int FOG_UNIT = 1,
     parameter int MAX_WORDS = 1 << 16,
     parameter int MAX_WRITES = 1 << 16,
     parameter int MAX_FRAMES = 64
@@ -83,7 +86,8 @@ module tb_icarus #(
              .FACE_SLOTS(FACE_SLOTS), .EDGE_UNITS(EDGE_UNITS), .FILL_RATE(FILL_RATE),
              .FILL_QUEUE(FILL_QUEUE), .DIVIDER_LATENCY(DIVIDER_LATENCY),
              .SHADE_LATENCY(SHADE_LATENCY), .FRAME_FACES(FRAME_FACES),
-             .SCAN_PIXELS(SCAN_PIXELS), .TAG_BITS(TAG_BITS)) dut (
+             .SCAN_PIXELS(SCAN_PIXELS), .TAG_BITS(TAG_BITS), .SHADE_UNIT(SHADE_UNIT),
+             .TEX_UNIT(TEX_UNIT), .FOG_UNIT(FOG_UNIT)) dut (
         .clk, .rst, .in_valid, .in_data, .in_full,
         .mem_zr_addr(zr_addr), .mem_zr_data(zr_data), .mem_zw_en(zw_en), .mem_zw_addr(zw_addr),
         .mem_zw_data(zw_data), .mem_cw_en(cw_en), .mem_cw_addr(cw_addr), .mem_cw_data(cw_data),

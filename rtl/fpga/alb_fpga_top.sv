@@ -43,6 +43,10 @@ module alb_fpga_top #(
     parameter int TEX_WORDS = 256,
     parameter int TEX_IDS = 4,
     parameter int TAG_BITS = 8,
+    // the shading units built (1) or left out (0; rtl/README.md)
+    parameter int SHADE_UNIT = 1,
+    parameter int TEX_UNIT = 1,
+    parameter int FOG_UNIT = 1,
     // the board: 1 if its LEDs light when their pin is low (the iCEBreaker's),
     // 0 if when high (the HX8K breakout's)
     parameter int LED_LOW = 1
@@ -69,19 +73,36 @@ module alb_fpga_top #(
     localparam int ZW = TAG_BITS + DEPTH_BITS;
     localparam int FQ = FRAME_QUEUE < 2 ? 1 : $clog2(FRAME_QUEUE);
 
-    // ---- resets: the restart line into each clock, and power-up ----
+    // ---- resets: the restart line into each clock, and power-up in each ----
     logic [1:0] rs_if, rs_vp, ns_vp;
-    logic [3:0] por = 4'd0;
-    always_ff @(posedge ifclk)
+    logic [3:0] por = 4'd0, por_if = 4'd0;
+    always_ff @(posedge ifclk) begin
         rs_if <= {rs_if[0], vp_restart};
+        if (por_if != 4'hF)
+            por_if <= por_if + 4'd1;
+    end
     always_ff @(posedge clk_vp) begin
         rs_vp <= {rs_vp[0], vp_restart};
         ns_vp <= {ns_vp[0], vp_new_stream};
         if (por != 4'hF)
             por <= por + 4'd1;
     end
-    wire rst_if = rs_if[1];
-    wire rst_vp = rs_vp[1] || por != 4'hF;
+    wire pwr_if = por_if != 4'hF;        // after configuration, in IFCLK's domain
+    wire pwr_vp = por != 4'hF;           // ... in the VP's
+    wire rst_if = rs_if[1] || pwr_if;
+    wire restart_vp = rs_vp[1] || pwr_vp;
+    // After every reset both banks of the frame store are cleared (through
+    // the scan-out's clear, 2^AW cycles) before the VP runs: its frame tags
+    // count from 0 again, and a depth a frame of before the reset left with
+    // the tag a new frame has would read as that frame's.
+    logic [AW:0] clr_n;
+    always_ff @(posedge clk_vp)
+        if (restart_vp)
+            clr_n <= '0;
+        else if (!clr_n[AW])
+            clr_n <= clr_n + 1'b1;
+    wire clearing = !clr_n[AW];
+    wire rst_vp = restart_vp || clearing;
 
     // ---- the FX2 side ----
     logic [15:0] fd_out;
@@ -112,9 +133,12 @@ module alb_fpga_top #(
     alb_afifo #(.W(32), .DEPTH(16)) u_words (
         .wclk(ifclk), .wrst(rst_if), .wen(w_en), .wdata(w_word), .full(w_full),
         .rclk(clk_vp), .rrst(rst_vp), .ren(w_take), .rdata(w_head), .empty(w_empty));
+    // records outlive a restart: one begun goes out whole (the FX2 would
+    // join its first beats to the next record's), so this FIFO and the
+    // record being sent are reset at power-up only
     alb_afifo #(.W(17), .DEPTH(32)) u_records (
-        .wclk(clk_vp), .wrst(rst_vp), .wen(r_push), .wdata(r_in), .full(r_full),
-        .rclk(ifclk), .rrst(rst_if), .ren(r_take), .rdata(r_beat), .empty(r_empty));
+        .wclk(clk_vp), .wrst(pwr_vp), .wen(r_push), .wdata(r_in), .full(r_full),
+        .rclk(ifclk), .rrst(pwr_if), .ren(r_take), .rdata(r_beat), .empty(r_empty));
 
     // ---- the word stream into the VP, the CONFIG kept for a RESUME ----
     logic [31:0] cfg [0:2];
@@ -160,7 +184,8 @@ module alb_fpga_top #(
              .FILL_QUEUE(FILL_QUEUE), .FRAME_QUEUE(FRAME_QUEUE),
              .DIVIDER_LATENCY(DIVIDER_LATENCY), .SHADE_LATENCY(SHADE_LATENCY),
              .FRAME_FACES(FRAME_FACES), .MAX_EDGES(MAX_EDGES), .TEX_WORDS(TEX_WORDS),
-             .TEX_IDS(TEX_IDS), .SCAN_PIXELS(1), .TAG_BITS(TAG_BITS), .ZR_REG(1)) u_vp (
+             .TEX_IDS(TEX_IDS), .SCAN_PIXELS(1), .TAG_BITS(TAG_BITS), .ZR_REG(1),
+             .SHADE_UNIT(SHADE_UNIT), .TEX_UNIT(TEX_UNIT), .FOG_UNIT(FOG_UNIT)) u_vp (
         .clk(clk_vp), .rst(rst_vp), .in_valid, .in_data, .in_full,
         .mem_zr_addr(zr_addr), .mem_zr_data(zr_data), .mem_zw_en(zw_en), .mem_zw_addr(zw_addr),
         .mem_zw_data(zw_data), .mem_cw_en(cw_en), .mem_cw_addr(cw_addr), .mem_cw_data(cw_data),
@@ -175,8 +200,9 @@ module alb_fpga_top #(
     /* verilator lint_on PINCONNECTEMPTY */
     alb_fpga_mem #(.LW(LW), .LH(LH), .DB(DEPTH_BITS), .COLB(COLOUR_BITS),
                    .TAG_BITS(TAG_BITS)) u_mem (
-        .clk(clk_vp), .rst(rst_vp), .zr_addr, .zr_data, .zw_en, .zw_addr, .zw_data, .cw_en,
-        .cw_addr, .cw_data, .sc_en, .sc_addr, .sc_data, .conflict(mem_conflict));
+        .clk(clk_vp), .rst(restart_vp), .zr_addr, .zr_data, .zw_en, .zw_addr, .zw_data, .cw_en,
+        .cw_addr, .cw_data, .sc_en(sc_en || clearing), .sc_addr(clearing ? clr_n[AW-1:0] : sc_addr),
+        .sc_data, .conflict(mem_conflict));
 
     // ---- RESULT records ----
     // faces per frame: the FRAME_END counts, in the order the frames retire
@@ -202,12 +228,36 @@ module alb_fpga_top #(
     end
     assign r_push = out_left != 4'd0 && !r_full;
     assign r_in = {out_left == 4'd1, beat};
+    // this frame's CRC: its record goes out if the one before has (all but
+    // its last beat, which goes in this cycle), else it is lost
+    wire crc_now = ev_crc && res_wait && ev_crc_number == res_frame;
+    wire out_room = out_left == 4'd0 || (out_left == 4'd1 && r_push);
+    wire load_rec = crc_now && out_room;
+    wire load_err = !crc_now && error && !err_sent && out_left == 4'd0;
+    always_ff @(posedge clk_vp) begin
+        if (pwr_vp)
+            out_left <= 4'd0;
+        else begin
+            if (r_push) begin
+                out_beat <= out_beat + 4'd1;
+                out_left <= out_left - 4'd1;
+            end
+            if (load_rec) begin
+                out_bits <= {8'd0, res_faces, res_cycles, ev_crc_value, 8'd0, res_frame};
+                out_left <= 4'd10;
+                out_beat <= 4'd0;
+            end else if (load_err) begin
+                out_bits <= {128'd0, error_word};
+                out_left <= 4'd2;
+                out_beat <= 4'd0;
+            end
+        end
+    end
     always_ff @(posedge clk_vp) begin
         if (rst_vp) begin
             fq_in <= '0;
             fq_out <= '0;
             res_wait <= 1'b0;
-            out_left <= 4'd0;
             err_sent <= 1'b0;
             lost <= 1'b0;
         end else begin
@@ -215,25 +265,12 @@ module alb_fpga_top #(
                 faces_q[fq_in[FQ-1:0]] <= ev_pop_word[23:0];
                 fq_in <= fq_in + 1'b1;
             end
-            if (r_push) begin
-                out_beat <= out_beat + 4'd1;
-                out_left <= out_left - 4'd1;
-            end
-            if (ev_crc && res_wait && ev_crc_number == res_frame) begin
-                if (out_left > 4'd1 || (out_left == 4'd1 && !r_push))
+            if (crc_now) begin
+                if (!out_room)
                     lost <= 1'b1;            // the host is not reading records
-                else begin
-                    out_bits <= {8'd0, res_faces, res_cycles, ev_crc_value, 8'd0, res_frame};
-                    out_left <= 4'd10;
-                    out_beat <= 4'd0;
-                end
                 res_wait <= 1'b0;
-            end else if (error && !err_sent && out_left == 4'd0) begin
-                out_bits <= {128'd0, error_word};
-                out_left <= 4'd2;
-                out_beat <= 4'd0;
+            end else if (load_err)
                 err_sent <= 1'b1;
-            end
             if (ev_frame) begin
                 res_frame <= ev_frame_number;
                 res_cycles <= ev_frame_cycles;

@@ -9,9 +9,12 @@
 //        beats, each record ended by PKTEND (20-byte RESULT, 4-byte error).
 //
 // A strobe takes one IFCLK edge; the flags are registered, and after each
-// strobe the FSM waits two edges before it trusts them again (the FX2
-// updates a flag a clock after the strobe that changes it).  So a beat takes
-// three clocks: 16 M beats/s, more than USB 2.0 carries.  Switching between
+// strobe the FSM waits three edges before it trusts them again: the FX2
+// updates a flag a clock after the strobe that changes it, and one clock more
+// is margin (a flag a clock later still reads right: the bench's --flag-lag
+// 1).  So a beat takes four clocks: 12 M beats/s, 24 MB/s, half of what the
+// VP can take at 12 MHz and 56 times a 50 Hz stream of the built-in scene.
+// The strobes are high (idle) from configuration on, before any reset.  Switching between
 // the endpoints leaves the bus undriven for a clock (SLOE high before the
 // FPGA drives FD, the FPGA off FD before SLOE low).
 module alb_fx2_fifo (
@@ -50,18 +53,33 @@ module alb_fx2_fifo (
         ep8_full <= !flagb_n;
     end
 
+    // the pins' registers, at their idle values from configuration on
+    // (iCE40 flip-flops power up 0: yosys inverts those that start at 1)
+    logic rd_n = 1'b1, wr_n = 1'b1, oe_n = 1'b1, pe_n = 1'b1, drive = 1'b0;
+    logic [1:0] adr = 2'b01;
+    assign slrd_n = rd_n;
+    assign slwr_n = wr_n;
+    assign sloe_n = oe_n;
+    assign pktend_n = pe_n;
+    assign fd_oe = drive;
+    assign fifoadr = adr;
+
+    // A record begun is written out whole, whatever rst says meanwhile: a
+    // reset between taking a beat (S_WR) and its strobe (S_WR_WAIT) would
+    // lose it, and the FX2 join the record's first beats to the next's.
+    wire writing = st == S_TURN || st == S_WR || st == S_WR_WAIT || st == S_END;
     always_ff @(posedge ifclk) begin
         word_en <= 1'b0;
         rec_take <= 1'b0;
-        slrd_n <= 1'b1;
-        slwr_n <= 1'b1;
-        pktend_n <= 1'b1;
-        if (rst) begin
+        rd_n <= 1'b1;
+        wr_n <= 1'b1;
+        pe_n <= 1'b1;
+        if (rst && !writing) begin
             st <= S_IDLE;
             half <= 1'b0;
-            fd_oe <= 1'b0;
-            sloe_n <= 1'b1;
-            fifoadr <= 2'b01;
+            drive <= 1'b0;
+            oe_n <= 1'b1;
+            adr <= 2'b01;
             wait_n <= 2'd0;
         end else if (wait_n != 2'd0) begin
             wait_n <= wait_n - 2'd1;
@@ -70,22 +88,22 @@ module alb_fx2_fifo (
                 // records first: a VP that cannot post one may stop taking words
                 S_IDLE:
                     if (!rec_empty) begin
-                        sloe_n <= 1'b1;
-                        fifoadr <= 2'b11;
+                        oe_n <= 1'b1;
+                        adr <= 2'b11;
                         st <= S_TURN;
                         wait_n <= 2'd1;
                     end else begin
-                        fifoadr <= 2'b01;
-                        sloe_n <= 1'b0;
+                        adr <= 2'b01;
+                        oe_n <= 1'b0;
                         st <= S_RD;
                         wait_n <= 2'd1;
                     end
                 S_RD:
                     if (!ep4_empty && !word_full) begin
-                        slrd_n <= 1'b0;          // the FX2 moves on at the next edge,
+                        rd_n <= 1'b0;          // the FX2 moves on at the next edge,
                         st <= S_RD_WAIT;         // where FD is still this beat
                     end else if (!rec_empty || (!half && ep4_empty)) begin
-                        sloe_n <= 1'b1;
+                        oe_n <= 1'b1;
                         st <= S_IDLE;
                         wait_n <= 2'd1;
                     end
@@ -97,10 +115,10 @@ module alb_fx2_fifo (
                         low <= fd_in;
                     half <= !half;
                     st <= S_RD;
-                    wait_n <= 2'd1;
+                    wait_n <= 2'd2;
                 end
                 S_TURN: begin
-                    fd_oe <= 1'b1;
+                    drive <= 1'b1;
                     st <= S_WR;
                 end
                 S_WR:
@@ -111,13 +129,13 @@ module alb_fx2_fifo (
                         st <= S_WR_WAIT;
                     end
                 S_WR_WAIT: begin
-                    slwr_n <= 1'b0;              // FD has held the beat a clock
+                    wr_n <= 1'b0;              // FD has held the beat a clock
                     st <= rec_last ? S_END : S_WR;
-                    wait_n <= 2'd1;
+                    wait_n <= 2'd2;
                 end
                 S_END: begin
-                    pktend_n <= 1'b0;            // the record is one packet
-                    fd_oe <= 1'b0;
+                    pe_n <= 1'b0;            // the record is one packet
+                    drive <= 1'b0;
                     st <= S_IDLE;
                     wait_n <= 2'd2;
                 end

@@ -3,21 +3,23 @@
 .PHONY: fpga fpga-check fpga-top fpga-sweep fpga-sweep-chart fpga-sweep-prep fpga-sweep-jobs
 
 FPGA_PROFILE ?= up5k
-# the board (rtl/fpga/fpga.sh --board): icebreaker or hx8k-breakout
-FPGA_BOARD ?= icebreaker
-# more of the RTL's own sizes (fpga.sh --rtl), e.g. FPGA_RTL="TEX_UNIT=0"
+# the board (rtl/fpga/fpga.sh --board): hx8k-breakout or icebreaker
+FPGA_BOARD ?= hx8k-breakout
+# more of the RTL's own sizes than rtl/fpga/board.sizes (fpga.sh --rtl), e.g.
+# FPGA_RTL="FOG_UNIT=1"
 FPGA_RTL ?=
 # --noabc: the sweep's synthesis without ABC (docs/fpga.md)
 FPGA_SWEEP_ABC ?=
 
 # yosys synth_ice40, nextpnr-ice40 (--report), icepack: $(BUILD)/fpga/ (the
-# iCEBreaker's UP5K)
+# HX8K breakout's iCE40HX8K by default)
 fpga: $(ALBATROS)
 	@bash rtl/fpga/fpga.sh --build $(BUILD) --profile $(FPGA_PROFILE) --board $(FPGA_BOARD) $(FPGA_RTL:%=--rtl %)
 
 # the real flow, then its report judged: fits the part, meets the VP's clock
 # (the profile's clock_khz) and the FX2's 48 MHz IFCLK
 fpga-check: $(ALBATROS)
+	@rm -f $(BUILD)/fpga/report.json $(BUILD)/fpga/pack-report.json
 	@bash rtl/fpga/fpga.sh --build $(BUILD) --profile $(FPGA_PROFILE) --board $(FPGA_BOARD) $(FPGA_RTL:%=--rtl %) || true
 	@r=$(BUILD)/fpga/report.json; [ -e $$r ] || r=$(BUILD)/fpga/pack-report.json; \
 	python3 rtl/fpga/fpga_report.py $$r \

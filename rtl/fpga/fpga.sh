@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
 # fpga.sh [--build DIR] [--profile NAME] [--board BOARD] [--rtl NAME=VALUE ...] —
 # alb_fpga_top (rtl/fpga/) for an iCE40 board (docs/fpga.md): yosys
-# synth_ice40, nextpnr-ice40 (its --report JSON), icepack.  BOARD: icebreaker
-# (iCE40UP5K-SG48, its DSPs used) or hx8k-breakout (Lattice's iCE40HX8K-CT256
-# breakout board, no DSPs: the products in logic).  --rtl adds or overrides
-# one of the RTL's own sizes (rtl/README.md), e.g. --rtl TEX_UNIT=0.  Outputs
+# synth_ice40, nextpnr-ice40 (its --report JSON), icepack.  BOARD:
+# hx8k-breakout (Lattice's iCE40HX8K-CT256 breakout board, the default: the
+# build fits it) or icebreaker (iCE40UP5K-SG48, its DSPs used: 8% too
+# small).  The RTL's own sizes are rtl/fpga/board.sizes; --rtl adds or
+# overrides one (rtl/README.md), e.g. --rtl FOG_UNIT=1.  Outputs
 # in DIR/fpga/: alb_fpga.bin (the bitstream), report.json (nextpnr's
 # utilisation and Fmax), yosys.log and stat.txt (the cells yosys mapped,
 # SB_RAM40_4K among them), pack-report.json (packed, utilisation only),
 # nextpnr.log, flow.json (what was built: profile, board, part, sizes).
 set -euo pipefail
-build=build profile=up5k board=icebreaker extra=()
+build=build profile=up5k board=hx8k-breakout extra=()
 usage() { echo "usage: fpga.sh [--build DIR] [--profile NAME] [--board icebreaker|hx8k-breakout] [--rtl NAME=VALUE ...]" >&2; exit 2; }
 while [[ $# -gt 0 ]]; do
     case $1 in
@@ -33,10 +34,9 @@ mkdir -p "$out"
 for tool in yosys nextpnr-ice40 icepack; do
     command -v $tool > /dev/null || { echo "fpga.sh: $tool is not installed (make setup)" >&2; exit 1; }
 done
-# The RTL's own sizes for this board (rtl/README.md): faces of up to six
-# edges (a quad and its two bounding edges), 256 texels in four texture ids,
-# 8-bit frame tags.
-rtl_sizes="MAX_EDGES=6 TEX_WORDS=256 TEX_IDS=4 TAG_BITS=8 ${extra[*]} LED_LOW=$led_low"
+# the RTL's own sizes for the board (rtl/fpga/board.sizes), then --rtl's
+# shellcheck disable=SC2046,SC2116
+rtl_sizes=$(echo $(sed -e 's/#.*//' rtl/fpga/board.sizes) "${extra[@]}" LED_LOW=$led_low)
 chp=""
 for kv in $(rtl/profile-params.sh --albatros "$build/albatros" --format shell "$profile") $rtl_sizes; do
     chp="$chp -chparam ${kv%%=*} ${kv#*=}"

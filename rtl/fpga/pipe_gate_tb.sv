@@ -2,9 +2,20 @@
 // netlist, rtl/fpga/pipe-gate-check.sh) at the up5k widths: texture memory
 // filled, then CYCLES cycles of random samples, set-ups (every 16 cycles, the
 // exponents near the useful range), fog and depth-store answers; every output
-// compared every cycle once the stages hold samples.
+// compared every cycle once the stages hold samples.  SHADE_UNIT, TEX_UNIT,
+// FOG_UNIT (defines, default 1) set the RTL's units as the netlist was
+// synthesized (-chparam): a build with units left out.
 `ifndef CYCLES
 `define CYCLES 1500
+`endif
+`ifndef SHADE_UNIT
+`define SHADE_UNIT 1
+`endif
+`ifndef TEX_UNIT
+`define TEX_UNIT 1
+`endif
+`ifndef FOG_UNIT
+`define FOG_UNIT 1
 `endif
 `include "alb_defs.svh"
 module tb;
@@ -16,7 +27,8 @@ module tb;
   wire [15:0] r_zw_x, r_zw_y, r_zw_d, r_cw_x, r_cw_y, r_cw_d, g_zw_x, g_zw_y, g_zw_d, g_cw_x, g_cw_y, g_cw_d;
   wire [11:0] r_rgb, g_rgb; wire [31:0] r_face, g_face; wire [7:0] r_lvl, g_lvl;
   alb_pipe #(.RATE(1), .LW(4), .LH(4), .CB(8), .DB(16), .COLB(4), .RB(8), .FI(8), .DIV_LAT(4),
-             .SHADE_LAT(4), .TEX_WORDS(256), .ZR_REG(1)) r (
+             .SHADE_LAT(4), .TEX_WORDS(256), .ZR_REG(1), .SHADE_UNIT(`SHADE_UNIT),
+             .TEX_UNIT(`TEX_UNIT), .FOG_UNIT(`FOG_UNIT)) r (
     .clk, .rst, .lane_v, .lane_x, .lane_y, .setup, .level, .fog_on, .fog_rgb, .fog_near, .fog_far,
     .zr_data, .zw_en(r_zw_en), .zw_x(r_zw_x), .zw_y(r_zw_y), .zw_data(r_zw_d), .cw_en(r_cw_en),
     .cw_x(r_cw_x), .cw_y(r_cw_y), .cw_depth(r_cw_d), .cw_rgb(r_rgb), .cw_face(r_face), .cw_level(r_lvl),

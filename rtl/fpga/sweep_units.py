@@ -8,7 +8,8 @@ each RTL unit with the parameters alb_vp gives it, from the profile's fields.
 NAME=VALUE are the profile as rtl/profile-params.sh --format shell prints it
 (WIDTH=512 ...).  The derivations are alb_vp's (rtl/alb_vp.sv): LW, LH, EW,
 and the defaults of the parameters the profile does not bound (MAX_EDGES,
-TEX_WORDS, TEX_IDS, SCAN_PIXELS, TAG_BITS, ZR_REG); tests/fpga-sweep.sh holds
+TEX_WORDS, TEX_IDS, SCAN_PIXELS, TAG_BITS, ZR_REG, and the units SHADE_UNIT,
+TEX_UNIT, FOG_UNIT: all built); tests/fpga-sweep.sh holds
 them against alb_vp elaborated by yosys.
 """
 import sys
@@ -27,7 +28,7 @@ UNITS = {
 }
 # alb_vp's defaults for what the profile does not bound
 RTL_DEFAULTS = {"MAX_EDGES": 64, "TEX_WORDS": 65536, "TEX_IDS": 256, "SCAN_PIXELS": 1,
-                "TAG_BITS": 8, "ZR_REG": 0}
+                "TAG_BITS": 8, "ZR_REG": 0, "SHADE_UNIT": 1, "TEX_UNIT": 1, "FOG_UNIT": 1}
 
 
 def clog2(n):
@@ -46,7 +47,8 @@ def unit_params(unit, p):
         "alb_parser": {"F": q["EDGE_FRAC_BITS"], "CB": q["COEF_BITS"], "COLB": q["COLOUR_BITS"],
                        "LW": lw, "LH": lh, "EW": ew, "MAX_EDGES": q["MAX_EDGES"],
                        "TEX_WORDS": q["TEX_WORDS"], "TEX_IDS": q["TEX_IDS"],
-                       "FRAME_FACES": q["FRAME_FACES"]},
+                       "FRAME_FACES": q["FRAME_FACES"], "SHADE_UNIT": q["SHADE_UNIT"],
+                       "TEX_UNIT": q["TEX_UNIT"], "FOG_UNIT": q["FOG_UNIT"]},
         "alb_edge_store": {"FACE_SLOTS": q["FACE_SLOTS"], "MAX_EDGES": q["MAX_EDGES"],
                            "EW": ew, "LANES": q["EDGE_UNITS"]},
         "alb_engine": {"LW": lw, "LH": lh, "EW": ew, "MAX_EDGES": q["MAX_EDGES"],
@@ -57,7 +59,8 @@ def unit_params(unit, p):
                      "DB": q["DEPTH_BITS"], "COLB": q["COLOUR_BITS"], "RB": q["RECIP_BITS"],
                      "FI": q["SHADE_FRAC_BITS"], "DIV_LAT": q["DIVIDER_LATENCY"],
                      "SHADE_LAT": q["SHADE_LATENCY"], "TEX_WORDS": q["TEX_WORDS"],
-                     "ZR_REG": q["ZR_REG"]},
+                     "ZR_REG": q["ZR_REG"], "SHADE_UNIT": q["SHADE_UNIT"],
+                     "TEX_UNIT": q["TEX_UNIT"], "FOG_UNIT": q["FOG_UNIT"]},
         "alb_frame_store": {"RATE": q["FILL_RATE"], "LW": lw, "LH": lh, "AA": q["AA"],
                             "DB": q["DEPTH_BITS"], "COLB": q["COLOUR_BITS"],
                             "TAG_BITS": q["TAG_BITS"], "FRAME_QUEUE": q["FRAME_QUEUE"]},

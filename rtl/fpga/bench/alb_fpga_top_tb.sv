@@ -27,7 +27,10 @@ module alb_fpga_top_tb #(
     parameter int MAX_EDGES = 64,
     parameter int TEX_WORDS = 256,
     parameter int TEX_IDS = 4,
-    parameter int TAG_BITS = 8
+    parameter int TAG_BITS = 8,
+    parameter int SHADE_UNIT = 1,
+    parameter int TEX_UNIT = 1,
+    parameter int FOG_UNIT = 1
 ) (
     input  logic        clk_vp,
     input  logic        ifclk,
@@ -67,7 +70,8 @@ module alb_fpga_top_tb #(
         .FACE_SLOTS(FACE_SLOTS), .EDGE_UNITS(EDGE_UNITS), .FILL_RATE(FILL_RATE),
         .FILL_QUEUE(FILL_QUEUE), .FRAME_QUEUE(FRAME_QUEUE), .DIVIDER_LATENCY(DIVIDER_LATENCY),
         .SHADE_LATENCY(SHADE_LATENCY), .FRAME_FACES(FRAME_FACES), .MAX_EDGES(MAX_EDGES),
-        .TEX_WORDS(TEX_WORDS), .TEX_IDS(TEX_IDS), .TAG_BITS(TAG_BITS)
+        .TEX_WORDS(TEX_WORDS), .TEX_IDS(TEX_IDS), .TAG_BITS(TAG_BITS),
+        .SHADE_UNIT(SHADE_UNIT), .TEX_UNIT(TEX_UNIT), .FOG_UNIT(FOG_UNIT)
     ) u_top (
         .clk_vp, .ifclk, .fd, .flaga_n, .flagb_n, .slrd_n, .slwr_n, .sloe_n, .fifoadr,
         .pktend_n, .vp_restart, .vp_new_stream, .led

@@ -30,16 +30,16 @@ command -v verilator > /dev/null || {
     echo "build.sh: $lib/libalbatros.so is missing: build the library first (make)" >&2; exit 1; }
 lib=$(realpath "$lib")
 board=$(realpath "$board")
-# the FPGA build's sizes: rtl/fpga/fpga.sh's rtl_sizes
+# the FPGA build's sizes, as rtl/fpga/fpga.sh gives them (rtl/fpga/board.sizes)
 all=$("$rtl/profile-params.sh" --format shell --albatros "$ALBATROS" "$@"
-      printf '%s\n' MAX_EDGES=6 TEX_WORDS=256 TEX_IDS=4 TAG_BITS=8)
+      sed -e 's/#.*//' -e '/^ *$/d' "$fpga/board.sizes")
 mkdir -p "$dir"
 dir=$(realpath "$dir")
 bench_ldflags=${ALB_BENCH_LDFLAGS:-}   # -fsanitize=... for a library built under them (make asan)
 stamp=$(printf '%s\n' "$lib" "$board" "$bench_ldflags" "$all")
 if [ -x "$dir/top_bench" ] && [ -f "$dir/params" ] && [ "$(cat "$dir/params")" = "$stamp" ] &&
    [ -z "$(find "$rtl" "$board" -newer "$dir/top_bench" \( -name '*.sv' -o -name '*.svh' -o \
-           -name '*.cpp' -o -name build.sh \) 2>/dev/null)" ]; then
+           -name '*.cpp' -o -name '*.h' -o -name build.sh -o -name board.sizes \) 2>/dev/null)" ]; then
     exit 0
 fi
 rm -f "$dir/top_bench"

@@ -15,6 +15,7 @@
 //
 // Exit status: 0 every check passed, 1 a check failed, 2 bad usage or input.
 #include "Valb_fpga_top_tb.h"
+#include "../../bench/stream_file.h"
 #include "verilated.h"
 #include "verilated_vcd_c.h"
 
@@ -38,26 +39,6 @@ extern "C" {   // the public headers have no C++ guards of their own
 namespace {
 
 // ---- the stream ----
-
-std::vector<uint32_t> read_stream(const char *path, std::string &err)
-{
-    std::vector<uint32_t> w;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        err = std::string(path) + ": cannot open: " + std::strerror(errno);
-        return w;
-    }
-    std::vector<unsigned char> b((std::istreambuf_iterator<char>(in)), {});
-    if (b.size() % 4) {
-        err = std::string(path) + ": offset " + std::to_string(b.size() - b.size() % 4) +
-              ": file length is not a whole number of 32-bit words";
-        return w;
-    }
-    for (size_t i = 0; i + 3 < b.size(); i += 4)
-        w.push_back((uint32_t)b[i] | (uint32_t)b[i + 1] << 8 | (uint32_t)b[i + 2] << 16 |
-                    (uint32_t)b[i + 3] << 24);
-    return w;
-}
 
 // Where the stream's packets are (docs/word-format.md): the FRAME headers and
 // the FRAME_END counts, in order.  Only the lengths are decoded; the VP and
@@ -599,10 +580,10 @@ int run(const Options &o)
         phases[0].words = stream;
         phases[0].faces = map.frame_faces;
         fx2.source(stream, 0, stream.size());
-        fpga_phase = 0;
+        // the top's power-up reset of its IFCLK side begins phase 0
     }
     uint64_t vp_cycles = 0, error_at = 0, done_at = 0, last_progress = 0;
-    unsigned error_records = 0, results = 0;
+    unsigned error_records = 0, results = 0, straddled = 0;
     bool error_seen = false, stop = false;
 
     auto model_open = [&](Phase &p) -> bool {
@@ -720,8 +701,11 @@ int run(const Options &o)
         std::vector<uint32_t> u;
         for (size_t i = 0; i + 1 < pk.beats.size(); i += 2)
             u.push_back((uint32_t)pk.beats[i] | (uint32_t)pk.beats[i + 1] << 16);
+        // a record begun before a VP_RESTART goes out whole after it (the
+        // top's record path outlives a restart): it is the first beat's
+        // phase's, and checked as such below
         if (pk.mixed)
-            f.fail("a %zu-byte record of beats from before and after a VP_RESTART", bytes);
+            straddled++;
         if (bytes == 4) {
             error_records++;
             if (rec)
@@ -918,9 +902,10 @@ int run(const Options &o)
     }
     std::printf("top_bench: %" PRIu64 " VP cycles at %.0f kHz, %" PRIu64 " IFCLKs at %.0f kHz "
                 "(%.3f ms); %" PRIu64 " beats read, %u RESULTs, %u error records, %zu phases "
-                "(%zu RESULTs dropped by restarts); EP8 full %" PRIu64 " times (%" PRIu64
-                " IFCLKs); %s\n", vp_cycles, o.vp_khz, fx2.now(), o.if_khz, (double)now_ps / 1e9,
-                fx2.beats_read(), results, error_records, phases.size(), lost_at_restart,
+                "(%zu RESULTs dropped by restarts, %u records across one); EP8 full %" PRIu64
+                " times (%" PRIu64 " IFCLKs); %s\n", vp_cycles, o.vp_khz, fx2.now(), o.if_khz,
+                (double)now_ps / 1e9, fx2.beats_read(), results, error_records, phases.size(),
+                lost_at_restart, straddled,
                 fx2.full_episodes(), fx2.full_clocks(), f.count ? "FAILED" : "ok");
     return f.count ? 1 : 0;
 }
