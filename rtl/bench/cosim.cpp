@@ -43,23 +43,6 @@ extern "C" {   // the public headers have no C++ guards of their own
 
 namespace {
 
-// Two clocks in reset, no word offered, the clock left low.
-void reset(Valb_bench_top &top)
-{
-    top.clk = 0;
-    top.rst = 1;
-    top.in_valid = 0;
-    top.in_data = 0;
-    top.eval();
-    for (int i = 0; i < 2; i++) {
-        top.clk = 1;
-        top.eval();
-        top.clk = 0;
-        top.eval();
-    }
-    top.rst = 0;
-}
-
 // Where the model's events come from, a cycle at a time.
 class EventSource {
 public:
@@ -439,7 +422,7 @@ Result run(const Options &o, const std::vector<uint32_t> *stream, const char *vc
         tfp->open(vcd);
     }
     Scoreboard sb;
-    reset(*top);
+    bench_reset(*top);
     const uint64_t pixels = (uint64_t)top->p_width * top->p_height;
     const uint64_t scan = pixels / top->p_scan_pixels + 16;   // the last CRC after the last frame
     std::vector<Event> expected, actual, mine;
@@ -570,7 +553,7 @@ int expect_error(const std::vector<uint32_t> &words, unsigned code, uint64_t wor
 {
     auto ctx = std::make_unique<VerilatedContext>();
     auto top = std::make_unique<Valb_bench_top>(ctx.get());
-    reset(*top);
+    bench_reset(*top);
     size_t next = 0;
     uint64_t t = 0, idle = 0;
     for (; !top->error && idle < 100000; t++) {

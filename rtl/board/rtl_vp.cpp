@@ -173,24 +173,6 @@ void plant_flip(alb_rtl_vp *v, uint64_t k)
                  "that frame: nothing flipped\n", v->flip_frame, v->flip_x, v->flip_y);
 }
 
-void reset(alb_rtl_vp *v)
-{
-    Valb_bench_top &top = *v->top;
-    top.clk = 0;
-    top.rst = 1;
-    top.in_valid = 0;
-    top.in_data = 0;
-    top.eval();
-    for (int i = 0; i < 2; i++) {
-        top.clk = 1;
-        top.eval();
-        top.clk = 0;
-        top.eval();
-    }
-    top.rst = 0;
-    top.eval();
-}
-
 // One clock: the producer's push, the events of the cycle, the rising edge.
 // Returns false where the cycle's events break what the board relies on.
 bool clock(alb_rtl_vp *v, const uint32_t *w, bool push, char *err, size_t errlen)
@@ -275,7 +257,7 @@ alb_rtl_vp *vp_open(const alb_rtl_vp_config *c, char *err, size_t errlen)
         v->cfg = *c;
         v->ctx = std::make_unique<VerilatedContext>();
         v->top = std::make_unique<Valb_bench_top>(v->ctx.get(), "board");
-        reset(v.get());
+        bench_reset(*v->top);
         return v.release();
     } catch (const std::exception &e) {
         std::snprintf(err, errlen, "the RTL board: %s", e.what());
