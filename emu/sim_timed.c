@@ -199,6 +199,7 @@ static alb_err frame_end(timed *t, int64_t popped, alb_diag *d)
         cycle_map_resolve(&t->map, t->vp, &t->frame);
     } else {
         t->frame.number = t->vp->frame.number;
+        vp_store_name_tie(t->vp);   /* st.tie_kept, before the counters are taken */
     }
     t->prev_retire = r;
     t->drain = max64(t->drain, r);
@@ -240,7 +241,9 @@ static alb_err timed_init(timed *t, const alb_profile *p, bool frames, alb_diag 
     t->frame_last = -1;
     t->frames = frames;
     sim_frame_without_planes(p, &t->frame);
-    alb_err e = alb_vp_create(&t->vp, p, d);
+    /* counters alone: the VP without tag plane, reciprocal ROM nor output
+     * stage (the same statistics) */
+    alb_err e = frames ? alb_vp_create(&t->vp, p, d) : vp_create_counters(&t->vp, p, d);
     if (e)
         return e;
     t->pop_ring = calloc(p->fifo_depth + 1, sizeof *t->pop_ring);

@@ -321,6 +321,17 @@ static void check_fidelities(const alb_profile *p, const alb_ws_buf *b, const ch
         log_free(&lfp);
         log_free(&ltp);
     }
+    /* and the timed model without frames (its store without tags,
+     * vp_create_counters) in the plain forms: the same counters */
+    counters_log lop;
+    if (run_counters(&plain, b, ALB_FIDELITY_TIMED, &lop)) {
+        CHECK_MSG(0, "%s: the timed run without frames with simd=0 failed", what);
+    } else {
+        CHECK(lop.n == lt.n && lop.with_planes == 0);
+        for (unsigned i = 0; i < lop.n && i < lt.n; i++)
+            CHECK_MSG(counters_equal(&lop.c[i], &lt.c[i]) && !memcmp(&lop.s[i], &lt.s[i], sizeof lt.s[i]),
+                      "%s frame %u: timed without frames with simd=0 differs", what, i);
+    }
     check_threads(p, b, &lf, what);
     log_free(&lf);
     log_free(&lt);

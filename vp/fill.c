@@ -65,7 +65,8 @@ static inline void sample_plain(uint32_t *depth, uint32_t *tag, size_t idx, int6
      * earlier face (docs/vp.md §4); 0, no surface, never wins */
     if (dv > depth[idx]) {
         depth[idx] = dv;
-        tag[idx] = t;
+        if (tag)   /* NULL: the store of counters alone (vp.tagless) */
+            tag[idx] = t;
         k->written++;
         k->nearest = dv > k->nearest ? dv : k->nearest;
     } else if (dv != 0 && dv == depth[idx] && dv != (uint32_t)dmax && k->ties++ == 0) {
@@ -80,43 +81,50 @@ static inline void sample_plain(uint32_t *depth, uint32_t *tag, size_t idx, int6
  * Forms: plain C, SSE2 four samples a step, AVX2 eight; one of each shape
  * is chosen for the host when the VP is made (vp_depth_forms). */
 
-/* The plain form of one sample (also the SIMD forms' tails). */
-static inline void sample_fast(uint32_t *depth, uint32_t *tag, size_t i, int64_t z, unsigned sr,
-                               unsigned sl, uint32_t t, size_t at, vp_rect_result *r)
+/* The plain form of one sample (also the SIMD forms' tails).  Every form
+ * is one body compiled twice: `tagged` (a constant at each call) writes the
+ * tag plane, or leaves it out for the store of counters alone, which has
+ * none (alb_vp.tagless) — the same depths and counts either way. */
+static inline __attribute__((always_inline)) void
+sample_fast(uint32_t *depth, uint32_t *tag, size_t i, int64_t z, unsigned sr, unsigned sl,
+            uint32_t t, size_t at, vp_rect_result *r, const bool tagged)
 {
     uint32_t dv = (uint32_t)(((uint64_t)z >> sr) << sl);
     bool win = dv > depth[i], tie = dv == depth[i];
     depth[i] = win ? dv : depth[i];
-    tag[i] = win ? t : tag[i];
+    if (tagged)
+        tag[i] = win ? t : tag[i];
     r->written += win;
     r->nearest = win && dv > r->nearest ? dv : r->nearest;
     if (tie && r->ties++ == 0)
         r->first_tie = at;
 }
 
-static vp_rect_result rect_plain_c(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w,
-                                   uint32_t h, int64_t z, int64_t dc, int64_t dr, unsigned sr,
-                                   unsigned sl, uint32_t t)
+static inline __attribute__((always_inline)) vp_rect_result
+rect_plain(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
+           int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t, const bool tagged)
 {
     vp_rect_result r = {0, 0, 0, 0};
     for (uint32_t y = 0; y < h; y++, z += dr) {
         int64_t zc = z;
         for (uint32_t x = 0; x < w; x++, zc += dc)
-            sample_fast(depth, tag, y * stride + x, zc, sr, sl, t, y * stride + x, &r);
+            sample_fast(depth, tag, y * stride + x, zc, sr, sl, t, y * stride + x, &r, tagged);
     }
     return r;
 }
 
 /* A rectangle of clean tiles (no surface anywhere: store 0, so every sample
  * wins): stored without reading, the same values as the rectangle's fill. */
-static void store_plain_c(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h,
-                          int64_t z, int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
+static inline __attribute__((always_inline)) void
+store_plain(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
+            int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t, const bool tagged)
 {
     for (uint32_t y = 0; y < h; y++, z += dr) {
         int64_t zc = z;
         for (uint32_t x = 0; x < w; x++, zc += dc) {
             depth[y * stride + x] = (uint32_t)(((uint64_t)zc >> sr) << sl);
-            tag[y * stride + x] = t;
+            if (tagged)
+                tag[y * stride + x] = t;
         }
     }
 }
@@ -128,26 +136,70 @@ static inline uint32_t block_tag(uint64_t mid, uint64_t fine, unsigned b, const 
     return fine >> b & 1 ? t[2] : mid >> b & 1 ? t[1] : t[0];
 }
 
-static vp_rect_result block8_plain_c(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z,
-                                     int64_t dc, int64_t dr, unsigned sr, unsigned sl,
-                                     uint64_t mask, uint64_t mid, uint64_t fine, const uint32_t t[3])
+static inline __attribute__((always_inline)) vp_rect_result
+block8_plain(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z, int64_t dc, int64_t dr,
+             unsigned sr, unsigned sl, uint64_t mask, uint64_t mid, uint64_t fine,
+             const uint32_t t[3], const bool tagged)
 {
     vp_rect_result r = {0, 0, 0, 0};
     for (uint64_t m = mask; m; m &= m - 1) {   /* raster order: the first tie is the lowest */
         const unsigned b = (unsigned)__builtin_ctzll(m), x = b & 7, y = b >> 3;
         sample_fast(depth, tag, y * stride + x, z + (int64_t)x * dc + (int64_t)y * dr, sr, sl,
-                    block_tag(mid, fine, b, t), y * stride + x, &r);
+                    block_tag(mid, fine, b, t), y * stride + x, &r, tagged);
     }
     return r;
+}
+
+/* The plain forms with the tag plane and without. */
+static vp_rect_result rect_plain_c(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w,
+                                   uint32_t h, int64_t z, int64_t dc, int64_t dr, unsigned sr,
+                                   unsigned sl, uint32_t t)
+{
+    return rect_plain(depth, tag, stride, w, h, z, dc, dr, sr, sl, t, true);
+}
+
+static vp_rect_result rect_plain_c_untagged(uint32_t *depth, uint32_t *tag, size_t stride,
+                                            uint32_t w, uint32_t h, int64_t z, int64_t dc,
+                                            int64_t dr, unsigned sr, unsigned sl, uint32_t t)
+{
+    return rect_plain(depth, tag, stride, w, h, z, dc, dr, sr, sl, t, false);
+}
+
+static void store_plain_c(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h,
+                          int64_t z, int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
+{
+    store_plain(depth, tag, stride, w, h, z, dc, dr, sr, sl, t, true);
+}
+
+static void store_plain_c_untagged(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w,
+                                   uint32_t h, int64_t z, int64_t dc, int64_t dr, unsigned sr,
+                                   unsigned sl, uint32_t t)
+{
+    store_plain(depth, tag, stride, w, h, z, dc, dr, sr, sl, t, false);
+}
+
+static vp_rect_result block8_plain_c(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z,
+                                     int64_t dc, int64_t dr, unsigned sr, unsigned sl,
+                                     uint64_t mask, uint64_t mid, uint64_t fine, const uint32_t t[3])
+{
+    return block8_plain(depth, tag, stride, z, dc, dr, sr, sl, mask, mid, fine, t, true);
+}
+
+static vp_rect_result block8_plain_c_untagged(uint32_t *depth, uint32_t *tag, size_t stride,
+                                              int64_t z, int64_t dc, int64_t dr, unsigned sr,
+                                              unsigned sl, uint64_t mask, uint64_t mid,
+                                              uint64_t fine, const uint32_t t[3])
+{
+    return block8_plain(depth, tag, stride, z, dc, dr, sr, sl, mask, mid, fine, t, false);
 }
 
 #if VP_SSE2
 /* four samples a step: their depths in two registers of two 64-bit lanes,
  * shifted, narrowed to 32 bits, compared unsigned (by flipping the sign
  * bits) and merged where they win */
-static vp_rect_result rect_sse2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w,
-                                uint32_t h, int64_t z, int64_t dc, int64_t dr, unsigned sr,
-                                unsigned sl, uint32_t t)
+static inline __attribute__((always_inline)) vp_rect_result
+rect_sse2_body(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
+               int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t, const bool tagged)
 {
     vp_rect_result res = {0, 0, 0, 0};
     const __m128i step = _mm_set1_epi64x(4 * dc), vsr = _mm_cvtsi32_si128((int)sr),
@@ -156,7 +208,7 @@ static vp_rect_result rect_sse2(uint32_t *depth, uint32_t *tag, size_t stride, u
     __m128i best = sign;   /* 0, flipped */
     for (uint32_t y = 0; y < h; y++, z += dr) {
         __m128i lo = _mm_set_epi64x(z + dc, z), hi = _mm_set_epi64x(z + 3 * dc, z + 2 * dc);
-        uint32_t *dp = depth + y * stride, *tp = tag + y * stride;
+        uint32_t *dp = depth + y * stride, *tp = tagged ? tag + y * stride : NULL;
         uint32_t i = 0;
         for (; i + 4 <= w; i += 4) {
             __m128i a = _mm_sll_epi64(_mm_srl_epi64(lo, vsr), vsl);
@@ -164,11 +216,13 @@ static vp_rect_result rect_sse2(uint32_t *depth, uint32_t *tag, size_t stride, u
             __m128i dv = _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b),
                                                          _MM_SHUFFLE(2, 0, 2, 0)));
             __m128i *d = (__m128i *)(void *)(dp + i), *g = (__m128i *)(void *)(tp + i);
+            (void)g;
             __m128i old = _mm_loadu_si128(d), fdv = _mm_xor_si128(dv, sign);
             __m128i win = _mm_cmpgt_epi32(fdv, _mm_xor_si128(old, sign));
             _mm_storeu_si128(d, _mm_or_si128(_mm_and_si128(win, dv), _mm_andnot_si128(win, old)));
-            _mm_storeu_si128(g, _mm_or_si128(_mm_and_si128(win, vt),
-                                             _mm_andnot_si128(win, _mm_loadu_si128(g))));
+            if (tagged)
+                _mm_storeu_si128(g, _mm_or_si128(_mm_and_si128(win, vt),
+                                                 _mm_andnot_si128(win, _mm_loadu_si128(g))));
             /* the largest written (flipped: 0 is INT32_MIN where none won) */
             __m128i cand = _mm_or_si128(_mm_and_si128(win, fdv), _mm_andnot_si128(win, sign));
             __m128i gt = _mm_cmpgt_epi32(cand, best);
@@ -185,13 +239,27 @@ static vp_rect_result rect_sse2(uint32_t *depth, uint32_t *tag, size_t stride, u
             hi = _mm_add_epi64(hi, step);
         }
         for (int64_t zc = z + (int64_t)i * dc; i < w; i++, zc += dc)
-            sample_fast(dp, tp, i, zc, sr, sl, t, y * stride + i, &res);
+            sample_fast(dp, tp, i, zc, sr, sl, t, y * stride + i, &res, tagged);
     }
     uint32_t lanes[4];
     _mm_storeu_si128((__m128i *)(void *)lanes, _mm_xor_si128(best, sign));
     for (int k = 0; k < 4; k++)
         res.nearest = lanes[k] > res.nearest ? lanes[k] : res.nearest;
     return res;
+}
+
+static vp_rect_result rect_sse2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w,
+                                uint32_t h, int64_t z, int64_t dc, int64_t dr, unsigned sr,
+                                unsigned sl, uint32_t t)
+{
+    return rect_sse2_body(depth, tag, stride, w, h, z, dc, dr, sr, sl, t, true);
+}
+
+static vp_rect_result rect_sse2_untagged(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w,
+                                         uint32_t h, int64_t z, int64_t dc, int64_t dr, unsigned sr,
+                                         unsigned sl, uint32_t t)
+{
+    return rect_sse2_body(depth, tag, stride, w, h, z, dc, dr, sr, sl, t, false);
 }
 #endif
 
@@ -223,15 +291,16 @@ __attribute__((target("avx2,popcnt"))) static inline unsigned hmax8(__m256i v)
 /* Eight samples of one row: `in` the lanes that take part (all ones in a
  * whole cell), tv their tags; `at` the row offset of lane 0 for the first
  * tie. */
-__attribute__((target("avx2,popcnt"))) static inline void
+__attribute__((target("avx2,popcnt"))) static inline __attribute__((always_inline)) void
 row8_avx2(uint32_t *dp, uint32_t *tp, __m256i dv, __m256i in, __m256i tv, size_t at, __m256i *best,
-          vp_rect_result *res)
+          vp_rect_result *res, const bool tagged)
 {
     __m256i *d = (__m256i *)(void *)dp, *g = (__m256i *)(void *)tp;
     __m256i old = _mm256_loadu_si256(d), nearer = _mm256_max_epu32(dv, old);
     __m256i win = _mm256_andnot_si256(_mm256_cmpeq_epi32(nearer, old), in);
     _mm256_storeu_si256(d, _mm256_blendv_epi8(old, dv, win));
-    _mm256_storeu_si256(g, _mm256_blendv_epi8(_mm256_loadu_si256(g), tv, win));
+    if (tagged)
+        _mm256_storeu_si256(g, _mm256_blendv_epi8(_mm256_loadu_si256(g), tv, win));
     *best = _mm256_max_epu32(*best, _mm256_and_si256(win, dv));
     unsigned wm = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(win));
     unsigned tie = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(
@@ -247,15 +316,16 @@ row8_avx2(uint32_t *dp, uint32_t *tp, __m256i dv, __m256i in, __m256i tv, size_t
 /* Eight samples of a whole cell's row: every lane takes part, so the new
  * depth is the maximum itself and the samples that lost are counted in
  * lanes (`lost`, -1 a sample), summed once for the cell. */
-__attribute__((target("avx2,popcnt"))) static inline void
+__attribute__((target("avx2,popcnt"))) static inline __attribute__((always_inline)) void
 whole8_avx2(uint32_t *dp, uint32_t *tp, __m256i dv, __m256i tv, size_t at, __m256i *best,
-            __m256i *lost, vp_rect_result *res)
+            __m256i *lost, vp_rect_result *res, const bool tagged)
 {
     __m256i *d = (__m256i *)(void *)dp, *g = (__m256i *)(void *)tp;
     const __m256i old = _mm256_loadu_si256(d), nearer = _mm256_max_epu32(dv, old);
     const __m256i kept = _mm256_cmpeq_epi32(nearer, old);
     _mm256_storeu_si256(d, nearer);
-    _mm256_storeu_si256(g, _mm256_blendv_epi8(tv, _mm256_loadu_si256(g), kept));
+    if (tagged)
+        _mm256_storeu_si256(g, _mm256_blendv_epi8(tv, _mm256_loadu_si256(g), kept));
     *best = _mm256_max_epu32(*best, _mm256_andnot_si256(kept, dv));
     *lost = _mm256_add_epi32(*lost, kept);
     const unsigned tie = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(dv, old)));
@@ -266,9 +336,9 @@ whole8_avx2(uint32_t *dp, uint32_t *tp, __m256i dv, __m256i tv, size_t at, __m25
     }
 }
 
-__attribute__((target("avx2,popcnt"))) static vp_rect_result
-rect_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
-          int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
+__attribute__((target("avx2,popcnt"))) static inline __attribute__((always_inline)) vp_rect_result
+rect_avx2_body(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
+               int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t, const bool tagged)
 {
     vp_rect_result res = {0, 0, 0, 0};
     const __m256i step = _mm256_set1_epi64x(8 * dc), four = _mm256_set1_epi64x(4 * dc),
@@ -280,24 +350,27 @@ rect_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h,
     const __m256i in4 = _mm256_setr_epi32(-1, -1, -1, -1, 0, 0, 0, 0);
     __m256i row = _mm256_set_epi64x(z + 3 * dc, z + 2 * dc, z + dc, z), best = _mm256_setzero_si256();
     for (uint32_t y = 0; y < h; y++, z += dr, row = _mm256_add_epi64(row, down)) {
-        uint32_t *dp = depth + y * stride, *tp = tag + y * stride;
+        uint32_t *dp = depth + y * stride, *tp = tagged ? tag + y * stride : NULL;
         __m256i lo = row, hi = _mm256_add_epi64(row, four);
         uint32_t i = 0;
         for (; i + 8 <= w; i += 8) {
-            whole8_avx2(dp + i, tp + i, narrow8(lo, hi, vsr, vsl), vt, y * stride + i, &best, &lost,
-                        &res);
+            whole8_avx2(dp + i, tagged ? tp + i : NULL, narrow8(lo, hi, vsr, vsl), vt, y * stride + i,
+                        &best, &lost, &res, tagged);
             lo = _mm256_add_epi64(lo, step);
             hi = _mm256_add_epi64(hi, step);
             whole += 8;
         }
         if (i + 4 <= w) {   /* four more (a cell four samples wide): half a register */
             __m256i dv = narrow8(lo, hi, vsr, vsl);
-            __m128i *d = (__m128i *)(void *)(dp + i), *g = (__m128i *)(void *)(tp + i);
+            __m128i *d = (__m128i *)(void *)(dp + i);
             __m128i old = _mm_loadu_si128(d), dv4 = _mm256_castsi256_si128(dv);
             __m128i win = _mm_andnot_si128(_mm_cmpeq_epi32(_mm_max_epu32(dv4, old), old),
                                            _mm256_castsi256_si128(in4));
             _mm_storeu_si128(d, _mm_blendv_epi8(old, dv4, win));
-            _mm_storeu_si128(g, _mm_blendv_epi8(_mm_loadu_si128(g), _mm256_castsi256_si128(vt), win));
+            if (tagged) {
+                __m128i *g = (__m128i *)(void *)(tp + i);
+                _mm_storeu_si128(g, _mm_blendv_epi8(_mm_loadu_si128(g), _mm256_castsi256_si128(vt), win));
+            }
             best = _mm256_max_epu32(best, _mm256_and_si256(_mm256_castsi128_si256(win), dv));
             unsigned wm = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(win));
             unsigned tie = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(dv4, old)));
@@ -310,7 +383,7 @@ rect_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h,
             i += 4;
         }
         for (int64_t zc = z + (int64_t)i * dc; i < w; i++, zc += dc)
-            sample_fast(dp, tp, i, zc, sr, sl, t, y * stride + i, &res);
+            sample_fast(dp, tp, i, zc, sr, sl, t, y * stride + i, &res, tagged);
     }
     unsigned m = hmax8(best);
     res.nearest = m > res.nearest ? m : res.nearest;
@@ -322,13 +395,27 @@ rect_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h,
     return res;
 }
 
+__attribute__((target("avx2,popcnt"))) static vp_rect_result
+rect_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
+          int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
+{
+    return rect_avx2_body(depth, tag, stride, w, h, z, dc, dr, sr, sl, t, true);
+}
+
+__attribute__((target("avx2,popcnt"))) static vp_rect_result
+rect_avx2_untagged(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
+                   int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
+{
+    return rect_avx2_body(depth, tag, stride, w, h, z, dc, dr, sr, sl, t, false);
+}
+
 /* The clean rectangle's store, eight samples a step (w a multiple of 8). */
-__attribute__((target("avx2,popcnt"))) static void
-store_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
-           int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
+__attribute__((target("avx2,popcnt"))) static inline __attribute__((always_inline)) void
+store_avx2_body(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
+                int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t, const bool tagged)
 {
     if (w % 8) {
-        store_plain_c(depth, tag, stride, w, h, z, dc, dr, sr, sl, t);
+        store_plain(depth, tag, stride, w, h, z, dc, dr, sr, sl, t, tagged);
         return;
     }
     const __m256i step = _mm256_set1_epi64x(8 * dc), four = _mm256_set1_epi64x(4 * dc),
@@ -336,15 +423,30 @@ store_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h
     const __m128i vsr = _mm_cvtsi32_si128((int)sr), vsl = _mm_cvtsi32_si128((int)sl);
     __m256i row = _mm256_set_epi64x(z + 3 * dc, z + 2 * dc, z + dc, z);
     for (uint32_t y = 0; y < h; y++, row = _mm256_add_epi64(row, down)) {
-        uint32_t *dp = depth + y * stride, *tp = tag + y * stride;
+        uint32_t *dp = depth + y * stride, *tp = tagged ? tag + y * stride : NULL;
         __m256i lo = row, hi = _mm256_add_epi64(row, four);
         for (uint32_t i = 0; i < w; i += 8) {
             _mm256_storeu_si256((__m256i *)(void *)(dp + i), narrow8(lo, hi, vsr, vsl));
-            _mm256_storeu_si256((__m256i *)(void *)(tp + i), vt);
+            if (tagged)
+                _mm256_storeu_si256((__m256i *)(void *)(tp + i), vt);
             lo = _mm256_add_epi64(lo, step);
             hi = _mm256_add_epi64(hi, step);
         }
     }
+}
+
+__attribute__((target("avx2,popcnt"))) static void
+store_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
+           int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
+{
+    store_avx2_body(depth, tag, stride, w, h, z, dc, dr, sr, sl, t, true);
+}
+
+__attribute__((target("avx2,popcnt"))) static void
+store_avx2_untagged(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
+                    int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
+{
+    store_avx2_body(depth, tag, stride, w, h, z, dc, dr, sr, sl, t, false);
 }
 
 /* The masked 8 x 8 block: a row a step, its byte of the mask spread over
@@ -354,9 +456,10 @@ __attribute__((target("avx2,popcnt"))) static inline __m256i lanes_of(unsigned b
     return _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32((int)byte), bit), bit);
 }
 
-__attribute__((target("avx2,popcnt"))) static vp_rect_result
-block8_avx2(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z, int64_t dc, int64_t dr,
-            unsigned sr, unsigned sl, uint64_t mask, uint64_t mid, uint64_t fine, const uint32_t t[3])
+__attribute__((target("avx2,popcnt"))) static inline __attribute__((always_inline)) vp_rect_result
+block8_avx2_body(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z, int64_t dc, int64_t dr,
+                 unsigned sr, unsigned sl, uint64_t mask, uint64_t mid, uint64_t fine,
+                 const uint32_t t[3], const bool tagged)
 {
     vp_rect_result res = {0, 0, 0, 0};
     const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
@@ -369,35 +472,80 @@ block8_avx2(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z, int64_t dc
         const unsigned m = (unsigned)(mask >> 8 * y) & 0xFF;
         if (!m)
             continue;
-        __m256i tv = _mm256_blendv_epi8(t0, t1, lanes_of((unsigned)(mid >> 8 * y) & 0xFF, bit));
-        tv = _mm256_blendv_epi8(tv, t2, lanes_of((unsigned)(fine >> 8 * y) & 0xFF, bit));
-        row8_avx2(depth + y * stride, tag + y * stride,
+        __m256i tv = t0;
+        if (tagged) {
+            tv = _mm256_blendv_epi8(t0, t1, lanes_of((unsigned)(mid >> 8 * y) & 0xFF, bit));
+            tv = _mm256_blendv_epi8(tv, t2, lanes_of((unsigned)(fine >> 8 * y) & 0xFF, bit));
+        }
+        row8_avx2(depth + y * stride, tagged ? tag + y * stride : NULL,
                   narrow8(lo, _mm256_add_epi64(lo, four), vsr, vsl), lanes_of(m, bit), tv,
-                  y * stride, &best, &res);
+                  y * stride, &best, &res, tagged);
     }
     res.nearest = hmax8(best);
     return res;
 }
+
+__attribute__((target("avx2,popcnt"))) static vp_rect_result
+block8_avx2(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z, int64_t dc, int64_t dr,
+            unsigned sr, unsigned sl, uint64_t mask, uint64_t mid, uint64_t fine, const uint32_t t[3])
+{
+    return block8_avx2_body(depth, tag, stride, z, dc, dr, sr, sl, mask, mid, fine, t, true);
+}
+
+__attribute__((target("avx2,popcnt"))) static vp_rect_result
+block8_avx2_untagged(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z, int64_t dc,
+                     int64_t dr, unsigned sr, unsigned sl, uint64_t mask, uint64_t mid,
+                     uint64_t fine, const uint32_t t[3])
+{
+    return block8_avx2_body(depth, tag, stride, z, dc, dr, sr, sl, mask, mid, fine, t, false);
+}
 #endif
 
-unsigned vp_depth_forms(vp_depth_forms_t f[3], const char *name[3])
+static unsigned depth_forms(vp_depth_forms_t f[3], const char *name[3], const bool tagged)
 {
     unsigned k = 0;
 #if VP_AVX2
     __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt"))
-        f[k] = (vp_depth_forms_t){rect_avx2, block8_avx2, store_avx2}, name[k++] = "AVX2";
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt")) {
+        f[k] = tagged ? (vp_depth_forms_t){rect_avx2, block8_avx2, store_avx2}
+                      : (vp_depth_forms_t){rect_avx2_untagged, block8_avx2_untagged,
+                                           store_avx2_untagged};
+        name[k++] = "AVX2";
+    }
 #endif
 #if VP_SSE2
     /* the masked block and the store in SSE2 are the plain forms: hosts
      * with SSE2 and without AVX2 predate 2013 */
-    f[k] = (vp_depth_forms_t){rect_sse2, block8_plain_c, store_plain_c}, name[k++] = "SSE2";
+    f[k] = tagged ? (vp_depth_forms_t){rect_sse2, block8_plain_c, store_plain_c}
+                  : (vp_depth_forms_t){rect_sse2_untagged, block8_plain_c_untagged,
+                                       store_plain_c_untagged};
+    name[k++] = "SSE2";
 #endif
-    f[k] = (vp_depth_forms_t){rect_plain_c, block8_plain_c, store_plain_c}, name[k++] = "plain C";
+    f[k] = tagged ? (vp_depth_forms_t){rect_plain_c, block8_plain_c, store_plain_c}
+                  : (vp_depth_forms_t){rect_plain_c_untagged, block8_plain_c_untagged,
+                                       store_plain_c_untagged};
+    name[k++] = "plain C";
     return k;
 }
 
+unsigned vp_depth_forms(vp_depth_forms_t f[3], const char *name[3])
+{
+    return depth_forms(f, name, true);
+}
+
+unsigned vp_depth_forms_untagged(vp_depth_forms_t f[3], const char *name[3])
+{
+    return depth_forms(f, name, false);
+}
+
 /* ---- cells and blocks ---- */
+
+/* The tag plane from sample idx on; NULL in the store of counters alone,
+ * which has none (alb_vp.tagless: its forms never touch it). */
+static inline uint32_t *tags_at(const alb_vp *vp, size_t idx)
+{
+    return vp->s_tag ? vp->s_tag + idx : NULL;
+}
 
 /* Whether every sample of the rectangle of w x h samples whose first has
  * depth form N = z lies in the store's range (the extremes of N are at two
@@ -430,7 +578,7 @@ static void fill_tiles(alb_vp *vp, const vp_cell *k, int64_t z, int64_t dc, int6
             const int64_t zc = z + (int64_t)(c - k->c0) * dc + (int64_t)(r - k->r0) * dr;
             const size_t idx = (size_t)r * vp->sw + c;
             if (cl) {
-                vp->depth_forms.store(vp->s_depth + idx, vp->s_tag + idx, vp->sw, e - c, th, zc, dc,
+                vp->depth_forms.store(vp->s_depth + idx, tags_at(vp, idx), vp->sw, e - c, th, zc, dc,
                                       dr, sr, sl, t);
                 memset(clean + (c >> twl), 0, (e - c) >> twl);
                 n->written += (uint64_t)(e - c) * th;
@@ -440,7 +588,7 @@ static void fill_tiles(alb_vp *vp, const vp_cell *k, int64_t z, int64_t dc, int6
                 const uint32_t top = (uint32_t)(((uint64_t)zmax >> sr) << sl);
                 n->nearest = top > n->nearest ? top : n->nearest;
             } else {
-                vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, vp->s_tag + idx, vp->sw,
+                vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, tags_at(vp, idx), vp->sw,
                                                         e - c, th, zc, dc, dr, sr, sl, t);
                 add_rect(n, &x, idx);
             }
@@ -465,7 +613,7 @@ static void fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
             fill_tiles(vp, k, z, dc, dr, sr, sl, t, &n);
         } else {
             vp_touch(vp, k);
-            vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, vp->s_tag + idx, vp->sw, cw,
+            vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, tags_at(vp, idx), vp->sw, cw,
                                                     ch, z, dc, dr, sr, sl, t);
             add_rect(&n, &x, idx);
         }
@@ -502,7 +650,7 @@ void vp_fill_block8(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r
     fill_counts n = {0, 0, 0, 0, 0, 0};
     if (depth_in_range(vp, fs, 8, 8, z)) {
         const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
-        vp_rect_result x = vp->depth_forms.block8(vp->s_depth + idx, vp->s_tag + idx, vp->sw, z, dc, dr,
+        vp_rect_result x = vp->depth_forms.block8(vp->s_depth + idx, tags_at(vp, idx), vp->sw, z, dc, dr,
                                             sr, sl, mask, mid, fine, t);
         add_rect(&n, &x, idx);
     } else {

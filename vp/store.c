@@ -10,7 +10,7 @@
  * the same arithmetic the fill would have used — so a sample that a nearer
  * face overwrites is never shaded. */
 #define _DEFAULT_SOURCE   /* madvise's MADV_HUGEPAGE, where the C library has it */
-#include "vp_internal.h"
+#include "units.h"
 
 #include <stdint.h>
 #include <stdlib.h>
@@ -56,9 +56,10 @@ int vp_store_init(alb_vp *vp)
     vp->tiles_lw = vp->lw - vp->tile_wl;
     size_t n = (size_t)vp->sw * vp->sh, tiles = (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl);
     vp->s_depth = vp_plane_alloc(n, sizeof *vp->s_depth, false);
-    vp->s_tag = vp_plane_alloc(n, sizeof *vp->s_tag, false);
+    /* counters alone need no tag plane: half the store's memory traffic */
+    vp->s_tag = vp->counters_only ? NULL : vp_plane_alloc(n, sizeof *vp->s_tag, false);
     vp->tile_clean = malloc(tiles);
-    if (!vp->s_depth || !vp->s_tag || !vp->tile_clean)
+    if (!vp->s_depth || (!vp->counters_only && !vp->s_tag) || !vp->tile_clean)
         return -1;
     memset(vp->tile_clean, 1, tiles);
     return 0;
@@ -79,12 +80,15 @@ void vp_store_free(alb_vp *vp)
     free(vp->s_depth);
     free(vp->s_tag);
     free(vp->tile_clean);
+    free(vp->edge_log);
+    free(vp->edge_at);
 }
 
 void vp_store_begin(alb_vp *vp)
 {
     memset(vp->tile_clean, 1, (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl));
     vp->nfaces = 0;
+    vp->nedge_log = 0;
     free_old_textures(vp);
 }
 
@@ -106,6 +110,65 @@ int vp_store_retire_texture(alb_vp *vp, uint32_t *texels)
     return 0;
 }
 
+/* The face's edges onto the frame's log (a VP for counters alone, which
+ * replays them at a tie: vp_store_name_tie); -1 if out of memory. */
+static int log_edges(alb_vp *vp, const vp_loaded_face *f)
+{
+    if (vp->nedge_log + f->n > vp->cap_edge_log) {
+        size_t cap = vp->cap_edge_log ? 2 * vp->cap_edge_log : 1024;
+        while (cap < vp->nedge_log + f->n)
+            cap *= 2;
+        vp_edge_fn *n = realloc(vp->edge_log, cap * sizeof *n);
+        if (!n)
+            return -1;
+        vp->edge_log = n;
+        vp->cap_edge_log = cap;
+    }
+    memcpy(vp->edge_log + vp->nedge_log, f->e, f->n * sizeof *f->e);
+    vp->edge_at[vp->nfaces] = vp->nedge_log;
+    vp->nedge_log += f->n;
+    vp->edge_at[vp->nfaces + 1] = vp->nedge_log;
+    return 0;
+}
+
+/* Sample (c, r) inside every edge of a face: decided at its centre, as
+ * the walk decides it at whatever level (docs/vp.md §2: a cell inside
+ * every edge has every sample centre inside, a cell outside one edge every
+ * centre outside it). */
+static bool centre_inside(const vp_edge_fn *e, size_t n, uint32_t c, uint32_t r)
+{
+    const int64_t cc = 2 * (int64_t)c + 1, rr = 2 * (int64_t)r + 1;
+    for (size_t i = 0; i < n; i++)
+        if (e[i].a * cc + e[i].b * rr + e[i].c < 0)
+            return false;
+    return true;
+}
+
+void vp_store_name_tie(alb_vp *vp)
+{
+    if (vp->s_tag || !vp->st.depth_ties)
+        return;
+    /* the store's sample before the losing face is the fill's rule run over
+     * the faces before it: a face writes where strictly nearer, so the tag
+     * would name the first of them with the largest depth there */
+    const uint32_t c = (uint32_t)(vp->st.tie_sample & (vp->sw - 1)),
+                   r = (uint32_t)(vp->st.tie_sample >> vp->lw);
+    const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
+    uint32_t depth = 0, kept = 0;
+    for (uint32_t i = 0; i < vp->tie_lost_face; i++) {
+        const vp_face_setup *fs = &vp->faces[i];
+        if (!centre_inside(vp->edge_log + vp->edge_at[i], vp->edge_at[i + 1] - vp->edge_at[i], c, r))
+            continue;
+        const uint32_t dv = units_depth(units_form_at(&fs->depth, c, r),
+                                        units_depth_shift(vp, fs->depth.exp), dmax);
+        if (dv > depth) {
+            depth = dv;
+            kept = i;
+        }
+    }
+    vp->st.tie_kept = vp->faces[kept].id;
+}
+
 alb_err vp_begin_face(alb_vp *vp, vp_loaded_face *f, alb_diag *d)
 {
     if (vp->nfaces == VP_MAX_FRAME_FACES)
@@ -120,8 +183,16 @@ alb_err vp_begin_face(alb_vp *vp, vp_loaded_face *f, alb_diag *d)
         if (!n)
             return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the frame's faces");
         vp->faces = n;
+        if (vp->counters_only) {
+            size_t *at = realloc(vp->edge_at, ((size_t)cap + 1) * sizeof *at);
+            if (!at)
+                return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the frame's faces");
+            vp->edge_at = at;
+        }
         vp->cap_faces = cap;
     }
+    if (vp->counters_only && log_edges(vp, f))
+        return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the frame's edges");
     f->fs.tag = vp->nfaces << VP_TAG_LEVEL_BITS;
     vp->faces[vp->nfaces++] = f->fs;
     vp->st.faces++;
@@ -139,9 +210,23 @@ void vp_clear_tile(alb_vp *vp, size_t t)
     uint32_t tc = (uint32_t)(t & (((size_t)1 << vp->tiles_lw) - 1)), tr = (uint32_t)(t >> vp->tiles_lw);
     uint32_t w = 1u << vp->tile_wl, h = 1u << vp->tile_hl;
     size_t idx = ((size_t)tr << vp->tile_hl) * vp->sw + ((size_t)tc << vp->tile_wl);
-    for (uint32_t r = 0; r < h; r++, idx += vp->sw) {
-        memset(vp->s_depth + idx, 0, w * sizeof *vp->s_depth);   /* 0: no surface */
-        memset(vp->s_tag + idx, 0xFF, w * sizeof *vp->s_tag);    /* VP_TAG_NONE */
+    /* 0: no surface; VP_TAG_NONE; a tile of 16 samples a row (every store
+     * of 16 x 16 samples or more) in stores the compiler unrolls, not a
+     * call a row and plane */
+    if (w == 16 && vp->s_tag) {
+        for (uint32_t r = 0; r < h; r++, idx += vp->sw) {
+            memset(vp->s_depth + idx, 0, 16 * sizeof *vp->s_depth);
+            memset(vp->s_tag + idx, 0xFF, 16 * sizeof *vp->s_tag);
+        }
+    } else if (w == 16) {
+        for (uint32_t r = 0; r < h; r++, idx += vp->sw)
+            memset(vp->s_depth + idx, 0, 16 * sizeof *vp->s_depth);
+    } else {
+        for (uint32_t r = 0; r < h; r++, idx += vp->sw) {
+            memset(vp->s_depth + idx, 0, w * sizeof *vp->s_depth);
+            if (vp->s_tag)
+                memset(vp->s_tag + idx, 0xFF, w * sizeof *vp->s_tag);
+        }
     }
     vp->tile_clean[t] = 0;
 }

@@ -63,7 +63,10 @@ static inline void units_note_ties(alb_vp *vp, const vp_face_setup *fs, uint64_t
 {
     if (!vp->st.depth_ties || idx < vp->st.tie_sample) {
         vp->st.tie_sample = idx;
-        vp->st.tie_kept = vp_frame_face(vp, vp->s_tag[idx])->id;
+        /* without a tag plane (counters alone) vp_store_name_tie finds the
+         * face that kept it when the frame's counters are taken */
+        vp->st.tie_kept = vp->s_tag ? vp_frame_face(vp, vp->s_tag[idx])->id : 0;
+        vp->tie_lost_face = fs->tag >> VP_TAG_LEVEL_BITS;
         vp->st.tie_lost = fs->id;
         vp->st.tie_depth = vp->s_depth[idx];
     }
@@ -88,7 +91,8 @@ static inline void units_fill_sample(alb_vp *vp, const vp_face_setup *fs, uint32
     /* a later face wins only if strictly nearer; 0, no surface, never wins */
     if (dv > vp->s_depth[idx]) {
         vp->s_depth[idx] = dv;
-        vp->s_tag[idx] = fs->tag | level;
+        if (vp->s_tag)
+            vp->s_tag[idx] = fs->tag | level;
         vp->st.samples_written++;
         if (dv > vp->st.depth_nearest)
             vp->st.depth_nearest = dv;

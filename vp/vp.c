@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-alb_err alb_vp_create(alb_vp **out, const alb_profile *prof, alb_diag *d)
+static alb_err vp_create(alb_vp **out, const alb_profile *prof, bool counters_only, alb_diag *d)
 {
     char msg[256];
     if (alb_profile_check(prof, msg, sizeof msg))
@@ -27,17 +27,29 @@ alb_err alb_vp_create(alb_vp **out, const alb_profile *prof, alb_diag *d)
     vp_depth_forms_t forms[3];
     const char *names[3];
     /* the host's fastest forms, or with simd=0 the plain C ones (the last) */
-    unsigned nforms = vp_depth_forms(forms, names);
+    unsigned nforms = counters_only ? vp_depth_forms_untagged(forms, names) : vp_depth_forms(forms, names);
     vp->depth_forms = forms[prof->simd ? 0 : nforms - 1];
     vp->walk_avx2 = prof->simd && vp_walk_avx2_host();
     vp->shade_isa = prof->simd ? vp_shade_isa_host() : 0;
-    if (vp_store_init(vp) || vp_scratch_for(vp, 1) || vp_recip_rom_init(vp)) {
+    vp->counters_only = counters_only;
+    /* counters alone: no output stage, so no scratch and no reciprocal ROM */
+    if (vp_store_init(vp) || (!counters_only && (vp_scratch_for(vp, 1) || vp_recip_rom_init(vp)))) {
         alb_vp_destroy(vp);
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for a %ux%u sample store",
                        vp->sw, vp->sh);
     }
     *out = vp;
     return ALB_OK;
+}
+
+alb_err alb_vp_create(alb_vp **out, const alb_profile *prof, alb_diag *d)
+{
+    return vp_create(out, prof, false, d);
+}
+
+alb_err vp_create_counters(alb_vp **out, const alb_profile *prof, alb_diag *d)
+{
+    return vp_create(out, prof, true, d);
 }
 
 void alb_vp_destroy(alb_vp *vp)

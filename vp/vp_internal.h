@@ -83,9 +83,20 @@ struct alb_vp {
     alb_ws_config cfg;
     bool configured;
     /* the sample store (store.c): two planes, depth and tag, cleared tile by
-     * tile when a fill first touches a tile in the frame */
+     * tile when a fill first touches a tile in the frame; the store of
+     * counters alone (vp_create_counters) has no tag plane (s_tag NULL) */
     uint32_t *s_depth;
     uint32_t *s_tag;
+    /* a VP for counters alone (vp_create_counters): no tag plane, no
+     * reciprocal ROM, no output stage.  A tie's kept face, which the tag
+     * plane would name, is found when the frame's counters are taken
+     * (vp_store_name_tie) from the edges of the frame's faces, logged as
+     * they begin: face i's are edge_log[edge_at[i] .. edge_at[i + 1]) */
+    bool counters_only;
+    vp_edge_fn *edge_log;
+    size_t nedge_log, cap_edge_log;
+    size_t *edge_at;         /* cap_faces + 1 */
+    uint32_t tie_lost_face;  /* the frame's index of the face that lost the lowest tie */
     uint8_t *tile_clean;     /* per tile: 1 = no fill has touched it this frame */
     unsigned tile_level;     /* tiles are the quadtree's cells of this level */
     unsigned tile_wl, tile_hl;   /* their log2 width and height in samples */
@@ -286,6 +297,10 @@ void vp_fill(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k);
  * lists the forms the host can run, the fastest first (the VP takes that
  * one). */
 unsigned vp_depth_forms(vp_depth_forms_t forms[3], const char *name[3]);
+/* The same forms, in the same order, for the store of counters alone: the
+ * same depths and results, the tag plane neither read nor written (its
+ * pointer may be NULL). */
+unsigned vp_depth_forms_untagged(vp_depth_forms_t forms[3], const char *name[3]);
 /* The samples `mask` (bit 8 y + x) of the 8 x 8 block at (c0, r0) through
  * the depth test, decided at level l, or l + 1 where `mid` has them, l + 2
  * where `fine` has them (fill.c). */
@@ -323,6 +338,16 @@ void vp_shade_run(const alb_vp *vp, const vp_face_setup *fs, uint32_t r, uint32_
 /* The sample store (store.c): allocate it and its tiles; forget the frame's
  * faces and clean every tile; resolve into a frame. */
 int vp_store_init(alb_vp *vp);
+/* A VP for the timed model's counters alone (docs/microarchitecture.md,
+ * "Timing without frames"): the statistics and fills of alb_vp_create's,
+ * bit for bit, but its store has no tag plane and it has no reciprocal
+ * ROM nor output stage — never resolve a frame from it. */
+alb_err vp_create_counters(alb_vp **out, const alb_profile *prof, alb_diag *d);
+/* The face that kept the frame's lowest tie (st.tie_kept) in a VP for
+ * counters alone, replayed at that sample over the faces before the one
+ * that lost it; call before the frame's statistics are taken (nothing in
+ * a VP with a tag plane, which names it as the tie is met). */
+void vp_store_name_tie(alb_vp *vp);
 void vp_store_free(alb_vp *vp);
 void vp_store_begin(alb_vp *vp);
 void vp_store_resolve(alb_vp *vp, alb_frame *out);
