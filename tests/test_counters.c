@@ -7,6 +7,7 @@
 #include "gp_helpers.h"
 #include "albatros/sim.h"
 #include "../vp/units.h"
+#include "../tools/scenegen.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -278,4 +279,122 @@ TEST(counters_random_coplanar_ties)
     /* not vacuous: most scenes tie, and their kept face is often not face 0 */
     CHECK_MSG(scenes == 60 && tied > 30 && kept_not_first > 15, "%u scenes, %u with ties, %u "
               "kept by a face other than the first", scenes, tied, kept_not_first);
+}
+
+/* Large sloped triangles that cross one another on a 64 x 64 screen: the
+ * first faces cover clean tiles whole, which the store of counters alone
+ * leaves to their depth forms (VP_TILE_PLANE) until a later face reaches
+ * them and they are written out — every later depth test there reads those
+ * depths, so samples_written, the nearest depth and the counters must be
+ * those of the run with frames (whose store writes every sample at once). */
+TEST(counters_plane_tiles_hold_the_face_depths)
+{
+    uint64_t seed = 7;
+    unsigned bad = 0, scenes = 0;
+    uint64_t written = 0;
+    for (unsigned s = 0; s < 40 && !bad; s++) {
+        char text[4096];
+        size_t at = (size_t)snprintf(text, sizeof text, "albatros-scene 1\nnear 0.5\nscreenspace\n");
+        const unsigned nf = 2 + (unsigned)(t_rand(&seed) % 6);
+        for (unsigned f = 0; f < nf; f++) {
+            unsigned v[6];
+            for (unsigned k = 0; k < 6; k++)
+                v[k] = (unsigned)(t_rand(&seed) % 97) - 16;   /* past the screen too */
+            at += (size_t)snprintf(text + at, sizeof text - at,
+                                   "object o%u\nv %d %d %u\nv %d %d %u\nv %d %d %u\nf 1 2 3\nend\n", f,
+                                   (int)v[0], (int)v[1], 2 + (unsigned)(t_rand(&seed) % 30), (int)v[2],
+                                   (int)v[3], 2 + (unsigned)(t_rand(&seed) % 30), (int)v[4], (int)v[5],
+                                   2 + (unsigned)(t_rand(&seed) % 30));
+        }
+        alb_profile p;
+        alb_profile_lookup("t32", &p);
+        p.width = p.height = 64;
+        p.edge_frac_bits = 11;
+        p.simd = s % 3 == 2 ? 0 : 1;
+        alb_ws_buf b;
+        if (screen_stream(text, &p, &b))
+            continue;   /* a triangle the GP refuses (degenerate): another scene */
+        stats_log lt, ltf;
+        if (run_stats(&p, &b, ALB_FIDELITY_TIMED, true, &lt) ||
+            run_stats(&p, &b, ALB_FIDELITY_TIMED, false, &ltf)) {
+            CHECK_MSG(0, "scene %u: a run failed", s);
+            bad++;
+        } else if (lt.n != 1 || memcmp(&lt.s[0], &ltf.s[0], sizeof lt.s[0]) ||
+                   memcmp(&lt.c[0], &ltf.c[0], sizeof lt.c[0])) {
+            CHECK_MSG(0, "scene %u (simd=%u): %llu samples written without frames, %llu with, "
+                      "nearest %llu / %llu, or another statistic or counter differs", s, p.simd,
+                      (unsigned long long)lt.s[0].samples_written,
+                      (unsigned long long)ltf.s[0].samples_written,
+                      (unsigned long long)lt.s[0].depth_nearest,
+                      (unsigned long long)ltf.s[0].depth_nearest);
+            bad++;
+        }
+        scenes++;
+        written += ltf.s[0].samples_written;
+        alb_ws_buf_free(&b);
+    }
+    CHECK_EQ(bad, 0);
+    printf("# sloped scenes: %u, %llu samples written\n", scenes, (unsigned long long)written);
+    CHECK_MSG(scenes >= 30 && written > 15ull * 64 * 64, "%u scenes, %llu samples written", scenes,
+              (unsigned long long)written);
+}
+
+/* The timed model's hand-overs below an 8 x 8 cell when every step takes a
+ * cycle (vp.c, time_split8_unit) are read off a timeline, and through the
+ * fill queue in closed form when nothing can wait: short queues and slow
+ * fills make the queue bind right after such blocks, so a cycle wrong in
+ * the ring or in the fill unit's free cycle shows — against the cycle
+ * model, which steps every clock. */
+TEST(counters_unit_steps_through_short_queues)
+{
+    static const char *const sets[] = {
+        "fill_queue=2", "fill_queue=2 fill_rate=2", "fill_queue=3 fill_rate=4",
+        "fill_queue=2 fill_rate=1", "fill_rate=2", "fill_queue=2 fill_rate=16",
+    };
+    scenegen_params gp = scenegen_defaults();
+    unsigned bad = 0, runs = 0;
+    uint64_t stalls = 0;
+    for (uint64_t seed = 1; seed <= 120 && !bad; seed++) {
+        alb_profile p;
+        alb_profile_lookup("t32", &p);
+        p.width = p.height = 64;
+        p.edge_frac_bits = 11;
+        profile_set_all(&p, sets[seed % 6]);
+        gp.faces = 3 + (unsigned)(seed % 17);
+        char *text = scenegen_random(seed, &gp);
+        alb_ws_buf b;
+        if (!text || stream_of(text, &p, &b)) {
+            CHECK_MSG(0, "seed %llu: no stream", (unsigned long long)seed);
+            free(text);
+            return;
+        }
+        stats_log lt, lc;
+        if (run_stats(&p, &b, ALB_FIDELITY_TIMED, true, &lt) ||
+            run_stats(&p, &b, ALB_FIDELITY_CYCLE, true, &lc)) {
+            CHECK_MSG(0, "seed %llu: a run failed", (unsigned long long)seed);
+            bad++;
+        } else {
+            runs++;
+            for (unsigned i = 0; i < lt.n && i < MAX_FRAMES; i++) {
+                stalls += lc.c[i].engine_stall;
+                if (lt.n != lc.n || memcmp(&lt.c[i], &lc.c[i], sizeof lt.c[i]) ||
+                    memcmp(&lt.s[i], &lc.s[i], sizeof lt.s[i])) {
+                    CHECK_MSG(0, "seed %llu (%s) frame %u: timed %llu cycles, %llu stalled; cycle "
+                              "%llu, %llu (or another counter differs)", (unsigned long long)seed,
+                              sets[seed % 6], i, (unsigned long long)lt.c[i].cycles,
+                              (unsigned long long)lt.c[i].engine_stall,
+                              (unsigned long long)lc.c[i].cycles,
+                              (unsigned long long)lc.c[i].engine_stall);
+                    bad++;
+                    break;
+                }
+            }
+        }
+        alb_ws_buf_free(&b);
+        free(text);
+    }
+    CHECK_EQ(bad, 0);
+    printf("# short queues: %u runs, %llu engine stalls\n", runs, (unsigned long long)stalls);
+    /* not vacuous: the queue made the engine wait */
+    CHECK_MSG(runs == 120 && stalls > 1000, "%u runs, %llu stalls", runs, (unsigned long long)stalls);
 }

@@ -561,8 +561,9 @@ static inline bool depth_in_range(const alb_vp *vp, const vp_face_setup *fs, uin
 
 /* The fast loop over a cell that covers whole tiles of the store: tile row
  * by tile row, spans of clean tiles stored without reading (no clearing:
- * every sample beats the cleared store's 0) and spans of touched tiles
- * through the depth test. */
+ * every sample beats the cleared store's 0) — or, in the store of counters
+ * alone, left to the face's depth form until another fill reaches them
+ * (VP_TILE_PLANE) — and spans of touched tiles through the depth test. */
 static void fill_tiles(alb_vp *vp, const vp_cell *k, int64_t z, int64_t dc, int64_t dr, unsigned sr,
                        unsigned sl, uint32_t t, fill_counts *n)
 {
@@ -577,10 +578,17 @@ static void fill_tiles(alb_vp *vp, const vp_cell *k, int64_t z, int64_t dc, int6
                 e += 1u << twl;
             const int64_t zc = z + (int64_t)(c - k->c0) * dc + (int64_t)(r - k->r0) * dr;
             const size_t idx = (size_t)r * vp->sw + c;
-            if (cl) {
-                vp->depth_forms.store(vp->s_depth + idx, tags_at(vp, idx), vp->sw, e - c, th, zc, dc,
-                                      dr, sr, sl, t);
-                memset(clean + (c >> twl), 0, (e - c) >> twl);
+            if (cl == VP_TILE_CLEAN) {
+                if (vp->counters_only) {
+                    uint32_t *face = vp->tile_face + ((size_t)(r >> thl) << vp->tiles_lw);
+                    for (uint32_t x = c >> twl; x < e >> twl; x++)
+                        face[x] = t >> VP_TAG_LEVEL_BITS;
+                    memset(clean + (c >> twl), VP_TILE_PLANE, (e - c) >> twl);
+                } else {
+                    vp->depth_forms.store(vp->s_depth + idx, tags_at(vp, idx), vp->sw, e - c, th, zc,
+                                          dc, dr, sr, sl, t);
+                    memset(clean + (c >> twl), VP_TILE_TOUCHED, (e - c) >> twl);
+                }
                 n->written += (uint64_t)(e - c) * th;
                 /* depth is monotone in N: the span's largest at a corner */
                 const int64_t ec = (int64_t)(e - c - 1) * dc, er = (int64_t)(th - 1) * dr;
@@ -588,6 +596,9 @@ static void fill_tiles(alb_vp *vp, const vp_cell *k, int64_t z, int64_t dc, int6
                 const uint32_t top = (uint32_t)(((uint64_t)zmax >> sr) << sl);
                 n->nearest = top > n->nearest ? top : n->nearest;
             } else {
+                if (cl == VP_TILE_PLANE)   /* another face's plane: written out first */
+                    for (uint32_t x = c >> twl; x < e >> twl; x++)
+                        vp_clear_tile(vp, ((size_t)(r >> thl) << vp->tiles_lw) + x);
                 vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, tags_at(vp, idx), vp->sw,
                                                         e - c, th, zc, dc, dr, sr, sl, t);
                 add_rect(n, &x, idx);

@@ -59,9 +59,11 @@ int vp_store_init(alb_vp *vp)
     /* counters alone need no tag plane: half the store's memory traffic */
     vp->s_tag = vp->counters_only ? NULL : vp_plane_alloc(n, sizeof *vp->s_tag, false);
     vp->tile_clean = malloc(tiles);
-    if (!vp->s_depth || (!vp->counters_only && !vp->s_tag) || !vp->tile_clean)
+    vp->tile_face = vp->counters_only ? malloc(tiles * sizeof *vp->tile_face) : NULL;
+    if (!vp->s_depth || (!vp->counters_only && !vp->s_tag) || !vp->tile_clean ||
+        (vp->counters_only && !vp->tile_face))
         return -1;
-    memset(vp->tile_clean, 1, tiles);
+    memset(vp->tile_clean, VP_TILE_CLEAN, tiles);
     return 0;
 }
 
@@ -80,13 +82,14 @@ void vp_store_free(alb_vp *vp)
     free(vp->s_depth);
     free(vp->s_tag);
     free(vp->tile_clean);
+    free(vp->tile_face);
     free(vp->edge_log);
     free(vp->edge_at);
 }
 
 void vp_store_begin(alb_vp *vp)
 {
-    memset(vp->tile_clean, 1, (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl));
+    memset(vp->tile_clean, VP_TILE_CLEAN, (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl));
     vp->nfaces = 0;
     vp->nedge_log = 0;
     free_old_textures(vp);
@@ -210,6 +213,18 @@ void vp_clear_tile(alb_vp *vp, size_t t)
     uint32_t tc = (uint32_t)(t & (((size_t)1 << vp->tiles_lw) - 1)), tr = (uint32_t)(t >> vp->tiles_lw);
     uint32_t w = 1u << vp->tile_wl, h = 1u << vp->tile_hl;
     size_t idx = ((size_t)tr << vp->tile_hl) * vp->sw + ((size_t)tc << vp->tile_wl);
+    if (vp->tile_clean[t] == VP_TILE_PLANE) {
+        /* the face's depths, as its fill would have stored them (fill.c,
+         * fill_tiles: in the store's range, the fast form's shifts) */
+        const vp_face_setup *fs = &vp->faces[vp->tile_face[t]];
+        const uint32_t c0 = tc << vp->tile_wl, r0 = tr << vp->tile_hl;
+        const int sh = units_depth_shift(vp, fs->depth.exp);
+        vp->depth_forms.store(vp->s_depth + idx, NULL, vp->sw, w, h, units_form_at(&fs->depth, c0, r0),
+                              fs->depth.step_c, fs->depth.step_r, sh < 0 ? (unsigned)-sh : 0,
+                              sh > 0 ? (unsigned)sh : 0, 0);
+        vp->tile_clean[t] = VP_TILE_TOUCHED;
+        return;
+    }
     /* 0: no surface; VP_TAG_NONE; a tile of 16 samples a row (every store
      * of 16 x 16 samples or more) in stores the compiler unrolls, not a
      * call a row and plane */
@@ -228,7 +243,7 @@ void vp_clear_tile(alb_vp *vp, size_t t)
                 memset(vp->s_tag + idx, 0xFF, w * sizeof *vp->s_tag);
         }
     }
-    vp->tile_clean[t] = 0;
+    vp->tile_clean[t] = VP_TILE_TOUCHED;
 }
 
 void vp_touch_tiles(alb_vp *vp, const vp_cell *k)

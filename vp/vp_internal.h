@@ -65,6 +65,16 @@ typedef struct {
                                 (vp_begin_face): what the samples it writes hold */
 } vp_face_setup;
 
+/* A tile of the store this frame (alb_vp.tile_clean): no fill has reached
+ * it (its planes are stale, read as cleared), a fill has (its planes hold
+ * its samples), or — the store of counters alone — a single fill of one
+ * face has covered it while clean, and its depths are that face's depth
+ * form, written out only when another fill reaches it (vp_clear_tile):
+ * a tile that nothing else reaches is never written. */
+#define VP_TILE_TOUCHED 0
+#define VP_TILE_CLEAN 1
+#define VP_TILE_PLANE 2
+
 /* A sample's tag: the face that wrote it — its index among the faces the
  * engine took this frame — and the level that decided it; VP_TAG_NONE where
  * no face did.  The colour is computed from the tag when the frame is
@@ -97,7 +107,8 @@ struct alb_vp {
     size_t nedge_log, cap_edge_log;
     size_t *edge_at;         /* cap_faces + 1 */
     uint32_t tie_lost_face;  /* the frame's index of the face that lost the lowest tie */
-    uint8_t *tile_clean;     /* per tile: 1 = no fill has touched it this frame */
+    uint8_t *tile_clean;     /* per tile: VP_TILE_CLEAN, VP_TILE_TOUCHED or VP_TILE_PLANE */
+    uint32_t *tile_face;     /* counters alone: a VP_TILE_PLANE tile's face (frame index) */
     unsigned tile_level;     /* tiles are the quadtree's cells of this level */
     unsigned tile_wl, tile_hl;   /* their log2 width and height in samples */
     unsigned tiles_lw;       /* log2 of tiles per row */
@@ -310,8 +321,9 @@ void vp_fill_block8(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r
  * if asked, in huge pages where the host offers them (store.c); NULL if
  * out of memory; free() frees it. */
 void *vp_plane_alloc(size_t count, size_t size, bool zeroed);
-/* Clear the tiles of cell k that no fill has touched yet this frame
- * (store.c); vp_touch is the same, quicker for a cell within one tile. */
+/* Clear the tiles of cell k that no fill has touched yet this frame, or
+ * write out those a face's plane holds (store.c); vp_touch is the same,
+ * quicker for a cell within one tile. */
 void vp_touch_tiles(alb_vp *vp, const vp_cell *k);
 void vp_clear_tile(alb_vp *vp, size_t tile);
 static inline void vp_touch(alb_vp *vp, const vp_cell *k)
