@@ -645,56 +645,45 @@ time_split8_body(vp_timer *tm, const vp_cell *k, const block8_verdicts *v, unsig
 
 /* The unit-step case without a per-pixel map (`unit && !charged`, the
  * common one: a face with no more edges than the engine has edge units, and
- * no frame asked for): every step takes one cycle, so the steps below the
- * cell are a timeline of 4 + 4 |split children| + 4 |split grandchildren|
- * cycles, and only where the hand-overs fall in it matters.  Bit b of the
- * timeline is set where step b hands a cell over, read straight from the
- * verdict masks: each child's step, then — if it splits — each
- * grandchild's, then — if that splits — its four samples'.  Children 0 and
- * 1 go in word 0, 2 and 3 in word 1 (at most 42 steps each), `long4` and
- * `long2` mark the hand-overs of whole children and grandchildren, whose
- * fills may take more than a cycle. */
+ * no frame asked for): every step takes one cycle, so only where the
+ * hand-overs fall among the steps matters, and that is read straight from
+ * the verdict masks.  Each of the 84 steps the walk may make below the cell
+ * has a fixed slot — child j at 21 (j & 1) of word j >> 1, its grandchild k
+ * (in the walk's order) 1 + 5 k on, that one's four samples the next four —
+ * and three masks over the slots: `s` the steps made (a child always; its
+ * grandchildren if it splits; their samples if they split), `h` the steps
+ * that hand a cell over, and `long4`, `long2` those of whole children and
+ * grandchildren, whose fills may take more than a cycle.  A step's cycle
+ * in the block is the number of steps made before it. */
 typedef struct {
-    uint64_t t[2], long4[2], long2[2];
-    unsigned len[2];
+    uint64_t s[2], h[2], long4[2], long2[2];
+    unsigned steps0;          /* the steps made in word 0 */
 } unit_timeline;
 
-/* A grandchild g's part of the timeline at *len: its step, then its four
- * samples' if it splits (nib: those inside, bit q = sample q in the walk's
- * order). */
-static inline __attribute__((always_inline)) void
-unit_grandchild(uint64_t *t, uint64_t *long2, unsigned *len, unsigned g, unsigned s4, unsigned in2,
-                unsigned split2, uint64_t nibs)
-{
-    const uint64_t b2 = in2 >> g & 1;
-    *t |= (b2 | (nibs >> 4 * g & 0xF) << 1) << *len;
-    *long2 |= b2 << *len;
-    *len += s4 + 4 * (split2 >> g & 1);
-}
-
-/* Child j's part: its step, then its grandchildren's if it splits (a child
- * that does not split has none in in2, split2 or the samples). */
+/* Child j's slots; k its grandchildren g + 0, 1, 4, 5 (a child that does
+ * not split has none in in2, split2 or the samples, a grandchild that does
+ * not split no sample in nibs). */
 static inline __attribute__((always_inline)) void
 unit_child(unit_timeline *u, unsigned j, unsigned in4, unsigned split4, unsigned in2,
            unsigned split2, uint64_t nibs)
 {
-    const unsigned w = j >> 1, s4 = split4 >> j & 1, g = 8 * (j >> 1) + 2 * (j & 1);
-    uint64_t t = u->t[w], long2 = u->long2[w];
-    unsigned len = u->len[w];
-    const uint64_t b4 = in4 >> j & 1;
-    t |= b4 << len;
-    u->long4[w] |= b4 << len;
-    len++;
-    unit_grandchild(&t, &long2, &len, g, s4, in2, split2, nibs);
-    unit_grandchild(&t, &long2, &len, g + 1, s4, in2, split2, nibs);
-    unit_grandchild(&t, &long2, &len, g + 4, s4, in2, split2, nibs);
-    unit_grandchild(&t, &long2, &len, g + 5, s4, in2, split2, nibs);
-    u->t[w] = t, u->long2[w] = long2, u->len[w] = len;
+    static const unsigned step[4] = {0, 1, 4, 5};
+    const unsigned w = j >> 1, b = 21 * (j & 1), g0 = 8 * (j >> 1) + 2 * (j & 1);
+    const uint64_t s4 = split4 >> j & 1, b4 = in4 >> j & 1;
+    uint64_t s = 1ull << b, h = b4 << b, l2 = 0;
+    for (unsigned k = 0; k < 4; k++) {
+        const unsigned g = g0 + step[k], at = b + 1 + 5 * k;
+        const uint64_t b2 = in2 >> g & 1;
+        s |= (s4 | 0x1Eull * (split2 >> g & 1)) << at;
+        h |= (b2 | (nibs >> 4 * g & 0xF) << 1) << at;
+        l2 |= b2 << at;
+    }
+    u->s[w] |= s, u->h[w] |= h, u->long4[w] |= b4 << b, u->long2[w] |= l2;
 }
 
 static inline __attribute__((always_inline)) void
 unit_timeline_of(unit_timeline *u, unsigned in4, unsigned split4, unsigned in2, unsigned split2,
-                 uint64_t fine)
+                 uint64_t fine, const int isa)
 {
     /* the samples inside (bit 8 sy + sx) as a nibble per grandchild g = 4 gy
      * + gx, in the walk's order: its upper row's pair of bits, then its
@@ -706,35 +695,47 @@ unit_timeline_of(unit_timeline *u, unsigned in4, unsigned split4, unsigned in2, 
     odd = (odd | odd << 4) & 0x0F0F0F0F0F0F0F0Full;
     odd = (odd | odd << 2) & 0x3333333333333333ull;
     const uint64_t nibs = even | odd << 2;
-    *u = (unit_timeline){{0, 0}, {0, 0}, {0, 0}, {0, 0}};
+    *u = (unit_timeline){{0, 0}, {0, 0}, {0, 0}, {0, 0}, 0};
     unit_child(u, 0, in4, split4, in2, split2, nibs);
     unit_child(u, 1, in4, split4, in2, split2, nibs);
     unit_child(u, 2, in4, split4, in2, split2, nibs);
     unit_child(u, 3, in4, split4, in2, split2, nibs);
+    u->steps0 = popcount_isa(u->s[0], isa);
 }
 
-/* Steps from the hand-over at position p of word w to the next hand-over
- * of the timeline, or UINT_MAX if it is the last. */
-static inline unsigned unit_next_gap(const unit_timeline *u, unsigned w, unsigned p)
+/* The cycle in the block (0 = its first) of the step in slot p of word w. */
+static inline __attribute__((always_inline)) unsigned
+unit_cycle(const unit_timeline *u, unsigned w, unsigned p, const int isa)
 {
-    const uint64_t later = p == 63 ? 0 : u->t[w] >> (p + 1);
-    if (later)
-        return (unsigned)__builtin_ctzll(later) + 1;
-    if (w == 0 && u->t[1])
-        return u->len[0] - p + (unsigned)__builtin_ctzll(u->t[1]);
-    return UINT_MAX;
+    return (w ? u->steps0 : 0) + popcount_isa(u->s[w] & ((1ull << p) - 1), isa);
 }
 
-/* Whether every fill of the marks `m` (f cycles each) ends by the next
+/* A hand-over's fill cycles by its slot's kind. */
+static inline __attribute__((always_inline)) uint64_t
+unit_fill(const unit_timeline *u, unsigned w, unsigned p, uint64_t f0, uint64_t f2, uint64_t f4)
+{
+    return u->long4[w] >> p & 1 ? f4 : u->long2[w] >> p & 1 ? f2 : f0;
+}
+
+/* Whether every fill of the slots `m` (f cycles each) ends by the next
  * hand-over's step: then the fill unit never makes a later cell wait. */
-static inline bool unit_fills_keep_up(const unit_timeline *u, const uint64_t m[2], uint64_t f)
+static inline __attribute__((always_inline)) bool
+unit_fills_keep_up(const unit_timeline *u, const uint64_t m[2], uint64_t f, const int isa)
 {
     if (f <= 1)
         return true;
     for (unsigned w = 0; w < 2; w++)
         for (uint64_t x = m[w]; x; x &= x - 1) {
-            const unsigned gap = unit_next_gap(u, w, (unsigned)__builtin_ctzll(x));
-            if (gap != UINT_MAX && gap < f)
+            const unsigned p = (unsigned)__builtin_ctzll(x);
+            const uint64_t later = u->h[w] & ~((2ull << p) - 1);   /* p < 42 */
+            unsigned next;
+            if (later)
+                next = unit_cycle(u, w, (unsigned)__builtin_ctzll(later), isa);
+            else if (w == 0 && u->h[1])
+                next = unit_cycle(u, 1, (unsigned)__builtin_ctzll(u->h[1]), isa);
+            else
+                continue;   /* the last hand-over: the next block's entry test */
+            if (next - unit_cycle(u, w, p, isa) < f)
                 return false;
         }
     return true;
@@ -745,9 +746,9 @@ time_split8_unit(vp_timer *tm, unsigned in4, unsigned split4, unsigned in2, unsi
                  uint64_t fine, const int isa)
 {
     unit_timeline u;
-    unit_timeline_of(&u, in4, split4, in2, split2, fine);
-    const unsigned steps = u.len[0] + u.len[1];
-    const unsigned n = popcount_isa(u.t[0], isa) + popcount_isa(u.t[1], isa);
+    unit_timeline_of(&u, in4, split4, in2, split2, fine, isa);
+    const unsigned steps = u.steps0 + popcount_isa(u.s[1], isa);
+    const unsigned n = popcount_isa(u.h[0], isa) + popcount_isa(u.h[1], isa);
     if (!n) {
         tm->pending += steps;
         return;
@@ -756,53 +757,51 @@ time_split8_unit(vp_timer *tm, unsigned in4, unsigned split4, unsigned in2, unsi
     const unsigned n4 = popcount_isa(u.long4[0], isa) + popcount_isa(u.long4[1], isa);
     const unsigned n2 = popcount_isa(u.long2[0], isa) + popcount_isa(u.long2[1], isa);
     const uint64_t filled = f0 * (n - n4 - n2) + f2 * n2 + f4 * n4;
-    /* e: the engine's last cycle so far; hand-over at step b ends in e + b + 1 */
+    const unsigned q = tm->fill_queue;
+    /* e: the engine's last cycle so far; the step of the block's cycle c
+     * ends in e + c + 1 if nothing waits */
     const int64_t e = tm->now - 1 + (int64_t)tm->pending;
-    const unsigned first = u.t[0] ? (unsigned)__builtin_ctzll(u.t[0])
-                                  : u.len[0] + (unsigned)__builtin_ctzll(u.t[1]);
-    /* No wait anywhere in the block when the fill unit is free by the cycle
+    const unsigned fw = u.h[0] ? 0 : 1, first = unit_cycle(&u, fw, (unsigned)__builtin_ctzll(u.h[fw]), isa);
+    const unsigned lw = u.h[1] ? 1 : 0, lp = 63 - (unsigned)__builtin_clzll(u.h[lw]);
+    const unsigned last = unit_cycle(&u, lw, lp, isa);
+    /* Nothing waits in the block when the fill unit is free by the cycle
      * after the first hand-over and each fill ends by the next hand-over:
      * then each cell is taken in the cycle after its step, put = end.  With
      * a queue of two or more, the cell fill_queue back was taken at least a
      * cycle before (takes grow by a cycle or more), so there is room too. */
-    if (tm->fill_queue >= 2 && f0 == 1 && tm->fill_free <= e + first + 2 &&
-        unit_fills_keep_up(&u, u.long4, f4) && unit_fills_keep_up(&u, u.long2, f2)) {
-        const unsigned last = u.t[1] ? u.len[0] + 63 - (unsigned)__builtin_clzll(u.t[1])
-                                     : 63 - (unsigned)__builtin_clzll(u.t[0]);
-        const unsigned lw = u.t[1] ? 1 : 0, lp = last - (lw ? u.len[0] : 0);
-        const uint64_t f_last = u.long4[lw] >> lp & 1 ? f4 : u.long2[lw] >> lp & 1 ? f2 : f0;
+    if (q >= 2 && f0 == 1 && tm->fill_free <= e + first + 2 && unit_fills_keep_up(&u, u.long4, f4, isa) &&
+        unit_fills_keep_up(&u, u.long2, f2, isa)) {
         /* the ring: the takes of the last fill_queue cells, newest last */
-        const unsigned q = tm->fill_queue;
         unsigned slot = tm->take_slot + n;
         slot = (q & (q - 1)) == 0 ? slot & (q - 1) : slot % q;
         unsigned left = n < q ? n : q, s = slot;
         for (int w = 1; w >= 0 && left; w--)
-            for (uint64_t x = u.t[w]; x && left; left--) {
+            for (uint64_t x = u.h[w]; x && left; left--) {
                 const unsigned p = 63 - (unsigned)__builtin_clzll(x);
                 x &= ~(1ull << p);
                 s = s ? s - 1 : q - 1;
-                tm->take_ring[s] = e + (int64_t)(p + (w ? u.len[0] : 0)) + 2;
+                tm->take_ring[s] = e + (int64_t)unit_cycle(&u, (unsigned)w, p, isa) + 2;
             }
         tm->take_slot = slot;
         tm->now = e + (int64_t)last + 2;
-        tm->fill_free = tm->now + (int64_t)f_last;
+        tm->fill_free = tm->now + (int64_t)unit_fill(&u, lw, lp, f0, f2, f4);
         tm->engine += tm->pending + last + 1;
         tm->pending = steps - (last + 1);
         tm->cells += n;
         tm->fill += filled;
         return;
     }
-    /* else the hand-overs' gaps through the fill queue's recurrence */
-    uint32_t gap[4 + 16 + 64], fill[4 + 16 + 64];
-    unsigned k = 0, done = 0;
+    /* else each hand-over through the fill queue's recurrence, its gap the
+     * cycles since the previous one */
+    vp_queue q_at = vp_queue_of(tm, e);
+    unsigned done = 0;
     for (unsigned w = 0; w < 2; w++)
-        for (uint64_t x = u.t[w]; x; x &= x - 1) {
-            const unsigned p = (unsigned)__builtin_ctzll(x), at = p + (w ? u.len[0] : 0);
-            gap[k] = at + 1 - done;
-            fill[k++] = (uint32_t)(u.long4[w] >> p & 1 ? f4 : u.long2[w] >> p & 1 ? f2 : f0);
-            done = at + 1;
+        for (uint64_t x = u.h[w]; x; x &= x - 1) {
+            const unsigned p = (unsigned)__builtin_ctzll(x), c = unit_cycle(&u, w, p, isa);
+            vp_queue_take(&q_at, tm->take_ring, q, c + 1 - done, unit_fill(&u, w, p, f0, f2, f4));
+            done = c + 1;
         }
-    vp_timer_hand_overs(tm, gap, fill, n, steps - done, steps, filled);
+    vp_queue_end(tm, &q_at, n, steps - done, steps, filled);
 }
 
 /* The other cases: steps of several cycles (more edges than edge units),

@@ -255,34 +255,58 @@ void vp_timer_init(vp_timer *tm, const alb_profile *p, int64_t *take_ring);
  * hand-over's cycle (the cell fill_queue back had been taken), or the
  * engine stalls until it does; the fill unit takes the cell when it is
  * free.  (The per-pixel map's charges are the caller's.) */
-static inline void vp_timer_hand_overs(vp_timer *tm, const uint32_t *gap, const uint32_t *fill,
-                                       unsigned n, uint64_t after, uint64_t engine, uint64_t filled)
+/* The queue's recurrence, a hand-over at a time (vp_timer_hand_overs):
+ * the engine's last cycle, the fill unit's first free one, the stalls so
+ * far and the ring's next slot. */
+typedef struct {
+    int64_t e, fill_free;
+    uint64_t stall;
+    unsigned slot;
+} vp_queue;
+
+static inline vp_queue vp_queue_of(const vp_timer *tm, int64_t e)
 {
-    /* e: the engine's last cycle so far; the ring starts far in the past,
-     * so the first fill_queue cells wait for none */
-    int64_t e = tm->now - 1 + (int64_t)tm->pending, fill_free = tm->fill_free, *const ring = tm->take_ring;
-    const unsigned queue = tm->fill_queue;
-    uint64_t stall = 0;
-    unsigned slot = tm->take_slot;
-    for (unsigned i = 0; i < n; i++) {
-        const int64_t end = e + gap[i], room = ring[slot] + 1;
-        const int64_t put = room > end ? room : end;
-        const int64_t take = put + 1 > fill_free ? put + 1 : fill_free;
-        stall += (uint64_t)(put - end);
-        fill_free = take + fill[i];
-        ring[slot] = take;
-        slot = slot + 1 == queue ? 0 : slot + 1;
-        e = put;
-    }
+    return (vp_queue){e, tm->fill_free, 0, tm->take_slot};
+}
+
+/* A cell handed over gap engine cycles after the previous, fill cycles. */
+static inline __attribute__((always_inline)) void
+vp_queue_take(vp_queue *q, int64_t *ring, unsigned queue, uint64_t gap, uint64_t fill)
+{
+    const int64_t end = q->e + (int64_t)gap, room = ring[q->slot] + 1;
+    const int64_t put = room > end ? room : end;
+    const int64_t take = put + 1 > q->fill_free ? put + 1 : q->fill_free;
+    q->stall += (uint64_t)(put - end);
+    q->fill_free = take + (int64_t)fill;
+    ring[q->slot] = take;
+    q->slot = q->slot + 1 == queue ? 0 : q->slot + 1;
+    q->e = put;
+}
+
+/* The n hand-overs' effect on the timer (see vp_timer_hand_overs). */
+static inline void vp_queue_end(vp_timer *tm, const vp_queue *q, unsigned n, uint64_t after,
+                                uint64_t engine, uint64_t filled)
+{
     if (n) {   /* the engine's cycles up to the last hand-over are counted */
-        tm->now = e + 1;
+        tm->now = q->e + 1;
         tm->engine += tm->pending + engine - after;
         tm->pending = after;
     } else {
         tm->pending += after;
     }
-    tm->fill_free = fill_free, tm->take_slot = slot, tm->cells += n;
-    tm->stall += stall, tm->fill += filled;
+    tm->fill_free = q->fill_free, tm->take_slot = q->slot, tm->cells += n;
+    tm->stall += q->stall, tm->fill += filled;
+}
+
+static inline void vp_timer_hand_overs(vp_timer *tm, const uint32_t *gap, const uint32_t *fill,
+                                       unsigned n, uint64_t after, uint64_t engine, uint64_t filled)
+{
+    /* e: the engine's last cycle so far; the ring starts far in the past,
+     * so the first fill_queue cells wait for none */
+    vp_queue q = vp_queue_of(tm, tm->now - 1 + (int64_t)tm->pending);
+    for (unsigned i = 0; i < n; i++)
+        vp_queue_take(&q, tm->take_ring, tm->fill_queue, gap[i], fill[i]);
+    vp_queue_end(tm, &q, n, after, engine, filled);
 }
 
 /* One cell k handed over after the timer's pending cycles. */
