@@ -47,6 +47,7 @@ void alb_vp_destroy(alb_vp *vp)
     for (unsigned i = 0; i < ALB_WS_MAX_TEXTURES; i++)
         free(vp->tex[i]);
     free(vp->recip_rom);
+    vp_threads_free(vp);
     free(vp->batch);
     free(vp->scratch);
     vp_store_free(vp);
