@@ -122,7 +122,8 @@ static inline void cpu_relax(void)
 #endif
 }
 
-/* Watch *a until it differs from `was`, for a while; whether it did. */
+/* Watch *a until it differs from `was`, for a while; whether it did.  The
+ * core is offered to any other thread that wants it every few microseconds. */
 static bool spin_until_changed(const atomic_uint *a, unsigned was)
 {
     const uint64_t t0 = mono_ns();
@@ -134,6 +135,7 @@ static bool spin_until_changed(const atomic_uint *a, unsigned was)
         }
         if (mono_ns() - t0 > POOL_SPIN_NS)
             return false;
+        sched_yield();
     }
 }
 
@@ -182,11 +184,13 @@ static void pool_stop(vp_pool *p)
     free(p);
 }
 
-/* A pool of `workers` threads, or NULL (out of memory, or not one thread
- * could be started: the caller then works alone).  The workers take no
- * signals: they are the caller's to handle. */
-static vp_pool *pool_start(unsigned workers, bool spin)
+/* A pool of `workers` threads (fewer if the system starts fewer), or NULL:
+ * out of memory (*nomem set), or not one thread could be started (the
+ * caller then works alone).  The workers take no signals: they are the
+ * caller's to handle. */
+static vp_pool *pool_start(unsigned workers, bool spin, bool *nomem)
 {
+    *nomem = true;
     vp_pool *p = calloc(1, sizeof *p);
     if (!p)
         return NULL;
@@ -218,6 +222,7 @@ static vp_pool *pool_start(unsigned workers, bool spin)
         p->n++;
     }
     pthread_sigmask(SIG_SETMASK, &old, NULL);
+    *nomem = false;
     if (!p->n) {
         pool_stop(p);
         return NULL;
@@ -243,9 +248,11 @@ static void pool_run(vp_pool *p, vp_task_fn fn, void *ctx)
     if (atomic_load_explicit(&p->pending, memory_order_acquire) && p->spin) {
         const uint64_t t0 = mono_ns();
         while (atomic_load_explicit(&p->pending, memory_order_acquire) &&
-               mono_ns() - t0 < POOL_SPIN_NS)
+               mono_ns() - t0 < POOL_SPIN_NS) {
             for (unsigned i = 0; i < 256; i++)
                 cpu_relax();
+            sched_yield();
+        }
     }
     pthread_mutex_lock(&p->mu);
     while (atomic_load_explicit(&p->pending, memory_order_acquire))
@@ -503,9 +510,13 @@ int alb_vp_set_threads(alb_vp *vp, unsigned n)
     vp->threads = 1;
     if (n == 1)
         return 0;
-    /* the workers: n - 1 threads (fewer if the system gives fewer) */
-    if (vp_scratch_for(vp, n) || !(vp->pool = pool_start(n - 1, n <= alb_vp_cores())))
+    /* the workers: n - 1 threads (fewer if the system gives fewer; none,
+     * and the VP draws on the caller's thread as it would on one) */
+    bool nomem = false;
+    if (vp_scratch_for(vp, n))
         return -1;   /* one thread's scratch is there since alb_vp_create */
+    if (!(vp->pool = pool_start(n - 1, n <= alb_vp_cores(), &nomem)))
+        return nomem ? -1 : 0;
     const unsigned nt = pool_threads(vp->pool);
     if (!(vp->batch = malloc(VP_BATCH * sizeof *vp->batch)) || !(vp->par = batch_job_new(vp, nt))) {
         free(vp->batch);
