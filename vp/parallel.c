@@ -18,9 +18,11 @@
 
 #include <pthread.h>
 #include <sched.h>
+#include <signal.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 unsigned alb_vp_cores(void)
@@ -46,26 +48,6 @@ int vp_scratch_for(alb_vp *vp, unsigned n)
     return 0;
 }
 
-int alb_vp_set_threads(alb_vp *vp, unsigned n)
-{
-    vp_flush_batch(vp);
-    n = n ? n : alb_vp_cores();
-    n = n > ALB_VP_MAX_THREADS ? ALB_VP_MAX_THREADS : n;
-    int rc = 0;
-    if (n > 1 && !vp->batch && !(vp->batch = malloc(VP_BATCH * sizeof *vp->batch)))
-        rc = -1;
-    if (!rc && n > 1 && vp_scratch_for(vp, n))
-        rc = -1;   /* one thread's scratch is there since alb_vp_create */
-    vp->threads = rc ? 1 : n;
-    if (vp->threads == 1) {
-        free(vp->batch);
-        vp->batch = NULL;
-    }
-    return rc;
-}
-
-unsigned alb_vp_threads(const alb_vp *vp) { return vp->threads ? vp->threads : 1; }
-
 void vp_stats_add(alb_vp_stats *dst, const alb_vp_stats *src)
 {
     for (unsigned l = 0; l < ALB_VP_MAX_LEVELS; l++)
@@ -88,6 +70,207 @@ void vp_stats_add(alb_vp_stats *dst, const alb_vp_stats *src)
         dst->depth_nearest = src->depth_nearest;
 }
 
+/* ---- the threads: started once, woken for each task ----
+ *
+ * alb_vp_set_threads starts threads - 1 workers that live as long as the VP
+ * (or until the count changes).  A task is a function every worker and the
+ * caller run once, as worker 0 .. n; the caller returns when all have.
+ * Between tasks a worker first watches the task counter for a while (a
+ * frame's batches follow each other within a fraction of a millisecond, and
+ * a sleeping thread takes tens of microseconds to wake), then sleeps on a
+ * condition variable; it watches only if the VP has no more threads than
+ * the process has cores, so that a waiting worker never takes a core from
+ * one that works. */
+
+typedef void (*vp_task_fn)(void *ctx, unsigned worker);
+
+typedef struct vp_pool vp_pool;
+
+typedef struct {
+    vp_pool *pool;
+    unsigned id;              /* 1 .. n */
+} pool_arg;
+
+struct vp_pool {
+    pthread_mutex_t mu;
+    pthread_cond_t go, done;
+    pthread_t tid[ALB_VP_MAX_THREADS];
+    pool_arg arg[ALB_VP_MAX_THREADS];
+    unsigned n;               /* workers started */
+    bool spin;                /* watch before sleeping */
+    atomic_uint gen;          /* tasks given so far */
+    atomic_uint pending;      /* workers still on the task */
+    vp_task_fn fn;
+    void *ctx;
+    bool quit;
+};
+
+/* How long a waiting thread watches before it sleeps. */
+#define POOL_SPIN_NS 200000
+
+static uint64_t mono_ns(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (uint64_t)t.tv_sec * 1000000000u + (uint64_t)t.tv_nsec;
+}
+
+static inline void cpu_relax(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
+
+/* Watch *a until it differs from `was`, for a while; whether it did.  The
+ * core is offered to any other thread that wants it every few microseconds. */
+static bool spin_until_changed(const atomic_uint *a, unsigned was)
+{
+    const uint64_t t0 = mono_ns();
+    for (;;) {
+        for (unsigned i = 0; i < 256; i++) {
+            if (atomic_load_explicit(a, memory_order_acquire) != was)
+                return true;
+            cpu_relax();
+        }
+        if (mono_ns() - t0 > POOL_SPIN_NS)
+            return false;
+        sched_yield();
+    }
+}
+
+static void *pool_main(void *argp)
+{
+    const pool_arg *arg = argp;
+    vp_pool *p = arg->pool;
+    unsigned seen = 0;
+    for (;;) {
+        if (p->spin)
+            spin_until_changed(&p->gen, seen);
+        pthread_mutex_lock(&p->mu);
+        while (atomic_load(&p->gen) == seen && !p->quit)
+            pthread_cond_wait(&p->go, &p->mu);
+        if (p->quit) {
+            pthread_mutex_unlock(&p->mu);
+            return NULL;
+        }
+        seen = atomic_load(&p->gen);
+        const vp_task_fn fn = p->fn;
+        void *ctx = p->ctx;
+        pthread_mutex_unlock(&p->mu);
+        fn(ctx, arg->id);
+        if (atomic_fetch_sub_explicit(&p->pending, 1, memory_order_acq_rel) == 1) {
+            pthread_mutex_lock(&p->mu);
+            pthread_cond_signal(&p->done);
+            pthread_mutex_unlock(&p->mu);
+        }
+    }
+}
+
+static void pool_stop(vp_pool *p)
+{
+    if (!p)
+        return;
+    pthread_mutex_lock(&p->mu);
+    p->quit = true;
+    atomic_fetch_add(&p->gen, 1);
+    pthread_cond_broadcast(&p->go);
+    pthread_mutex_unlock(&p->mu);
+    for (unsigned i = 0; i < p->n; i++)
+        pthread_join(p->tid[i], NULL);
+    pthread_cond_destroy(&p->go);
+    pthread_cond_destroy(&p->done);
+    pthread_mutex_destroy(&p->mu);
+    free(p);
+}
+
+/* A pool of `workers` threads (fewer if the system starts fewer), or NULL:
+ * out of memory (*nomem set), or not one thread could be started (the
+ * caller then works alone).  The workers take no signals: they are the
+ * caller's to handle. */
+static vp_pool *pool_start(unsigned workers, bool spin, bool *nomem)
+{
+    *nomem = true;
+    vp_pool *p = calloc(1, sizeof *p);
+    if (!p)
+        return NULL;
+    if (pthread_mutex_init(&p->mu, NULL)) {
+        free(p);
+        return NULL;
+    }
+    if (pthread_cond_init(&p->go, NULL)) {
+        pthread_mutex_destroy(&p->mu);
+        free(p);
+        return NULL;
+    }
+    if (pthread_cond_init(&p->done, NULL)) {
+        pthread_cond_destroy(&p->go);
+        pthread_mutex_destroy(&p->mu);
+        free(p);
+        return NULL;
+    }
+    atomic_init(&p->gen, 0);
+    atomic_init(&p->pending, 0);
+    p->spin = spin;
+    sigset_t all, old;
+    sigfillset(&all);
+    pthread_sigmask(SIG_SETMASK, &all, &old);
+    for (unsigned i = 0; i < workers && i < ALB_VP_MAX_THREADS; i++) {
+        p->arg[p->n] = (pool_arg){p, p->n + 1};
+        if (pthread_create(&p->tid[p->n], NULL, pool_main, &p->arg[p->n]))
+            break;   /* the others take its share */
+        p->n++;
+    }
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
+    *nomem = false;
+    if (!p->n) {
+        pool_stop(p);
+        return NULL;
+    }
+    return p;
+}
+
+/* fn(ctx, 0) here and fn(ctx, i) on worker i, 1 .. n; back when all are. */
+static void pool_run(vp_pool *p, vp_task_fn fn, void *ctx)
+{
+    if (!p) {
+        fn(ctx, 0);
+        return;
+    }
+    pthread_mutex_lock(&p->mu);
+    p->fn = fn;
+    p->ctx = ctx;
+    atomic_store(&p->pending, p->n);
+    atomic_fetch_add_explicit(&p->gen, 1, memory_order_release);
+    pthread_cond_broadcast(&p->go);
+    pthread_mutex_unlock(&p->mu);
+    fn(ctx, 0);
+    if (atomic_load_explicit(&p->pending, memory_order_acquire) && p->spin) {
+        const uint64_t t0 = mono_ns();
+        while (atomic_load_explicit(&p->pending, memory_order_acquire) &&
+               mono_ns() - t0 < POOL_SPIN_NS) {
+            for (unsigned i = 0; i < 256; i++)
+                cpu_relax();
+            sched_yield();
+        }
+    }
+    pthread_mutex_lock(&p->mu);
+    while (atomic_load_explicit(&p->pending, memory_order_acquire))
+        pthread_cond_wait(&p->done, &p->mu);
+    pthread_mutex_unlock(&p->mu);
+}
+
+/* The workers of the VP's pool and the caller. */
+static unsigned pool_threads(const vp_pool *p) { return p ? p->n + 1 : 1; }
+
+static void vp_threads_stop(alb_vp *vp)
+{
+    pool_stop(vp->pool);
+    vp->pool = NULL;
+}
+
+/* ---- faces drawn on the threads ---- */
+
 /* A tile's part of a face: fill it at the level of the cell that held it,
  * or walk below it (the cell, with its active edges). */
 typedef struct {
@@ -101,46 +284,52 @@ typedef struct {
     size_t n, cap;
 } job_list;
 
+typedef struct batch_job batch_job;
+
+/* One thread's part: the VP's state with statistics of its own, and its
+ * faces' jobs, a list a tile. */
 typedef struct {
-    alb_vp *vp;
-    vp_cell tiles[VP_MAX_TILES];
-    job_list jobs[VP_MAX_TILES];
-    unsigned ntiles, per_row;
-    uint8_t wl, hl;           /* the tiles' sides, log2 */
+    batch_job *j;
+    alb_vp local;
     uint32_t face;            /* the face being put on the lists */
     bool nomem;
-    atomic_uint next;         /* the next tile to take */
-} job;
-
-typedef struct {
-    job *j;
-    alb_vp local;               /* the VP's state, with statistics of its own */
+    job_list jobs[VP_MAX_TILES];
 } worker;
 
-static void job_add(job *j, unsigned t, bool fill, const vp_cell *k)
+struct batch_job {
+    alb_vp *vp;
+    vp_cell tiles[VP_MAX_TILES];
+    unsigned ntiles, per_row, level, nw;
+    uint8_t wl, hl;           /* the tiles' sides, log2 */
+    atomic_uint next;         /* the next tile to take */
+    worker *wk;               /* nw of them */
+};
+
+static void job_add(worker *w, unsigned t, bool fill, const vp_cell *k)
 {
-    job_list *l = &j->jobs[t];
+    job_list *l = &w->jobs[t];
     if (l->n == l->cap) {
         size_t cap = l->cap ? 2 * l->cap : 64;
         tile_job *a = realloc(l->a, cap * sizeof *a);
         if (!a) {
-            j->nomem = true;
+            w->nomem = true;
             return;
         }
         l->a = a;
         l->cap = cap;
     }
-    l->a[l->n++] = (tile_job){j->face, fill, *k};
+    l->a[l->n++] = (tile_job){w->face, fill, *k};
 }
 
 /* vp_walk_to_tiles' job: a cell found inside fills each tile it holds at
  * its own level; a tile that splits is walked below. */
 static void put_on_tiles(void *ctx, const vp_cell *k, bool fill)
 {
-    job *j = ctx;
+    worker *w = ctx;
+    const batch_job *j = w->j;
     const uint32_t tc0 = k->c0 >> j->wl, tr0 = k->r0 >> j->hl;
     if (!fill) {
-        job_add(j, tr0 * j->per_row + tc0, false, k);
+        job_add(w, tr0 * j->per_row + tc0, false, k);
         return;
     }
     const uint32_t tc1 = (k->c0 + (1u << k->wl) - 1) >> j->wl, tr1 = (k->r0 + (1u << k->hl) - 1) >> j->hl;
@@ -149,36 +338,58 @@ static void put_on_tiles(void *ctx, const vp_cell *k, bool fill)
             const unsigned t = tr * j->per_row + tc;
             vp_cell c = j->tiles[t];
             c.level = k->level;
-            job_add(j, t, true, &c);
+            job_add(w, t, true, &c);
         }
 }
 
-static void *work(void *arg)
+/* The first task: thread i walks its share of the batch, a run of faces in
+ * stream order, down to the tiles, onto its own lists. */
+static void walk_task(void *ctx, unsigned i)
 {
-    worker *wk = arg;
-    job *j = wk->j;
+    batch_job *j = ctx;
+    worker *w = &j->wk[i];
+    alb_vp *vp = j->vp;
+    w->local = *vp;
+    memset(&w->local.st, 0, sizeof w->local.st);
+    w->nomem = false;
+    for (unsigned t = 0; t < j->ntiles; t++)
+        w->jobs[t].n = 0;
+    const uint32_t f0 = (uint32_t)((uint64_t)vp->nbatch * i / j->nw),
+                   f1 = (uint32_t)((uint64_t)vp->nbatch * (i + 1) / j->nw);
+    for (w->face = f0; w->face < f1 && !w->nomem; w->face++)
+        vp_walk_to_tiles(&w->local, &vp->batch[w->face], j->level, put_on_tiles, w);
+}
+
+/* The second: the threads take tiles as they finish, and walk each tile's
+ * jobs — thread 0's lists, then thread 1's, ...: stream order. */
+static void draw_task(void *ctx, unsigned i)
+{
+    batch_job *j = ctx;
+    alb_vp *local = &j->wk[i].local;
     for (;;) {
-        unsigned t = atomic_fetch_add(&j->next, 1);
+        const unsigned t = atomic_fetch_add(&j->next, 1);
         if (t >= j->ntiles)
-            return NULL;
-        const job_list *l = &j->jobs[t];
-        for (size_t i = 0; i < l->n; i++) {
-            const vp_loaded_face *f = &j->vp->batch[l->a[i].face];
-            if (l->a[i].fill)
-                vp_fill(&wk->local, &f->fs, &l->a[i].cell);
-            else
-                vp_draw_below(&wk->local, f, &l->a[i].cell);
+            return;
+        for (unsigned k = 0; k < j->nw; k++) {
+            const job_list *l = &j->wk[k].jobs[t];
+            for (size_t q = 0; q < l->n; q++) {
+                const vp_loaded_face *f = &j->vp->batch[l->a[q].face];
+                if (l->a[q].fill)
+                    vp_fill(local, &f->fs, &l->a[q].cell);
+                else
+                    vp_draw_below(local, f, &l->a[q].cell);
+            }
         }
     }
 }
 
-/* The tiles: the cells of the first level with at least 8 per thread (for
+/* The tiles: the cells of the first level with at least 16 per thread (for
  * balance; threads take them as they finish), at most VP_MAX_TILES, and no
  * smaller than the sample store's tiles (store.c), so that each store tile
  * is cleared by the one thread whose tile holds it. */
-static unsigned make_tiles(const alb_vp *vp, job *j)
+static void make_tiles(const alb_vp *vp, batch_job *j)
 {
-    unsigned want = 8 * vp->threads, l = 0, wl = vp->lw, hl = vp->lh;
+    unsigned want = 16 * j->nw, l = 0, wl = vp->lw, hl = vp->lh;
     while (l < vp->tile_level && (1u << ((vp->lw - wl) + (vp->lh - hl))) < want &&
            (4u << ((vp->lw - wl) + (vp->lh - hl))) <= VP_MAX_TILES) {
         l++;
@@ -186,63 +397,66 @@ static unsigned make_tiles(const alb_vp *vp, job *j)
         hl -= hl > 0;
     }
     j->ntiles = 0;
+    j->level = l;
     j->wl = (uint8_t)wl, j->hl = (uint8_t)hl;
     j->per_row = vp->sw >> wl;
     for (uint32_t r = 0; r < vp->sh; r += 1u << hl)
         for (uint32_t c = 0; c < vp->sw; c += 1u << wl)
             j->tiles[j->ntiles++] = (vp_cell){c, r, (uint8_t)wl, (uint8_t)hl, (uint8_t)l, 0, 0};
-    return l;
 }
 
 void vp_flush_batch(alb_vp *vp)
 {
     if (!vp->nbatch)
         return;
-    job *j = calloc(1, sizeof *j);
-    worker *wk = calloc(vp->threads, sizeof *wk);
-    pthread_t tid[ALB_VP_MAX_THREADS];
-    bool started[ALB_VP_MAX_THREADS] = {false};
-    unsigned nw = j && wk ? vp->threads : 0;
-    if (nw) {
-        /* the walks above the tiles, on this thread, counted in vp->st */
-        alb_vp_stats before = vp->st;
-        j->vp = vp;
-        const unsigned tl = make_tiles(vp, j);
+    batch_job *j = vp->par;
+    bool ok = j != NULL;
+    if (ok) {
+        make_tiles(vp, j);
         atomic_init(&j->next, 0);
-        for (j->face = 0; j->face < vp->nbatch && !j->nomem; j->face++)
-            vp_walk_to_tiles(vp, &vp->batch[j->face], tl, put_on_tiles, j);
-        if (j->nomem) {   /* no memory for the lists: one thread, as if none was tried */
-            vp->st = before;
-            nw = 0;
-        }
+        pool_run(vp->pool, walk_task, j);
+        for (unsigned i = 0; i < j->nw; i++)
+            ok &= !j->wk[i].nomem;
     }
-    for (unsigned i = 0; i < nw; i++) {
-        wk[i].j = j;
-        wk[i].local = *vp;
-        memset(&wk[i].local.st, 0, sizeof wk[i].local.st);
-    }
-    /* workers 1.. on threads of their own, worker 0 here; a thread that
-     * cannot be started leaves its tiles to the others */
-    for (unsigned i = 1; i < nw; i++)
-        started[i] = pthread_create(&tid[i], NULL, work, &wk[i]) == 0;
-    if (nw) {
-        work(&wk[0]);
+    if (ok) {
+        pool_run(vp->pool, draw_task, j);
+        for (unsigned i = 0; i < j->nw; i++)
+            vp_stats_add(&vp->st, &j->wk[i].local.st);
     } else {
-        /* no memory for the job: one thread, the whole screen */
+        /* no memory for the lists: one thread, the whole screen, as if no
+         * thread had been tried (the walks above the tiles were counted
+         * only in the workers' statistics) */
         for (unsigned i = 0; i < vp->nbatch; i++)
             vp_draw_face(vp, &vp->batch[i]);
     }
-    for (unsigned i = 0; i < nw; i++) {
-        if (i && started[i])
-            pthread_join(tid[i], NULL);
-        vp_stats_add(&vp->st, &wk[i].local.st);
-    }
-    if (j)
-        for (unsigned t = 0; t < j->ntiles; t++)
-            free(j->jobs[t].a);
-    free(wk);
-    free(j);
     vp->nbatch = 0;
+}
+
+static void batch_job_free(batch_job *j)
+{
+    if (!j)
+        return;
+    for (unsigned i = 0; i < j->nw; i++)
+        for (unsigned t = 0; t < VP_MAX_TILES; t++)
+            free(j->wk[i].jobs[t].a);
+    free(j->wk);
+    free(j);
+}
+
+static batch_job *batch_job_new(alb_vp *vp, unsigned nw)
+{
+    batch_job *j = calloc(1, sizeof *j);
+    if (!j)
+        return NULL;
+    if (!(j->wk = calloc(nw, sizeof *j->wk))) {
+        free(j);
+        return NULL;
+    }
+    j->vp = vp;
+    j->nw = nw;
+    for (unsigned i = 0; i < nw; i++)
+        j->wk[i].j = j;
+    return j;
 }
 
 /* ---- rows split between the threads (clearing and resolving the store) ---- */
@@ -255,42 +469,70 @@ typedef struct {
     atomic_uint next;
 } row_job;
 
-typedef struct {
-    row_job *j;
-    unsigned worker;
-} row_worker;
-
-static void *row_work(void *arg)
+static void row_task(void *arg, unsigned id)
 {
-    row_worker *w = arg;
-    row_job *j = w->j;
+    row_job *j = arg;
     for (;;) {
         uint32_t k = atomic_fetch_add(&j->next, 1);
         uint32_t r0 = k * j->chunk;
         if (k >= (j->rows + j->chunk - 1) / j->chunk)
-            return NULL;
-        j->fn(j->vp, j->ctx, w->worker, r0, r0 + j->chunk < j->rows ? r0 + j->chunk : j->rows);
+            return;
+        j->fn(j->vp, j->ctx, id, r0, r0 + j->chunk < j->rows ? r0 + j->chunk : j->rows);
     }
 }
 
 void vp_parallel_rows(alb_vp *vp, uint32_t rows, vp_row_fn fn, void *ctx)
 {
-    unsigned nt = alb_vp_threads(vp);
+    unsigned nt = pool_threads(vp->pool);
     if (nt <= 1 || rows < 2 * nt) {
         fn(vp, ctx, 0, 0, rows);
         return;
     }
     row_job j = {fn, vp, ctx, rows, (rows + 4 * nt - 1) / (4 * nt), 0};
     atomic_init(&j.next, 0);
-    pthread_t tid[ALB_VP_MAX_THREADS];
-    row_worker w[ALB_VP_MAX_THREADS];
-    bool started[ALB_VP_MAX_THREADS] = {false};
-    for (unsigned i = 0; i < nt; i++)
-        w[i] = (row_worker){&j, i};
-    for (unsigned i = 1; i < nt; i++)
-        started[i] = pthread_create(&tid[i], NULL, row_work, &w[i]) == 0;
-    row_work(&w[0]);
-    for (unsigned i = 1; i < nt; i++)
-        if (started[i])
-            pthread_join(tid[i], NULL);
+    pool_run(vp->pool, row_task, &j);
 }
+
+/* ---- the count ---- */
+
+int alb_vp_set_threads(alb_vp *vp, unsigned n)
+{
+    vp_flush_batch(vp);
+    n = n ? n : alb_vp_cores();
+    n = n > ALB_VP_MAX_THREADS ? ALB_VP_MAX_THREADS : n;
+    if (n == alb_vp_threads(vp))
+        return 0;
+    vp_threads_stop(vp);
+    batch_job_free(vp->par);
+    vp->par = NULL;
+    free(vp->batch);
+    vp->batch = NULL;
+    vp->threads = 1;
+    if (n == 1)
+        return 0;
+    /* the workers: n - 1 threads (fewer if the system gives fewer; none,
+     * and the VP draws on the caller's thread as it would on one) */
+    bool nomem = false;
+    if (vp_scratch_for(vp, n))
+        return -1;   /* one thread's scratch is there since alb_vp_create */
+    if (!(vp->pool = pool_start(n - 1, n <= alb_vp_cores(), &nomem)))
+        return nomem ? -1 : 0;
+    const unsigned nt = pool_threads(vp->pool);
+    if (!(vp->batch = malloc(VP_BATCH * sizeof *vp->batch)) || !(vp->par = batch_job_new(vp, nt))) {
+        free(vp->batch);
+        vp->batch = NULL;
+        vp_threads_stop(vp);
+        return -1;
+    }
+    vp->threads = nt;
+    return 0;
+}
+
+void vp_threads_free(alb_vp *vp)
+{
+    vp_threads_stop(vp);
+    batch_job_free(vp->par);
+    vp->par = NULL;
+}
+
+unsigned alb_vp_threads(const alb_vp *vp) { return vp->threads ? vp->threads : 1; }

@@ -60,6 +60,7 @@ void alb_vp_destroy(alb_vp *vp)
     for (unsigned i = 0; i < ALB_WS_MAX_TEXTURES; i++)
         free(vp->tex[i]);
     free(vp->recip_rom);
+    vp_threads_free(vp);
     free(vp->batch);
     free(vp->scratch);
     vp_store_free(vp);
@@ -823,8 +824,11 @@ static inline __attribute__((always_inline)) void
 draw_split8(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp_timer *tm,
             const bool timed, const int isa)
 {
-    /* the children's quadrants of the grandchildren */
-    static const uint16_t quadrant[4] = {0x0033, 0x00CC, 0x3300, 0xCC00};
+    /* the grandchildren in the quadrants of children m (bit j: child j;
+     * child 0 has grandchildren 0, 1, 4, 5) */
+    static const uint16_t quadrants[16] = {
+        0x0000, 0x0033, 0x00CC, 0x00FF, 0x3300, 0x3333, 0x33CC, 0x33FF,
+        0xCC00, 0xCC33, 0xCCCC, 0xCCFF, 0xFF00, 0xFF33, 0xFFCC, 0xFFFF};
     block8_verdicts v = {0, 0xF, 0, 0xFFFF, 0, 0, {0, 0, 0, 0}};
     const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
     /* every step one cycle (the step table is monotone): no edge counts */
@@ -861,9 +865,7 @@ draw_split8(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k, v
     }
     const uint8_t l = k->level + 1;
     const unsigned in4 = ~v.out4 & v.held4 & 0xF, split4 = ~v.out4 & ~v.held4 & 0xF;
-    unsigned seen2 = 0;   /* the grandchildren visited: those of split children */
-    for (unsigned j = 0; j < 4; j++)
-        seen2 |= split4 >> j & 1 ? quadrant[j] : 0;
+    const unsigned seen2 = quadrants[split4];   /* the grandchildren visited: of split children */
     const unsigned in2 = seen2 & ~v.out2 & v.held2, split2 = seen2 & ~v.out2 & ~v.held2;
     const uint64_t tested = samples_of_grandchildren(split2);
     const uint64_t fine = tested & ~v.outside, mid = samples_of_grandchildren(in2);
@@ -1021,7 +1023,12 @@ draw_split(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp
         vp->st.cells_split++;
         if (timed)
             c.edges = (uint8_t)popcount_isa(c.active, isa);
-        split_below(vp, w, fs, &c, tm, timed, isa);
+        /* an 8 x 8 child here, not through a call: they are the most
+         * numerous cells that split */
+        if (wl == 3 && hl == 3)
+            draw_split8(vp, w, fs, &c, tm, timed, isa);
+        else
+            split_below(vp, w, fs, &c, tm, timed, isa);
     }
 }
 

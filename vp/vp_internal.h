@@ -135,7 +135,9 @@ struct alb_vp {
     unsigned threads;
     unsigned char *scratch;  /* the output stage's rows, vp_store_scratch_bytes per thread */
     struct vp_loaded_face *batch;   /* faces loaded, waiting for the workers */
-    unsigned nbatch;     /* floor(2^(2RB-1) / dm) for dm in [2^(RB-1), 2^RB) */
+    struct vp_pool *pool;    /* the worker threads, threads - 1 of them */
+    struct batch_job *par;   /* their work on a batch, kept from one to the next */
+    unsigned nbatch;         /* faces in the batch */
 };
 
 /* A face as the edge store holds it: shading set-up and edge functions. */
@@ -404,6 +406,8 @@ int vp_store_retire_texture(alb_vp *vp, uint32_t *texels);
  * is cut into (parallel.c). */
 #define VP_BATCH 1024
 #define VP_MAX_TILES 1024
+/* Stop the VP's worker threads and free their work (parallel.c). */
+void vp_threads_free(alb_vp *vp);
 /* Draw the batched faces (parallel.c); nothing if the batch is empty. */
 void vp_flush_batch(alb_vp *vp);
 /* fn(vp, ctx, worker, first, end) over rows [0, rows) in chunks, on the

@@ -65,7 +65,11 @@ const alb_vp_stats *alb_vp_stats_get(const alb_vp *vp);
 /* Threads of the functional renderer (alb_vp_face, alb_vp_run_stream): 1 draws
  * face by face on the caller's thread; more split the screen into tiles
  * (vp/parallel.c), with bit-identical frames and statistics; 0 means one per
- * core.  -1 if out of memory (the VP stays on one thread). */
+ * core.  The n - 1 worker threads are started here and run until the count
+ * changes or alb_vp_destroy; they take no signals.  alb_vp_threads is the
+ * count in use: fewer than asked if the system would not start them all
+ * (one if it started none).  -1 if out of memory (the VP stays on one
+ * thread).  One VP is used from one thread at a time. */
 #define ALB_VP_MAX_THREADS 64
 int alb_vp_set_threads(alb_vp *vp, unsigned n);
 unsigned alb_vp_threads(const alb_vp *vp);
