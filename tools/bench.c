@@ -270,10 +270,10 @@ static void side_by_side(bench_scene *b, const alb_profile *p)
     printf("| %s | %u² | %llu | %.2f | %.2f | %.2f |", b->label, p->width,
            (unsigned long long)alb_vp_stats_get(o1.vp)->faces, t[0], t[5], t[1]);
     if (!g1 || !gn) {
-        printf(" — | — | %.2f | — | — | — |\n", t[2]);
+        printf(" — | — | %.2f | %.2fx | — | — | — |\n", t[2], t[0] / t[2]);
     } else {
-        printf(" %.2f | **%.2fx** | %.2f | %.2f | %.2fx |", t[3], t[3] / t[0], t[2], t[4],
-               t[4] / t[2]);
+        printf(" %.2f | **%.2fx** | %.2f | %.2fx | %.2f | %.2fx |", t[3], t[3] / t[0], t[2],
+               t[0] / t[2], t[4], t[4] / t[2]);
         uint32_t *face = b->gouraud ? NULL : malloc((size_t)p->width * p->height * sizeof *face);
         if (face && !peer_faces(g1, face)) {
             size_t diff = 0, n = (size_t)p->width * p->height;
@@ -497,15 +497,16 @@ int main(int argc, char **argv)
     random_scene(&sc[5], "random 10000, Gouraud", 10000, 0.03, false);
 
     printf("\n## The functional VP beside llvmpipe (frame 0, ms per frame, steady state)\n\n"
-           "ratio = llvmpipe's time / ours (above 1: we are faster); %u cores; each the best "
+           "ratio = llvmpipe's time / ours (above 1: we are faster); speed-up = ours on 1 "
+           "thread / ours on every core; %u cores; each the best "
            "of %d rounds, the two timed in turn\n\n"
            "\"ours\": the VP on the frame's words into the colour plane alone (what llvmpipe's "
            "colour buffer holds; alb_vp_frame_alloc_planes), \"every plane\" into a whole "
            "alb_frame\n\n"
            "| scene | screen | faces drawn | ours, 1 thread | ours, every plane | ours GP + VP | "
-           "llvmpipe, 1 thread | ratio | ours, %u threads | llvmpipe, %u threads | ratio | "
-           "face map differs (of pixels), clear pixels |\n"
-           "|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+           "llvmpipe, 1 thread | ratio | ours, %u threads | speed-up | llvmpipe, %u threads | "
+           "ratio | face map differs (of pixels), clear pixels |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
            cores, ROUNDS, cores, cores);
     for (int i = 0; i < 6; i++)
         side_by_side(&sc[i], &p);
