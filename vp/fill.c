@@ -15,7 +15,9 @@
  * depth unit.  The fast loop comes in two shapes: a whole cell (every
  * sample of a rectangle) and an 8 x 8 block with a mask (the samples the
  * walk decided in one pass below an 8 x 8 cell, vp.c), each in the host's
- * fastest form.  All give the same bits (tests/test_fill.c). */
+ * fastest form.  All give the same bits (tests/test_fill.c), and each has
+ * a twin without the tag plane for the store of counters alone
+ * (vp_create_counters; tests/test_counters.c). */
 #include "units.h"
 
 #include <string.h>
@@ -65,7 +67,7 @@ static inline void sample_plain(uint32_t *depth, uint32_t *tag, size_t idx, int6
      * earlier face (docs/vp.md §4); 0, no surface, never wins */
     if (dv > depth[idx]) {
         depth[idx] = dv;
-        if (tag)   /* NULL: the store of counters alone (vp.tagless) */
+        if (tag)   /* NULL: the store of counters alone (vp_create_counters) */
             tag[idx] = t;
         k->written++;
         k->nearest = dv > k->nearest ? dv : k->nearest;
@@ -84,7 +86,7 @@ static inline void sample_plain(uint32_t *depth, uint32_t *tag, size_t idx, int6
 /* The plain form of one sample (also the SIMD forms' tails).  Every form
  * is one body compiled twice: `tagged` (a constant at each call) writes the
  * tag plane, or leaves it out for the store of counters alone, which has
- * none (alb_vp.tagless) — the same depths and counts either way. */
+ * none (vp_create_counters) — the same depths and counts either way. */
 static inline __attribute__((always_inline)) void
 sample_fast(uint32_t *depth, uint32_t *tag, size_t i, int64_t z, unsigned sr, unsigned sl,
             uint32_t t, size_t at, vp_rect_result *r, const bool tagged)
@@ -215,8 +217,7 @@ rect_sse2_body(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32
             __m128i b = _mm_sll_epi64(_mm_srl_epi64(hi, vsr), vsl);
             __m128i dv = _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b),
                                                          _MM_SHUFFLE(2, 0, 2, 0)));
-            __m128i *d = (__m128i *)(void *)(dp + i), *g = (__m128i *)(void *)(tp + i);
-            (void)g;
+            __m128i *d = (__m128i *)(void *)(dp + i), *g = tagged ? (__m128i *)(void *)(tp + i) : NULL;
             __m128i old = _mm_loadu_si128(d), fdv = _mm_xor_si128(dv, sign);
             __m128i win = _mm_cmpgt_epi32(fdv, _mm_xor_si128(old, sign));
             _mm_storeu_si128(d, _mm_or_si128(_mm_and_si128(win, dv), _mm_andnot_si128(win, old)));
@@ -541,7 +542,7 @@ unsigned vp_depth_forms_untagged(vp_depth_forms_t f[3], const char *name[3])
 /* ---- cells and blocks ---- */
 
 /* The tag plane from sample idx on; NULL in the store of counters alone,
- * which has none (alb_vp.tagless: its forms never touch it). */
+ * which has none (vp_create_counters: its forms never touch it). */
 static inline uint32_t *tags_at(const alb_vp *vp, size_t idx)
 {
     return vp->s_tag ? vp->s_tag + idx : NULL;

@@ -8,7 +8,9 @@
  * work: when the frame is resolved, each sample's colour comes from the face
  * its tag names (the frame keeps the faces it drew), with the same units and
  * the same arithmetic the fill would have used — so a sample that a nearer
- * face overwrites is never shaded. */
+ * face overwrites is never shaded.  The store of counters alone (the timed
+ * model without frames) has the depth plane only; a tie's kept face is
+ * replayed from the frame's faces instead (vp_store_name_tie). */
 #define _DEFAULT_SOURCE   /* madvise's MADV_HUGEPAGE, where the C library has it */
 #include "units.h"
 
@@ -127,7 +129,8 @@ static int log_edges(alb_vp *vp, const vp_loaded_face *f)
         vp->edge_log = n;
         vp->cap_edge_log = cap;
     }
-    memcpy(vp->edge_log + vp->nedge_log, f->e, f->n * sizeof *f->e);
+    if (f->n)   /* a face of no edges (the whole screen) logs none */
+        memcpy(vp->edge_log + vp->nedge_log, f->e, f->n * sizeof *f->e);
     vp->edge_at[vp->nfaces] = vp->nedge_log;
     vp->nedge_log += f->n;
     vp->edge_at[vp->nfaces + 1] = vp->nedge_log;
@@ -160,7 +163,8 @@ void vp_store_name_tie(alb_vp *vp)
     uint32_t depth = 0, kept = 0;
     for (uint32_t i = 0; i < vp->tie_lost_face; i++) {
         const vp_face_setup *fs = &vp->faces[i];
-        if (!centre_inside(vp->edge_log + vp->edge_at[i], vp->edge_at[i + 1] - vp->edge_at[i], c, r))
+        const size_t at = vp->edge_at[i], n = vp->edge_at[i + 1] - at;
+        if (n && !centre_inside(vp->edge_log + at, n, c, r))   /* no edges: the whole screen */
             continue;
         const uint32_t dv = units_depth(units_form_at(&fs->depth, c, r),
                                         units_depth_shift(vp, fs->depth.exp), dmax);

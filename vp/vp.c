@@ -794,15 +794,15 @@ time_split8_unit(vp_timer *tm, unsigned in4, unsigned split4, unsigned in2, unsi
     }
     /* else each hand-over through the fill queue's recurrence, its gap the
      * cycles since the previous one */
-    vp_queue q_at = vp_queue_of(tm, e);
+    vp_queue rec = vp_queue_of(tm, e);
     unsigned done = 0;
     for (unsigned w = 0; w < 2; w++)
         for (uint64_t x = u.h[w]; x; x &= x - 1) {
             const unsigned p = (unsigned)__builtin_ctzll(x), c = unit_cycle(&u, w, p, isa);
-            vp_queue_take(&q_at, tm->take_ring, q, c + 1 - done, unit_fill(&u, w, p, f0, f2, f4));
+            vp_queue_take(&rec, tm->take_ring, q, c + 1 - done, unit_fill(&u, w, p, f0, f2, f4));
             done = c + 1;
         }
-    vp_queue_end(tm, &q_at, n, steps - done, steps, filled);
+    vp_queue_end(tm, &rec, n, steps - done, steps, filled);
 }
 
 /* The other cases: steps of several cycles (more edges than edge units),
