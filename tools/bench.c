@@ -12,6 +12,8 @@
 #include "albatros/gp.h"
 
 #include <math.h>
+#include <pthread.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -200,6 +202,50 @@ static double ours_time(ours *o, unsigned frames, bool with_gp)
     return ours_time_into(o, frames, with_gp, false);
 }
 
+/* ---- the machine's own speed-up ----
+ *
+ * A loop of additions that touches no memory and waits for nothing, on one
+ * thread and then on every core at once: what a second core gives on this
+ * machine at this moment (a virtual machine's cores may share their host's
+ * with other work), the bound for ours and llvmpipe's speed-up alike. */
+
+static void *adds(void *arg)
+{
+    uint64_t a = 1, b = 2, c = 3, d = 4, n = *(const uint64_t *)arg;
+    for (uint64_t i = 0; i < n; i++) {
+        a += b ^ i;
+        b += c + i;
+        c += d ^ i;
+        d += a - i;
+    }
+    *(uint64_t *)arg = a + b + c + d;   /* kept: the loop is not optimised away */
+    return NULL;
+}
+
+/* The time of `n` steps on each of `threads` threads at once. */
+static double adds_time(unsigned threads, uint64_t n)
+{
+    pthread_t tid[64];
+    uint64_t arg[64];
+    unsigned started = 0;
+    double t0 = now();
+    for (unsigned i = 1; i < threads && i < 64; i++) {
+        arg[i] = n;
+        if (pthread_create(&tid[i], NULL, adds, &arg[i]) == 0)
+            started = i;
+        else
+            break;
+    }
+    arg[0] = n;
+    adds(&arg[0]);
+    for (unsigned i = 1; i <= started; i++)
+        pthread_join(tid[i], NULL);
+    return started + 1 == threads ? now() - t0 : INFINITY;
+}
+
+/* Steps of the loop: some 10 ms on one thread. */
+#define ADDS_STEPS 20000000u
+
 /* ---- side by side ---- */
 
 static unsigned cores;
@@ -243,6 +289,7 @@ static void side_by_side(bench_scene *b, const alb_profile *p)
     /* ours on 1 thread, GP + VP, ours on every core, llvmpipe on 1, on
      * every core, ours on 1 thread into every plane */
     double t[6] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
+    double adds1 = INFINITY, addsn = INFINITY;   /* the machine's loop on 1 and every core */
     if (fixed_reps) {
         ours_time(&o1, fixed_reps, false);
         ours_time(&o1, fixed_reps, true);
@@ -263,17 +310,22 @@ static void side_by_side(bench_scene *b, const alb_profile *p)
             x[4] = gn ? peer_time(gn, frames_for(w[4], 0.1)) : 0;
             for (int i = 0; i < 6; i++)
                 t[i] = x[i] < t[i] ? x[i] : t[i];
+            /* the machine's own, in the same round */
+            const double a = adds_time(1, ADDS_STEPS), m = adds_time(cores, ADDS_STEPS);
+            adds1 = a < adds1 ? a : adds1;
+            addsn = m < addsn ? m : addsn;
         }
     }
+    const double machine = isfinite(addsn) ? cores * adds1 / addsn : 0;   /* 0: not measured */
     /* the face map of the last frame drawn into every plane */
     ours_time_into(&o1, 1, false, true);
     printf("| %s | %u² | %llu | %.2f | %.2f | %.2f |", b->label, p->width,
            (unsigned long long)alb_vp_stats_get(o1.vp)->faces, t[0], t[5], t[1]);
     if (!g1 || !gn) {
-        printf(" — | — | %.2f | %.2fx | — | — | — |\n", t[2], t[0] / t[2]);
+        printf(" — | — | %.2f | %.2fx | %.2fx | — | — | — |\n", t[2], t[0] / t[2], machine);
     } else {
-        printf(" %.2f | **%.2fx** | %.2f | %.2fx | %.2f | %.2fx |", t[3], t[3] / t[0], t[2],
-               t[0] / t[2], t[4], t[4] / t[2]);
+        printf(" %.2f | **%.2fx** | %.2f | %.2fx | %.2fx | %.2f | %.2fx |", t[3], t[3] / t[0], t[2],
+               t[0] / t[2], machine, t[4], t[4] / t[2]);
         uint32_t *face = b->gouraud ? NULL : malloc((size_t)p->width * p->height * sizeof *face);
         if (face && !peer_faces(g1, face)) {
             size_t diff = 0, n = (size_t)p->width * p->height;
@@ -498,15 +550,17 @@ int main(int argc, char **argv)
 
     printf("\n## The functional VP beside llvmpipe (frame 0, ms per frame, steady state)\n\n"
            "ratio = llvmpipe's time / ours (above 1: we are faster); speed-up = ours on 1 "
-           "thread / ours on every core; %u cores; each the best "
+           "thread / ours on every core; the machine's = the same for a loop of additions "
+           "that touches no memory, measured beside it (what the cores give at the moment, "
+           "the bound); %u cores; each the best "
            "of %d rounds, the two timed in turn\n\n"
            "\"ours\": the VP on the frame's words into the colour plane alone (what llvmpipe's "
            "colour buffer holds; alb_vp_frame_alloc_planes), \"every plane\" into a whole "
            "alb_frame\n\n"
            "| scene | screen | faces drawn | ours, 1 thread | ours, every plane | ours GP + VP | "
-           "llvmpipe, 1 thread | ratio | ours, %u threads | speed-up | llvmpipe, %u threads | "
-           "ratio | face map differs (of pixels), clear pixels |\n"
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+           "llvmpipe, 1 thread | ratio | ours, %u threads | speed-up | the machine's | "
+           "llvmpipe, %u threads | ratio | face map differs (of pixels), clear pixels |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
            cores, ROUNDS, cores, cores);
     for (int i = 0; i < 6; i++)
         side_by_side(&sc[i], &p);
