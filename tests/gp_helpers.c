@@ -165,7 +165,7 @@ void profile_set_all(alb_profile *p, const char *sets)
         alb_profile_set(p, tok, err, sizeof err);
 }
 
-int stream_of(const char *text, const alb_profile *p, alb_ws_buf *b)
+static int stream_of_scene(const char *text, const alb_profile *p, alb_ws_buf *b, bool screen)
 {
     alb_scene s;
     alb_diag d;
@@ -174,12 +174,24 @@ int stream_of(const char *text, const alb_profile *p, alb_ws_buf *b)
     if (alb_scene_parse(text, strlen(text), "t", &s, &d))
         return -1;
     alb_gp *gp = NULL;
-    alb_err e = alb_gp_create(&gp, &s, p, &d);
+    alb_err e = screen ? alb_scene_resolve_screenspace(&s, p->width, p->height, &d) : ALB_OK;
+    if (!e)
+        e = alb_gp_create(&gp, &s, p, &d);
     if (!e)
         e = alb_gp_run(gp, b, NULL, &d);
     alb_gp_destroy(gp);
     alb_scene_free(&s);
     return e ? -1 : 0;
+}
+
+int stream_of(const char *text, const alb_profile *p, alb_ws_buf *b)
+{
+    return stream_of_scene(text, p, b, false);
+}
+
+int screen_stream_of(const char *text, const alb_profile *p, alb_ws_buf *b)
+{
+    return stream_of_scene(text, p, b, true);
 }
 
 void vector_profile(const char *name, alb_profile *p)

@@ -40,6 +40,8 @@ void profile_set_all(alb_profile *p, const char *sets);
 /* The GP's stream of scene text with profile p into *b (initialised here);
  * 0, or -1 if the scene or the GP failed. */
 int stream_of(const char *text, const alb_profile *p, alb_ws_buf *b);
+/* The same for a screen-space scene, resolved for p's screen first. */
+int screen_stream_of(const char *text, const alb_profile *p, alb_ws_buf *b);
 /* The profile a golden vector's options file gives (--profile and --set
  * only; a512 without), from test-vectors/NAME/options. */
 void vector_profile(const char *name, alb_profile *p);

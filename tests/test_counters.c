@@ -134,26 +134,6 @@ static int log_stats(void *ctx, const alb_frame *f, const alb_vp_stats *vs, cons
     return 0;
 }
 
-/* The GP's stream of a screen-space scene for profile p (0 on success). */
-static int screen_stream(const char *text, const alb_profile *p, alb_ws_buf *b)
-{
-    alb_scene s;
-    alb_diag d;
-    alb_diag_init(&d, NULL);
-    alb_ws_buf_init(b);
-    if (alb_scene_parse(text, strlen(text), "t", &s, &d))
-        return -1;
-    alb_gp *gp = NULL;
-    alb_err e = alb_scene_resolve_screenspace(&s, p->width, p->height, &d);
-    if (!e)
-        e = alb_gp_create(&gp, &s, p, &d);
-    if (!e)
-        e = alb_gp_run(gp, b, NULL, &d);
-    alb_gp_destroy(gp);
-    alb_scene_free(&s);
-    return e ? -1 : 0;
-}
-
 static alb_err run_stats(const alb_profile *p, const alb_ws_buf *b, alb_fidelity fid, bool counters,
                          stats_log *l)
 {
@@ -188,7 +168,7 @@ TEST(counters_tie_names_the_face_that_kept_it)
     alb_profile p;
     alb_profile_lookup("t32", &p);
     alb_ws_buf b;
-    if (screen_stream(tie_scene, &p, &b)) {
+    if (screen_stream_of(tie_scene, &p, &b)) {
         CHECK_MSG(0, "no stream");
         return;
     }
@@ -243,7 +223,7 @@ TEST(counters_random_coplanar_ties)
         alb_profile_lookup("t32", &p);
         p.simd = s % 4 == 3 ? 0 : 1;
         alb_ws_buf b;
-        if (screen_stream(text, &p, &b)) {
+        if (screen_stream_of(text, &p, &b)) {
             CHECK_MSG(0, "scene %u: no stream", s);
             return;
         }
@@ -312,7 +292,7 @@ TEST(counters_plane_tiles_hold_the_face_depths)
         p.edge_frac_bits = 11;
         p.simd = s % 3 == 2 ? 0 : 1;
         alb_ws_buf b;
-        if (screen_stream(text, &p, &b))
+        if (screen_stream_of(text, &p, &b))
             continue;   /* a triangle the GP refuses (degenerate): another scene */
         stats_log lt, ltf;
         if (run_stats(&p, &b, ALB_FIDELITY_TIMED, true, &lt) ||
