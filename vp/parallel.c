@@ -100,9 +100,9 @@ struct vp_pool {
     bool spin;                /* watch before sleeping */
     atomic_uint gen;          /* tasks given so far */
     atomic_uint pending;      /* workers still on the task */
-    vp_task_fn fn;
+    vp_task_fn fn;            /* the task: written before gen is raised */
     void *ctx;
-    bool quit;
+    atomic_bool quit;
 };
 
 /* How long a waiting thread watches before it sleeps. */
@@ -145,20 +145,19 @@ static void *pool_main(void *argp)
     vp_pool *p = arg->pool;
     unsigned seen = 0;
     for (;;) {
-        if (p->spin)
-            spin_until_changed(&p->gen, seen);
-        pthread_mutex_lock(&p->mu);
-        while (atomic_load(&p->gen) == seen && !p->quit)
-            pthread_cond_wait(&p->go, &p->mu);
-        if (p->quit) {
+        /* a worker that sees the task while it watches takes no lock: the
+         * task was written before the counter was raised (release), and is
+         * read after it was seen raised (acquire) */
+        if (!p->spin || !spin_until_changed(&p->gen, seen)) {
+            pthread_mutex_lock(&p->mu);
+            while (atomic_load(&p->gen) == seen && !atomic_load(&p->quit))
+                pthread_cond_wait(&p->go, &p->mu);
             pthread_mutex_unlock(&p->mu);
-            return NULL;
         }
-        seen = atomic_load(&p->gen);
-        const vp_task_fn fn = p->fn;
-        void *ctx = p->ctx;
-        pthread_mutex_unlock(&p->mu);
-        fn(ctx, arg->id);
+        seen = atomic_load_explicit(&p->gen, memory_order_acquire);
+        if (atomic_load(&p->quit))
+            return NULL;
+        p->fn(p->ctx, arg->id);
         if (atomic_fetch_sub_explicit(&p->pending, 1, memory_order_acq_rel) == 1) {
             pthread_mutex_lock(&p->mu);
             pthread_cond_signal(&p->done);
@@ -172,7 +171,7 @@ static void pool_stop(vp_pool *p)
     if (!p)
         return;
     pthread_mutex_lock(&p->mu);
-    p->quit = true;
+    atomic_store(&p->quit, true);
     atomic_fetch_add(&p->gen, 1);
     pthread_cond_broadcast(&p->go);
     pthread_mutex_unlock(&p->mu);
@@ -211,6 +210,7 @@ static vp_pool *pool_start(unsigned workers, bool spin, bool *nomem)
     }
     atomic_init(&p->gen, 0);
     atomic_init(&p->pending, 0);
+    atomic_init(&p->quit, false);
     p->spin = spin;
     sigset_t all, old;
     sigfillset(&all);
@@ -237,10 +237,12 @@ static void pool_run(vp_pool *p, vp_task_fn fn, void *ctx)
         fn(ctx, 0);
         return;
     }
-    pthread_mutex_lock(&p->mu);
+    /* every worker is done with the last task (pending was 0), so none
+     * reads fn and ctx while they change */
     p->fn = fn;
     p->ctx = ctx;
-    atomic_store(&p->pending, p->n);
+    atomic_store_explicit(&p->pending, p->n, memory_order_relaxed);
+    pthread_mutex_lock(&p->mu);
     atomic_fetch_add_explicit(&p->gen, 1, memory_order_release);
     pthread_cond_broadcast(&p->go);
     pthread_mutex_unlock(&p->mu);
