@@ -139,6 +139,22 @@ static bool spin_until_changed(const atomic_uint *a, unsigned was)
     }
 }
 
+/* Watch *a until it is 0, for a while, as spin_until_changed. */
+static void spin_until_zero(const atomic_uint *a)
+{
+    const uint64_t t0 = mono_ns();
+    for (;;) {
+        for (unsigned i = 0; i < 256; i++) {
+            if (!atomic_load_explicit(a, memory_order_acquire))
+                return;
+            cpu_relax();
+        }
+        if (mono_ns() - t0 > POOL_SPIN_NS)
+            return;
+        sched_yield();
+    }
+}
+
 static void *pool_main(void *argp)
 {
     const pool_arg *arg = argp;
@@ -247,15 +263,8 @@ static void pool_run(vp_pool *p, vp_task_fn fn, void *ctx)
     pthread_cond_broadcast(&p->go);
     pthread_mutex_unlock(&p->mu);
     fn(ctx, 0);
-    if (atomic_load_explicit(&p->pending, memory_order_acquire) && p->spin) {
-        const uint64_t t0 = mono_ns();
-        while (atomic_load_explicit(&p->pending, memory_order_acquire) &&
-               mono_ns() - t0 < POOL_SPIN_NS) {
-            for (unsigned i = 0; i < 256; i++)
-                cpu_relax();
-            sched_yield();
-        }
-    }
+    if (p->spin)
+        spin_until_zero(&p->pending);
     pthread_mutex_lock(&p->mu);
     while (atomic_load_explicit(&p->pending, memory_order_acquire))
         pthread_cond_wait(&p->done, &p->mu);
