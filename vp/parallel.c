@@ -311,6 +311,7 @@ struct batch_job {
     alb_vp *vp;
     vp_cell tiles[VP_MAX_TILES];
     unsigned ntiles, per_row, level, nw;
+    unsigned walkers;         /* the threads that walk above the tiles: 1 or nw */
     uint8_t wl, hl;           /* the tiles' sides, log2 */
     atomic_uint next;         /* the next tile to take */
     worker *wk;               /* nw of them */
@@ -353,6 +354,10 @@ static void put_on_tiles(void *ctx, const vp_cell *k, bool fill)
         }
 }
 
+/* Batches shorter than this are walked above the tiles on the caller's
+ * thread alone. */
+#define VP_WALK_ALONE 64
+
 /* The first task: thread i walks its share of the batch, a run of faces in
  * stream order, down to the tiles, onto its own lists. */
 static void walk_task(void *ctx, unsigned i)
@@ -365,8 +370,8 @@ static void walk_task(void *ctx, unsigned i)
     w->nomem = false;
     for (unsigned t = 0; t < j->ntiles; t++)
         w->jobs[t].n = 0;
-    const uint32_t f0 = (uint32_t)((uint64_t)vp->nbatch * i / j->nw),
-                   f1 = (uint32_t)((uint64_t)vp->nbatch * (i + 1) / j->nw);
+    const uint32_t f0 = i < j->walkers ? (uint32_t)((uint64_t)vp->nbatch * i / j->walkers) : 0,
+                   f1 = i < j->walkers ? (uint32_t)((uint64_t)vp->nbatch * (i + 1) / j->walkers) : 0;
     for (w->face = f0; w->face < f1 && !w->nomem; w->face++)
         vp_walk_to_tiles(&w->local, &vp->batch[w->face], j->level, put_on_tiles, w);
 }
@@ -425,7 +430,14 @@ void vp_flush_batch(alb_vp *vp)
     if (ok) {
         make_tiles(vp, j);
         atomic_init(&j->next, 0);
-        pool_run(vp->pool, walk_task, j);
+        /* a short batch (a frame's last, or a frame of few faces) is walked
+         * above the tiles here: less work than a hand-over to the threads */
+        j->walkers = vp->nbatch < VP_WALK_ALONE ? 1 : j->nw;
+        if (j->walkers == 1)
+            for (unsigned i = 0; i < j->nw; i++)
+                walk_task(j, i);
+        else
+            pool_run(vp->pool, walk_task, j);
         for (unsigned i = 0; i < j->nw; i++)
             ok &= !j->wk[i].nomem;
     }
