@@ -935,7 +935,7 @@ children_verdicts_avx2(const vp_walk *w, const vp_cell *k, int64_t cw, int64_t c
         const int64_t h = f->a * c0 + f->b * r0 + f->c, ax = f->a * cw, by = f->b * ch;
         const int64_t up = (ax > 0 ? ax : 0) + (by > 0 ? by : 0);
         const int64_t down = (ax < 0 ? ax : 0) + (by < 0 ? by : 0);
-        const int64_t hx = f->a * ox, hy = f->b * oy;
+        const int64_t hx = ox ? ax : 0, hy = oy ? by : 0;   /* ox is cw or 0, oy ch or 0 */
         const __m256i t = _mm256_add_epi64(_mm256_set1_epi64x(h), _mm256_setr_epi64x(0, hx, hy, hx + hy));
         /* a lane's maximum is negative in some edge: the sign bit of their OR */
         any = _mm256_or_si256(any, _mm256_add_epi64(t, _mm256_set1_epi64x(up)));
@@ -1003,15 +1003,23 @@ draw_split(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k, vp
     uint64_t held[4] = {0, 0, 0, 0};
     const unsigned out = children_verdicts(w, k, cw, ch, dx ? cw : 0, dy ? ch : 0, held, isa);
     vp_cell c = {0, 0, wl, hl, l, 0, 0};
-    for (unsigned j = 0; j < 4; j++) {
-        if (!(present >> j & 1))
-            continue;
+    /* without a timer the steps need no order: the children counted at
+     * once, those rejected not visited */
+    const unsigned visit = timed ? present : present & ~out;
+    if (!timed) {
+        vp->st.cells[l] += vp_bits4(present);
+        vp->st.cells_outside += vp_bits4(present & out);
+    }
+    for (unsigned m = visit; m; m &= m - 1) {
+        const unsigned j = (unsigned)__builtin_ctz(m);
         c.c0 = k->c0 + (j & 1 ? dx : 0), c.r0 = k->r0 + (j & 2 ? dy : 0);
-        vp->st.cells[l]++;
-        timer_step(tm, &c, k->edges, timed);
-        if (out >> j & 1) {
-            vp->st.cells_outside++;
-            continue;
+        if (timed) {
+            vp->st.cells[l]++;
+            timer_step(tm, &c, k->edges, timed);
+            if (out >> j & 1) {
+                vp->st.cells_outside++;
+                continue;
+            }
         }
         c.active = k->active & ~held[j];
         if (!c.active) {
