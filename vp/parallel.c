@@ -246,13 +246,12 @@ static vp_pool *pool_start(unsigned workers, bool spin, bool *nomem)
     return p;
 }
 
-/* fn(ctx, 0) here and fn(ctx, i) on worker i, 1 .. n; back when all are. */
-static void pool_run(vp_pool *p, vp_task_fn fn, void *ctx)
+/* fn(ctx, i) on worker i, 1 .. n, without waiting for them (pool_join
+ * does); every worker must be done with the last task. */
+static void pool_post(vp_pool *p, vp_task_fn fn, void *ctx)
 {
-    if (!p) {
-        fn(ctx, 0);
+    if (!p)
         return;
-    }
     /* every worker is done with the last task (pending was 0), so none
      * reads fn and ctx while they change */
     p->fn = fn;
@@ -262,13 +261,28 @@ static void pool_run(vp_pool *p, vp_task_fn fn, void *ctx)
     atomic_fetch_add_explicit(&p->gen, 1, memory_order_release);
     pthread_cond_broadcast(&p->go);
     pthread_mutex_unlock(&p->mu);
+}
+
+/* fn(ctx, 0) here, then back when every worker is done with the task
+ * pool_post gave them (fn and ctx the same). */
+static void pool_join(vp_pool *p, vp_task_fn fn, void *ctx)
+{
     fn(ctx, 0);
+    if (!p)
+        return;
     if (p->spin)
         spin_until_zero(&p->pending);
     pthread_mutex_lock(&p->mu);
     while (atomic_load_explicit(&p->pending, memory_order_acquire))
         pthread_cond_wait(&p->done, &p->mu);
     pthread_mutex_unlock(&p->mu);
+}
+
+/* fn(ctx, 0) here and fn(ctx, i) on worker i, 1 .. n; back when all are. */
+static void pool_run(vp_pool *p, vp_task_fn fn, void *ctx)
+{
+    pool_post(p, fn, ctx);
+    pool_join(p, fn, ctx);
 }
 
 /* The workers of the VP's pool and the caller. */
@@ -309,6 +323,8 @@ typedef struct {
 
 struct batch_job {
     alb_vp *vp;
+    const vp_loaded_face *faces;   /* the batch (one of vp->batches) */
+    uint32_t nfaces;
     vp_cell tiles[VP_MAX_TILES];
     unsigned ntiles, per_row, level, nw;
     unsigned walkers;         /* the threads that walk above the tiles: 1 or nw */
@@ -370,10 +386,10 @@ static void walk_task(void *ctx, unsigned i)
     w->nomem = false;
     for (unsigned t = 0; t < j->ntiles; t++)
         w->jobs[t].n = 0;
-    const uint32_t f0 = i < j->walkers ? (uint32_t)((uint64_t)vp->nbatch * i / j->walkers) : 0,
-                   f1 = i < j->walkers ? (uint32_t)((uint64_t)vp->nbatch * (i + 1) / j->walkers) : 0;
+    const uint32_t f0 = i < j->walkers ? (uint32_t)((uint64_t)j->nfaces * i / j->walkers) : 0,
+                   f1 = i < j->walkers ? (uint32_t)((uint64_t)j->nfaces * (i + 1) / j->walkers) : 0;
     for (w->face = f0; w->face < f1 && !w->nomem; w->face++)
-        vp_walk_to_tiles(&w->local, &vp->batch[w->face], j->level, put_on_tiles, w);
+        vp_walk_to_tiles(&w->local, &j->faces[w->face], j->level, put_on_tiles, w);
 }
 
 /* The second: the threads take tiles as they finish, and walk each tile's
@@ -389,7 +405,7 @@ static void draw_task(void *ctx, unsigned i)
         for (unsigned k = 0; k < j->nw; k++) {
             const job_list *l = &j->wk[k].jobs[t];
             for (size_t q = 0; q < l->n; q++) {
-                const vp_loaded_face *f = &j->vp->batch[l->a[q].face];
+                const vp_loaded_face *f = &j->faces[l->a[q].face];
                 if (l->a[q].fill)
                     vp_fill(local, &f->fs, &l->a[q].cell);
                 else
@@ -421,38 +437,80 @@ static void make_tiles(const alb_vp *vp, batch_job *j)
             j->tiles[j->ntiles++] = (vp_cell){c, r, (uint8_t)wl, (uint8_t)hl, (uint8_t)l, 0, 0};
 }
 
-void vp_flush_batch(alb_vp *vp)
+/* The batch in flight drawn to its end, the caller taking tiles too, and
+ * its counts into the VP's. */
+static void finish_inflight(alb_vp *vp)
 {
-    if (!vp->nbatch)
+    batch_job *j = vp->inflight;
+    if (!j)
         return;
-    batch_job *j = vp->par;
-    bool ok = j != NULL;
-    if (ok) {
-        make_tiles(vp, j);
-        atomic_init(&j->next, 0);
-        /* a short batch (a frame's last, or a frame of few faces) is walked
-         * above the tiles here: less work than a hand-over to the threads */
-        j->walkers = vp->nbatch < VP_WALK_ALONE ? 1 : j->nw;
-        if (j->walkers == 1)
-            for (unsigned i = 0; i < j->nw; i++)
-                walk_task(j, i);
-        else
-            pool_run(vp->pool, walk_task, j);
+    pool_join(vp->pool, draw_task, j);
+    for (unsigned i = 0; i < j->nw; i++)
+        vp_stats_add(&vp->st, &j->wk[i].local.st);
+    vp->inflight = NULL;
+}
+
+/* The walks of the batch's faces above the tiles onto j's lists; false if
+ * out of memory for them. */
+static bool walk_batch(alb_vp *vp, batch_job *j)
+{
+    j->faces = vp->batch;
+    j->nfaces = vp->nbatch;
+    make_tiles(vp, j);
+    atomic_init(&j->next, 0);
+    /* a short batch (a frame's last, or a frame of few faces) is walked
+     * above the tiles here: less work than a hand-over to the threads */
+    j->walkers = vp->nbatch < VP_WALK_ALONE ? 1 : j->nw;
+    if (j->walkers == 1)
         for (unsigned i = 0; i < j->nw; i++)
-            ok &= !j->wk[i].nomem;
-    }
-    if (ok) {
+            walk_task(j, i);
+    else
+        pool_run(vp->pool, walk_task, j);
+    bool ok = true;
+    for (unsigned i = 0; i < j->nw; i++)
+        ok &= !j->wk[i].nomem;
+    return ok;
+}
+
+/* The batch drawn here and now: on the threads, or with no memory for the
+ * lists on this one, the whole screen, as if no thread had been tried (the
+ * walks above the tiles were counted only in the workers' statistics). */
+static void draw_batch_now(alb_vp *vp, batch_job *j)
+{
+    if (walk_batch(vp, j)) {
         pool_run(vp->pool, draw_task, j);
         for (unsigned i = 0; i < j->nw; i++)
             vp_stats_add(&vp->st, &j->wk[i].local.st);
     } else {
-        /* no memory for the lists: one thread, the whole screen, as if no
-         * thread had been tried (the walks above the tiles were counted
-         * only in the workers' statistics) */
         for (unsigned i = 0; i < vp->nbatch; i++)
             vp_draw_face(vp, &vp->batch[i]);
     }
     vp->nbatch = 0;
+}
+
+void vp_flush_batch(alb_vp *vp)
+{
+    finish_inflight(vp);
+    if (!vp->nbatch || !vp->par[0])
+        return;
+    draw_batch_now(vp, vp->par[vp->batch == vp->batches[0] ? 0 : 1]);
+}
+
+void vp_batch_full(alb_vp *vp)
+{
+    finish_inflight(vp);
+    const unsigned cur = vp->batch == vp->batches[0] ? 0 : 1;
+    batch_job *j = vp->par[cur];
+    /* the workers read the face list (a tie names the face that kept it)
+     * while the next batch's faces are added: room for them first */
+    if (vp->pool && !vp_store_reserve_faces(vp, VP_BATCH) && walk_batch(vp, j)) {
+        pool_post(vp->pool, draw_task, j);
+        vp->inflight = j;
+        vp->batch = vp->batches[cur ^ 1];
+        vp->nbatch = 0;
+        return;
+    }
+    draw_batch_now(vp, j);
 }
 
 static void batch_job_free(batch_job *j)
@@ -518,6 +576,23 @@ void vp_parallel_rows(alb_vp *vp, uint32_t rows, vp_row_fn fn, void *ctx)
 
 /* ---- the count ---- */
 
+/* The workers, their batches and their work freed (every batch drawn
+ * first); the VP on one thread. */
+static void threads_release(alb_vp *vp)
+{
+    finish_inflight(vp);
+    vp_threads_stop(vp);
+    for (unsigned k = 0; k < 2; k++) {
+        batch_job_free(vp->par[k]);
+        vp->par[k] = NULL;
+        free(vp->batches[k]);
+        vp->batches[k] = NULL;
+    }
+    vp->batch = NULL;
+    vp->nbatch = 0;
+    vp->threads = 1;
+}
+
 int alb_vp_set_threads(alb_vp *vp, unsigned n)
 {
     vp_flush_batch(vp);
@@ -525,12 +600,7 @@ int alb_vp_set_threads(alb_vp *vp, unsigned n)
     n = n > ALB_VP_MAX_THREADS ? ALB_VP_MAX_THREADS : n;
     if (n == alb_vp_threads(vp))
         return 0;
-    vp_threads_stop(vp);
-    batch_job_free(vp->par);
-    vp->par = NULL;
-    free(vp->batch);
-    vp->batch = NULL;
-    vp->threads = 1;
+    threads_release(vp);
     if (n == 1)
         return 0;
     /* the workers: n - 1 threads (fewer if the system gives fewer; none,
@@ -541,21 +611,17 @@ int alb_vp_set_threads(alb_vp *vp, unsigned n)
     if (!(vp->pool = pool_start(n - 1, n <= alb_vp_cores(), &nomem)))
         return nomem ? -1 : 0;
     const unsigned nt = pool_threads(vp->pool);
-    if (!(vp->batch = malloc(VP_BATCH * sizeof *vp->batch)) || !(vp->par = batch_job_new(vp, nt))) {
-        free(vp->batch);
-        vp->batch = NULL;
-        vp_threads_stop(vp);
-        return -1;
-    }
+    for (unsigned k = 0; k < 2; k++)
+        if (!(vp->batches[k] = malloc(VP_BATCH * sizeof *vp->batches[k])) ||
+            !(vp->par[k] = batch_job_new(vp, nt))) {
+            threads_release(vp);
+            return -1;
+        }
+    vp->batch = vp->batches[0];
     vp->threads = nt;
     return 0;
 }
 
-void vp_threads_free(alb_vp *vp)
-{
-    vp_threads_stop(vp);
-    batch_job_free(vp->par);
-    vp->par = NULL;
-}
+void vp_threads_free(alb_vp *vp) { threads_release(vp); }
 
 unsigned alb_vp_threads(const alb_vp *vp) { return vp->threads ? vp->threads : 1; }

@@ -176,28 +176,38 @@ void vp_store_name_tie(alb_vp *vp)
     vp->st.tie_kept = vp->faces[kept].id;
 }
 
+int vp_store_reserve_faces(alb_vp *vp, uint32_t more)
+{
+    uint64_t want = (uint64_t)vp->nfaces + more;
+    want = want < VP_MAX_FRAME_FACES ? want : VP_MAX_FRAME_FACES;
+    if (vp->cap_faces >= want)
+        return 0;
+    uint64_t cap = vp->cap_faces ? 2 * (uint64_t)vp->cap_faces : 256;
+    while (cap < want)
+        cap *= 2;
+    cap = cap < VP_MAX_FRAME_FACES ? cap : VP_MAX_FRAME_FACES;
+    vp_face_setup *n = realloc(vp->faces, (size_t)cap * sizeof *n);
+    if (!n)
+        return -1;
+    vp->faces = n;
+    if (vp->counters_only) {
+        size_t *at = realloc(vp->edge_at, ((size_t)cap + 1) * sizeof *at);
+        if (!at)
+            return -1;
+        vp->edge_at = at;
+    }
+    vp->cap_faces = (uint32_t)cap;
+    return 0;
+}
+
 alb_err vp_begin_face(alb_vp *vp, vp_loaded_face *f, alb_diag *d)
 {
     if (vp->nfaces == VP_MAX_FRAME_FACES)
         return alb_diag_at(d, ALB_ERR_STREAM, "", 0, 0,
                            "more than %u faces in frame %u: the sample store's tags name at most "
                            "that many", VP_MAX_FRAME_FACES, vp->frame.number);
-    if (vp->nfaces == vp->cap_faces) {
-        uint32_t cap = vp->cap_faces ? 2 * vp->cap_faces : 256;
-        if (cap > VP_MAX_FRAME_FACES)
-            cap = VP_MAX_FRAME_FACES;
-        vp_face_setup *n = realloc(vp->faces, (size_t)cap * sizeof *n);
-        if (!n)
-            return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the frame's faces");
-        vp->faces = n;
-        if (vp->counters_only) {
-            size_t *at = realloc(vp->edge_at, ((size_t)cap + 1) * sizeof *at);
-            if (!at)
-                return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the frame's faces");
-            vp->edge_at = at;
-        }
-        vp->cap_faces = cap;
-    }
+    if (vp->nfaces == vp->cap_faces && vp_store_reserve_faces(vp, 1))
+        return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the frame's faces");
     if (vp->counters_only && log_edges(vp, f))
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the frame's edges");
     f->fs.tag = vp->nfaces << VP_TAG_LEVEL_BITS;

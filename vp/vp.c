@@ -61,7 +61,6 @@ void alb_vp_destroy(alb_vp *vp)
         free(vp->tex[i]);
     free(vp->recip_rom);
     vp_threads_free(vp);
-    free(vp->batch);
     free(vp->scratch);
     vp_store_free(vp);
     free(vp);
@@ -87,6 +86,7 @@ int alb_vp_frame_alloc_planes(const alb_vp *vp, alb_frame *f, unsigned planes)
 
 alb_err alb_vp_config(alb_vp *vp, const alb_ws_config *c, alb_diag *d)
 {
+    vp_flush_batch(vp);   /* the faces given are drawn under the old configuration */
     if (c->edge_frac_bits != vp->prof.edge_frac_bits || c->coef_bits != vp->prof.coef_bits)
         return alb_diag_at(d, ALB_ERR_CONFIG, "", 0, 0,
                        "the stream's formats (edge_frac_bits=%u coef_bits=%u) differ from the "
@@ -100,6 +100,7 @@ alb_err alb_vp_config(alb_vp *vp, const alb_ws_config *c, alb_diag *d)
 
 alb_err alb_vp_texture(alb_vp *vp, const alb_ws_texture *t, alb_diag *d)
 {
+    vp_flush_batch(vp);   /* no face drawn while its texture may change */
     size_t n = (size_t)1 << (2 * t->log2size);
     uint32_t *mem = malloc(n * sizeof *mem);
     if (!mem)
@@ -118,6 +119,7 @@ alb_err alb_vp_texture(alb_vp *vp, const alb_ws_texture *t, alb_diag *d)
 
 void alb_vp_frame_begin(alb_vp *vp, const alb_ws_frame *f)
 {
+    vp_flush_batch(vp);   /* faces given before it are the last frame's */
     vp->frame = *f;
     memset(&vp->st, 0, sizeof vp->st);
     for (int i = 0; i < 3; i++) {
@@ -1249,7 +1251,7 @@ alb_err alb_vp_face(alb_vp *vp, const alb_ws_face *f, alb_diag *d)
         if (err)
             return err;
         if (++vp->nbatch == VP_BATCH)
-            vp_flush_batch(vp);
+            vp_batch_full(vp);
         return ALB_OK;
     }
     vp_loaded_face lf;

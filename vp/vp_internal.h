@@ -135,8 +135,10 @@ struct alb_vp {
     unsigned threads;
     unsigned char *scratch;  /* the output stage's rows, vp_store_scratch_bytes per thread */
     struct vp_loaded_face *batch;   /* faces loaded, waiting for the workers */
+    struct vp_loaded_face *batches[2];   /* batch is one, the other may be drawn meanwhile */
     struct vp_pool *pool;    /* the worker threads, threads - 1 of them */
-    struct batch_job *par;   /* their work on a batch, kept from one to the next */
+    struct batch_job *par[2];   /* their work on each batch, kept from one to the next */
+    struct batch_job *inflight;   /* a batch the workers draw while the next is loaded */
     unsigned nbatch;         /* faces in the batch */
 };
 
@@ -408,8 +410,15 @@ int vp_store_retire_texture(alb_vp *vp, uint32_t *texels);
 #define VP_MAX_TILES 1024
 /* Stop the VP's worker threads and free their work (parallel.c). */
 void vp_threads_free(alb_vp *vp);
-/* Draw the batched faces (parallel.c); nothing if the batch is empty. */
+/* Draw the batched faces and any batch the workers still draw (parallel.c):
+ * then every face given is in the store. */
 void vp_flush_batch(alb_vp *vp);
+/* The batch is full: its faces go to the workers, drawn while the caller
+ * loads the next batch (parallel.c). */
+void vp_batch_full(alb_vp *vp);
+/* Room in the frame's face list for `more` faces without moving it (the
+ * workers read it while faces are added); -1 if out of memory (store.c). */
+int vp_store_reserve_faces(alb_vp *vp, uint32_t more);
 /* fn(vp, ctx, worker, first, end) over rows [0, rows) in chunks, on the
  * VP's threads (worker < alb_vp_threads: which one); the chunks must touch
  * disjoint memory. */
