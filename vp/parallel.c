@@ -122,35 +122,20 @@ static inline void cpu_relax(void)
 #endif
 }
 
-/* Watch *a until it differs from `was`, for a while; whether it did.  The
- * core is offered to any other thread that wants it every few microseconds. */
-static bool spin_until_changed(const atomic_uint *a, unsigned was)
+/* Watch *a until it equals `v` (want) or differs from it (!want), for a
+ * while; whether it did.  The core is offered to any other thread that
+ * wants it every few microseconds. */
+static bool spin_until(const atomic_uint *a, unsigned v, bool want)
 {
     const uint64_t t0 = mono_ns();
     for (;;) {
         for (unsigned i = 0; i < 256; i++) {
-            if (atomic_load_explicit(a, memory_order_acquire) != was)
+            if ((atomic_load_explicit(a, memory_order_acquire) == v) == want)
                 return true;
             cpu_relax();
         }
         if (mono_ns() - t0 > POOL_SPIN_NS)
             return false;
-        sched_yield();
-    }
-}
-
-/* Watch *a until it is 0, for a while, as spin_until_changed. */
-static void spin_until_zero(const atomic_uint *a)
-{
-    const uint64_t t0 = mono_ns();
-    for (;;) {
-        for (unsigned i = 0; i < 256; i++) {
-            if (!atomic_load_explicit(a, memory_order_acquire))
-                return;
-            cpu_relax();
-        }
-        if (mono_ns() - t0 > POOL_SPIN_NS)
-            return;
         sched_yield();
     }
 }
@@ -164,7 +149,7 @@ static void *pool_main(void *argp)
         /* a worker that sees the task while it watches takes no lock: the
          * task was written before the counter was raised (release), and is
          * read after it was seen raised (acquire) */
-        if (!p->spin || !spin_until_changed(&p->gen, seen)) {
+        if (!p->spin || !spin_until(&p->gen, seen, false)) {
             pthread_mutex_lock(&p->mu);
             while (atomic_load(&p->gen) == seen && !atomic_load(&p->quit))
                 pthread_cond_wait(&p->go, &p->mu);
@@ -271,7 +256,7 @@ static void pool_join(vp_pool *p, vp_task_fn fn, void *ctx)
     if (!p)
         return;
     if (p->spin)
-        spin_until_zero(&p->pending);
+        spin_until(&p->pending, 0, true);
     pthread_mutex_lock(&p->mu);
     while (atomic_load_explicit(&p->pending, memory_order_acquire))
         pthread_cond_wait(&p->done, &p->mu);
@@ -287,12 +272,6 @@ static void pool_run(vp_pool *p, vp_task_fn fn, void *ctx)
 
 /* The workers of the VP's pool and the caller. */
 static unsigned pool_threads(const vp_pool *p) { return p ? p->n + 1 : 1; }
-
-static void vp_threads_stop(alb_vp *vp)
-{
-    pool_stop(vp->pool);
-    vp->pool = NULL;
-}
 
 /* ---- faces drawn on the threads ---- */
 
@@ -478,9 +457,9 @@ static bool walk_batch(alb_vp *vp, batch_job *j)
 static void draw_batch_now(alb_vp *vp, batch_job *j)
 {
     if (walk_batch(vp, j)) {
-        pool_run(vp->pool, draw_task, j);
-        for (unsigned i = 0; i < j->nw; i++)
-            vp_stats_add(&vp->st, &j->wk[i].local.st);
+        pool_post(vp->pool, draw_task, j);
+        vp->inflight = j;
+        finish_inflight(vp);
     } else {
         for (unsigned i = 0; i < vp->nbatch; i++)
             vp_draw_face(vp, &vp->batch[i]);
@@ -488,22 +467,24 @@ static void draw_batch_now(alb_vp *vp, batch_job *j)
     vp->nbatch = 0;
 }
 
+/* Which of the two batches is being loaded. */
+static unsigned batch_index(const alb_vp *vp) { return vp->batch == vp->batches[0] ? 0 : 1; }
+
 void vp_flush_batch(alb_vp *vp)
 {
     finish_inflight(vp);
-    if (!vp->nbatch || !vp->par[0])
-        return;
-    draw_batch_now(vp, vp->par[vp->batch == vp->batches[0] ? 0 : 1]);
+    if (vp->nbatch)
+        draw_batch_now(vp, vp->par[batch_index(vp)]);
 }
 
 void vp_batch_full(alb_vp *vp)
 {
     finish_inflight(vp);
-    const unsigned cur = vp->batch == vp->batches[0] ? 0 : 1;
+    const unsigned cur = batch_index(vp);
     batch_job *j = vp->par[cur];
     /* the workers read the face list (a tie names the face that kept it)
      * while the next batch's faces are added: room for them first */
-    if (vp->pool && !vp_store_reserve_faces(vp, VP_BATCH) && walk_batch(vp, j)) {
+    if (!vp_store_reserve_faces(vp, VP_BATCH) && walk_batch(vp, j)) {
         pool_post(vp->pool, draw_task, j);
         vp->inflight = j;
         vp->batch = vp->batches[cur ^ 1];
@@ -576,12 +557,11 @@ void vp_parallel_rows(alb_vp *vp, uint32_t rows, vp_row_fn fn, void *ctx)
 
 /* ---- the count ---- */
 
-/* The workers, their batches and their work freed (every batch drawn
- * first); the VP on one thread. */
-static void threads_release(alb_vp *vp)
+void vp_threads_free(alb_vp *vp)
 {
     finish_inflight(vp);
-    vp_threads_stop(vp);
+    pool_stop(vp->pool);
+    vp->pool = NULL;
     for (unsigned k = 0; k < 2; k++) {
         batch_job_free(vp->par[k]);
         vp->par[k] = NULL;
@@ -590,7 +570,6 @@ static void threads_release(alb_vp *vp)
     }
     vp->batch = NULL;
     vp->nbatch = 0;
-    vp->threads = 1;
 }
 
 int alb_vp_set_threads(alb_vp *vp, unsigned n)
@@ -600,7 +579,7 @@ int alb_vp_set_threads(alb_vp *vp, unsigned n)
     n = n > ALB_VP_MAX_THREADS ? ALB_VP_MAX_THREADS : n;
     if (n == alb_vp_threads(vp))
         return 0;
-    threads_release(vp);
+    vp_threads_free(vp);
     if (n == 1)
         return 0;
     /* the workers: n - 1 threads (fewer if the system gives fewer; none,
@@ -614,14 +593,11 @@ int alb_vp_set_threads(alb_vp *vp, unsigned n)
     for (unsigned k = 0; k < 2; k++)
         if (!(vp->batches[k] = malloc(VP_BATCH * sizeof *vp->batches[k])) ||
             !(vp->par[k] = batch_job_new(vp, nt))) {
-            threads_release(vp);
+            vp_threads_free(vp);
             return -1;
         }
     vp->batch = vp->batches[0];
-    vp->threads = nt;
     return 0;
 }
 
-void vp_threads_free(alb_vp *vp) { threads_release(vp); }
-
-unsigned alb_vp_threads(const alb_vp *vp) { return vp->threads ? vp->threads : 1; }
+unsigned alb_vp_threads(const alb_vp *vp) { return pool_threads(vp->pool); }

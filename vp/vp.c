@@ -7,7 +7,6 @@
 #include "units.h"
 #include "simd.h"
 
-#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 

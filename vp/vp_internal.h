@@ -132,7 +132,6 @@ struct alb_vp {
     alb_vp_stats st;
     uint32_t *recip_rom;
     /* the threaded functional renderer (parallel.c) */
-    unsigned threads;
     unsigned char *scratch;  /* the output stage's rows, vp_store_scratch_bytes per thread */
     struct vp_loaded_face *batch;   /* faces loaded, waiting for the workers */
     struct vp_loaded_face *batches[2];   /* batch is one, the other may be drawn meanwhile */
@@ -408,7 +407,8 @@ int vp_store_retire_texture(alb_vp *vp, uint32_t *texels);
  * is cut into (parallel.c). */
 #define VP_BATCH 1024
 #define VP_MAX_TILES 1024
-/* Stop the VP's worker threads and free their work (parallel.c). */
+/* Stop the VP's worker threads, every batch drawn first, and free their work; the VP
+ * on one thread (parallel.c). */
 void vp_threads_free(alb_vp *vp);
 /* Draw the batched faces and any batch the workers still draw (parallel.c):
  * then every face given is in the store. */
