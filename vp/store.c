@@ -222,6 +222,18 @@ alb_err vp_begin_face(alb_vp *vp, vp_loaded_face *f, alb_diag *d)
 
 /* ---- clearing ---- */
 
+/* Rows of w samples from idx on cleared: depth 0, no surface, and the tag
+ * VP_TAG_NONE where the store has tags. */
+static inline __attribute__((always_inline)) void clear_rows(alb_vp *vp, size_t idx, uint32_t w,
+                                                             uint32_t h)
+{
+    for (uint32_t r = 0; r < h; r++, idx += vp->sw) {
+        memset(vp->s_depth + idx, 0, w * sizeof *vp->s_depth);
+        if (vp->s_tag)
+            memset(vp->s_tag + idx, 0xFF, w * sizeof *vp->s_tag);
+    }
+}
+
 void vp_clear_tile(alb_vp *vp, size_t t)
 {
     uint32_t tc = (uint32_t)(t & (((size_t)1 << vp->tiles_lw) - 1)), tr = (uint32_t)(t >> vp->tiles_lw);
@@ -239,24 +251,13 @@ void vp_clear_tile(alb_vp *vp, size_t t)
         vp->tile_clean[t] = VP_TILE_TOUCHED;
         return;
     }
-    /* 0: no surface; VP_TAG_NONE; a tile of 16 samples a row (every store
-     * of 16 x 16 samples or more) in stores the compiler unrolls, not a
-     * call a row and plane */
-    if (w == 16 && vp->s_tag) {
-        for (uint32_t r = 0; r < h; r++, idx += vp->sw) {
-            memset(vp->s_depth + idx, 0, 16 * sizeof *vp->s_depth);
-            memset(vp->s_tag + idx, 0xFF, 16 * sizeof *vp->s_tag);
-        }
-    } else if (w == 16) {
-        for (uint32_t r = 0; r < h; r++, idx += vp->sw)
-            memset(vp->s_depth + idx, 0, 16 * sizeof *vp->s_depth);
-    } else {
-        for (uint32_t r = 0; r < h; r++, idx += vp->sw) {
-            memset(vp->s_depth + idx, 0, w * sizeof *vp->s_depth);
-            if (vp->s_tag)
-                memset(vp->s_tag + idx, 0xFF, w * sizeof *vp->s_tag);
-        }
-    }
+    /* a tile of 16 samples a row (every store of 16 x 16 samples or more)
+     * with the width a constant: stores the compiler unrolls, not a call a
+     * row and plane */
+    if (w == 16)
+        clear_rows(vp, idx, 16, h);
+    else
+        clear_rows(vp, idx, w, h);
     vp->tile_clean[t] = VP_TILE_TOUCHED;
 }
 
