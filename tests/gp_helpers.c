@@ -165,6 +165,14 @@ void profile_set_all(alb_profile *p, const char *sets)
         alb_profile_set(p, tok, err, sizeof err);
 }
 
+void small_profile(alb_profile *p, const char *sets)
+{
+    alb_profile_lookup("t32", p);
+    p->width = p->height = 64;
+    p->edge_frac_bits = 11;
+    profile_set_all(p, sets);
+}
+
 static int stream_of_scene(const char *text, const alb_profile *p, alb_ws_buf *b, bool screen)
 {
     alb_scene s;

@@ -37,6 +37,9 @@ char *builtin_scene_copy(void);
 
 /* Apply "key=value key=value ..." to a profile (the test's own, valid). */
 void profile_set_all(alb_profile *p, const char *sets);
+/* The small profile of the randomised tests: t32 at 64 x 64 samples,
+ * edge_frac_bits 11, then `sets`. */
+void small_profile(alb_profile *p, const char *sets);
 /* The GP's stream of scene text with profile p into *b (initialised here);
  * 0, or -1 if the scene or the GP failed. */
 int stream_of(const char *text, const alb_profile *p, alb_ws_buf *b);

@@ -287,9 +287,7 @@ TEST(counters_plane_tiles_hold_the_face_depths)
                                    2 + (unsigned)(t_rand(&seed) % 30));
         }
         alb_profile p;
-        alb_profile_lookup("t32", &p);
-        p.width = p.height = 64;
-        p.edge_frac_bits = 11;
+        small_profile(&p, "");
         p.simd = s % 3 == 2 ? 0 : 1;
         alb_ws_buf b;
         if (screen_stream_of(text, &p, &b))
@@ -336,16 +334,12 @@ TEST(counters_unit_steps_through_short_queues)
     uint64_t stalls = 0;
     for (uint64_t seed = 1; seed <= 120 && !bad; seed++) {
         alb_profile p;
-        alb_profile_lookup("t32", &p);
-        p.width = p.height = 64;
-        p.edge_frac_bits = 11;
-        profile_set_all(&p, sets[seed % 6]);
+        small_profile(&p, sets[seed % 6]);
         gp.faces = 3 + (unsigned)(seed % 17);
-        char *text = scenegen_random(seed, &gp);
         alb_ws_buf b;
-        if (!text || stream_of(text, &p, &b)) {
+        char *text = random_frames_stream(seed, &gp, 0, &p, &b);
+        if (!text) {
             CHECK_MSG(0, "seed %llu: no stream", (unsigned long long)seed);
-            free(text);
             return;
         }
         stats_log lt, lc;

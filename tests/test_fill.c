@@ -541,10 +541,7 @@ TEST(a_frame_resolves_only_the_planes_it_has)
     static const char *const sets[] = {"", "aa=1"};
     for (unsigned k = 0; k < 2; k++) {
         alb_profile p;
-        alb_profile_lookup("t32", &p);
-        p.width = p.height = 64;
-        p.edge_frac_bits = 11;
-        profile_set_all(&p, sets[k]);
+        small_profile(&p, sets[k]);
         alb_ws_buf b;
         if (stream_of(text, &p, &b)) {
             CHECK_MSG(0, "no stream");

@@ -351,16 +351,12 @@ TEST(timing_cycle_equals_timed_on_random_scenes)
     scenegen_params gp = scenegen_defaults();
     for (uint64_t seed = 1; seed <= 200; seed++) {
         alb_profile p;
-        alb_profile_lookup("t32", &p);
-        p.width = p.height = 64;
-        p.edge_frac_bits = 11;
-        profile_set_all(&p, sets[seed % 5]);
+        small_profile(&p, sets[seed % 5]);
         gp.faces = 2 + (unsigned)(seed % 23);
-        char *text = scenegen_random(seed, &gp);
         alb_ws_buf b;
-        if (!text || stream_of(text, &p, &b)) {
+        char *text = random_frames_stream(seed, &gp, 0, &p, &b);
+        if (!text) {
             CHECK_MSG(0, "seed %llu: no stream", (unsigned long long)seed);
-            free(text);
             return;
         }
         char what[64];
