@@ -3,7 +3,7 @@
 # counted apart, as bits) against the cycle model's cycles per frame, from
 # sweep.csv beside it (columns: rtl/fpga/sweep_collect.py).
 set terminal svg size 960,640 font "sans,12" dynamic
-set output "sweep.svg"
+set output "sweep.svg.tmp"
 set datafile separator ","
 set title "Albatros VP members: logic against time per frame (cycle model)"
 set xlabel "logic, yosys generic synth (cells: gates, muxes, flip-flops; memories excluded)"

@@ -100,4 +100,4 @@ fpga-sweep-jobs: fpga-sweep-prep
 	    echo 'bash rtl/fpga/sweep-unit.sh $(FPGA_SWEEP_DIR)/$(n)/$(u).unit $(u) $(FPGA_SWEEP_ABC) '"$$(echo $$(cat $(FPGA_SWEEP_DIR)/$(n)/params))";))
 
 fpga-sweep-chart:
-	@cd docs/fpga && gnuplot sweep.gp && echo "docs/fpga/sweep.svg from docs/fpga/sweep.csv"
+	@cd docs/fpga && gnuplot sweep.gp && mv sweep.svg.tmp sweep.svg && echo "docs/fpga/sweep.svg from docs/fpga/sweep.csv"
