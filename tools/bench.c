@@ -515,6 +515,17 @@ static const char usage[] =
     "                --tool=callgrind)\n"
     "  --no-peer     without llvmpipe\n";
 
+/* The tables written: 0, or 1 with a message if stdout failed (a full
+ * disk, a closed pipe), so that a truncated table is not taken for one. */
+static int stdout_done(void)
+{
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, "bench: writing the tables to stdout failed\n");
+        return 1;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     for (int i = 1; i < argc; i++) {
@@ -575,7 +586,7 @@ int main(int argc, char **argv)
         side_by_side(&sc[1], &q);
     }
     if (only && strcmp(only, "fidelities"))
-        return 0;
+        return stdout_done();
 
     printf("\n## Fidelities (profile a1024, one thread; whole runs of the stream)\n\n"
            "emulated cycles per second; \"counters\": no frame asked for (counters_only)\n\n"
@@ -585,7 +596,7 @@ int main(int argc, char **argv)
     bench_fidelities("built-in", &builtin.s, &p);
     bench_fidelities("random 1000, Gouraud", &sc[3].s, &p);
     if (only)
-        return 0;
+        return stdout_done();
 
     printf("\n## Units a scene needs (functional, profile a1024)\n\n"
            "| scene | faces shaded / textured / fogged | ms/frame, its units | "
@@ -598,5 +609,5 @@ int main(int argc, char **argv)
         alb_scene_free(&sc[i].s);
     alb_scene_free(&builtin.s);
     alb_scene_free(&geometry.s);
-    return 0;
+    return stdout_done();
 }
