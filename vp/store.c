@@ -26,6 +26,16 @@
 /* Tiles of at most 16 x 16 samples: the cells of level max(levels - 4, 0). */
 #define TILE_LOG2 4
 
+/* The store's two planes are one block, the tag plane TAG_SKEW samples
+ * (2 KiB + 64 bytes) past the end of the depth plane.  A fill reads and
+ * writes a sample's depth and then its tag; were the planes a multiple of
+ * 4 KiB apart (as two blocks aligned to huge pages are), every tag load
+ * would share its address's low 12 bits with the depth store just before
+ * it, which the processor's memory disambiguation takes for a dependence
+ * (4K aliasing), and both rows would fall in the same sets of the L1
+ * cache: 10 to 15% of a 1000-face frame (docs/performance.md). */
+#define TAG_SKEW 528
+
 /* A plane of the store or of a frame (vp_internal.h).  From 2 MiB up it is
  * aligned to 2 MiB and offered to Linux's transparent huge pages (madvise):
  * a 1024 x 1024 store is 8 MiB, whose first touch in a fresh process cost
@@ -57,9 +67,10 @@ int vp_store_init(alb_vp *vp)
     vp->tile_hl = vp->lh > vp->tile_level ? vp->lh - vp->tile_level : 0;
     vp->tiles_lw = vp->lw - vp->tile_wl;
     size_t n = (size_t)vp->sw * vp->sh, tiles = (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl);
-    vp->s_depth = vp_plane_alloc(n, sizeof *vp->s_depth, false);
     /* counters alone need no tag plane: half the store's memory traffic */
-    vp->s_tag = vp->counters_only ? NULL : vp_plane_alloc(n, sizeof *vp->s_tag, false);
+    const size_t planes = vp->counters_only ? n : n + TAG_SKEW + n;
+    vp->s_depth = vp_plane_alloc(planes, sizeof *vp->s_depth, false);
+    vp->s_tag = vp->counters_only || !vp->s_depth ? NULL : vp->s_depth + n + TAG_SKEW;
     vp->tile_clean = malloc(tiles);
     vp->tile_face = vp->counters_only ? malloc(tiles * sizeof *vp->tile_face) : NULL;
     if (!vp->s_depth || (!vp->counters_only && !vp->s_tag) || !vp->tile_clean ||
@@ -81,8 +92,7 @@ void vp_store_free(alb_vp *vp)
     free_old_textures(vp);
     free(vp->old_tex);
     free(vp->faces);
-    free(vp->s_depth);
-    free(vp->s_tag);
+    free(vp->s_depth);   /* and the tag plane, in the same block */
     free(vp->tile_clean);
     free(vp->tile_face);
     free(vp->edge_log);
