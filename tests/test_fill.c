@@ -252,17 +252,11 @@ static alb_err run_vp(const alb_profile *p, const alb_ws_buf *b, bool plain, uns
 
 /* The fast paths against the plain loops on a scene: every plane of every
  * frame and every statistic, on one thread and on three. */
-static void same_as_plain(const char *what, const char *text, const char *profile,
-                          const char *sets, alb_vp_stats *sum)
+static void stream_as_plain(const char *what, const alb_profile *pp, const alb_ws_buf *bp,
+                            alb_vp_stats *sum)
 {
-    alb_profile p;
-    alb_profile_lookup(profile, &p);
-    profile_set_all(&p, sets);
-    alb_ws_buf b;
-    if (stream_of(text, &p, &b)) {
-        CHECK_MSG(0, "%s: no stream", what);
-        return;
-    }
+    const alb_profile p = *pp;
+    const alb_ws_buf b = *bp;
     frames plain, fast, fast3;
     if (run_vp(&p, &b, true, 1, &plain) || run_vp(&p, &b, false, 1, &fast) ||
         run_vp(&p, &b, false, 3, &fast3)) {
@@ -278,13 +272,29 @@ static void same_as_plain(const char *what, const char *text, const char *profil
                           !memcmp(&plain.s[i], &fast3.s[i], sizeof plain.s[i]),
                       "%s frame %u: statistics differ from the plain loops'", what, i);
             sum->samples_written += plain.s[i].samples_written;
+            sum->samples_covered += plain.s[i].samples_covered;
             sum->depth_saturated += plain.s[i].depth_saturated;
             sum->depth_underflow += plain.s[i].depth_underflow;
+            sum->depth_ties += plain.s[i].depth_ties;
         }
     }
     frames_free(&plain);
     frames_free(&fast);
     frames_free(&fast3);
+}
+
+static void same_as_plain(const char *what, const char *text, const char *profile,
+                          const char *sets, alb_vp_stats *sum)
+{
+    alb_profile p;
+    alb_profile_lookup(profile, &p);
+    profile_set_all(&p, sets);
+    alb_ws_buf b;
+    if (stream_of(text, &p, &b)) {
+        CHECK_MSG(0, "%s: no stream", what);
+        return;
+    }
+    stream_as_plain(what, &p, &b, sum);
     alb_ws_buf_free(&b);
 }
 
@@ -325,6 +335,51 @@ TEST(fast_fill_equals_plain_fill)
               "not every case met: %llu saturated, %llu underflowed, %llu written",
               (unsigned long long)sum.depth_saturated, (unsigned long long)sum.depth_underflow,
               (unsigned long long)sum.samples_written);
+}
+
+/* A fill wholly below the floor of its tile of the store — the least
+ * depth of a face that covered the tile whole (fill.c) — is skipped without
+ * its depth tests.  Against the plain loops, which test every sample: a
+ * wall over the whole screen, then a face behind it (skipped), a face at
+ * the wall's own depth (parallel to the screen: its greatest depth over a
+ * tile is the floor, and every sample ties), a plane crossing the wall
+ * (behind on the left, in front on the right: skipped, filled, and raising
+ * the floors), and a sloped face after it; in cells, 8 x 8 blocks and whole
+ * tiles, with one sample a pixel and four. */
+static const char floor_scene[] =
+    "albatros-scene 1\nnear 0.5\nscreenspace\nobject s\n"
+    "v 0 0 5\nv 256 0 5\nv 256 256 5\nv 0 256 5\n"
+    "v 10 10 2\nv 200 30 2\nv 90 220 2\n"
+    "v 40 40 5\nv 168 40 5\nv 168 168 5\nv 40 168 5\n"
+    "v 0 0 1\nv 256 0 9\nv 256 256 9\nv 0 256 1\n"
+    "v 20 100 3\nv 250 120 8\nv 120 250 4\n"
+    "f 1 2 3 4 colour 200 0 0\nf 5 6 7 colour 0 200 0\nf 8 9 10 11 colour 0 0 200\n"
+    "f 12 13 14 15 colour 200 200 0\nf 16 17 18 colour 0 200 200\nend\n";
+
+TEST(fills_below_a_tiles_floor_are_skipped_as_tested)
+{
+    static const char *const sets[] = {"", "aa=1"};
+    for (unsigned i = 0; i < 2; i++) {
+        alb_profile p;
+        alb_profile_lookup("a256", &p);
+        profile_set_all(&p, sets[i]);
+        alb_ws_buf b;
+        if (screen_stream_of(floor_scene, &p, &b)) {
+            CHECK_MSG(0, "a256 %s: no stream", sets[i]);
+            continue;
+        }
+        alb_vp_stats sum;
+        memset(&sum, 0, sizeof sum);
+        stream_as_plain(sets[i], &p, &b, &sum);
+        /* the wall ties with its copy; the faces behind it cover samples
+         * they do not write */
+        CHECK_MSG(sum.depth_ties >= 128 * 128 &&
+                      sum.samples_covered > sum.samples_written + (uint64_t)p.width * p.height / 2,
+                  "a256 %s: %llu ties, %llu covered, %llu written", sets[i],
+                  (unsigned long long)sum.depth_ties, (unsigned long long)sum.samples_covered,
+                  (unsigned long long)sum.samples_written);
+        alb_ws_buf_free(&b);
+    }
 }
 
 /* The frame a stream of one textured face gives. */
@@ -447,12 +502,17 @@ TEST(a_frame_after_another_is_drawn_on_a_clear_store)
     static const char big[] =
         "albatros-scene 1\nbackground 10 20 30\nobject wall\n v -9 -9 5\n v 9 -9 5\n v 9 9 5\n"
         " v -9 9 5\n f 1 2 3 4 colour 200 100 50\nend\n";
-    static const char small[] =
+    /* in front of the wall, and behind it: the first frame's floors
+     * (fill.c) are not the second's */
+    static const char *const small[] = {
         "albatros-scene 1\nbackground 10 20 30\nobject tile\n v -0.2 -0.3 3\n v 0.4 -0.2 3\n"
-        " v 0.1 0.5 3\n f 1 2 3 colour 40 220 90\nend\n";
+        " v 0.1 0.5 3\n f 1 2 3 colour 40 220 90\nend\n",
+        "albatros-scene 1\nbackground 10 20 30\nobject tile\n v -0.5 -0.6 8\n v 0.9 -0.4 8\n"
+        " v 0.2 1 8\n f 1 2 3 colour 40 220 90\nend\n"};
     alb_ws_buf a, b;
     CHECK(stream_of(big, &p, &a) == 0);
-    CHECK(stream_of(small, &p, &b) == 0);
+    for (unsigned which = 0; which < 2; which++) {
+    CHECK(stream_of(small[which], &p, &b) == 0);
     for (unsigned threads = 1; threads <= 3; threads += 2) {
         frames alone, after;
         memset(&alone, 0, sizeof alone);
@@ -478,8 +538,9 @@ TEST(a_frame_after_another_is_drawn_on_a_clear_store)
         frames_free(&alone);
         frames_free(&after);
     }
-    alb_ws_buf_free(&a);
     alb_ws_buf_free(&b);
+    }
+    alb_ws_buf_free(&a);
 }
 
 /* The frames of a stream through one VP, each resolved into every plane

@@ -548,40 +548,74 @@ static inline uint32_t *tags_at(const alb_vp *vp, size_t idx)
     return vp->s_tag ? vp->s_tag + idx : NULL;
 }
 
-/* Whether every sample of the rectangle of w x h samples whose first has
- * depth form N = z lies in the store's range (the extremes of N are at two
+/* The least and the greatest N of the depth form over the rectangle of
+ * w x h samples whose first has N = z (h is linear: its extremes are at two
  * corners). */
-static inline bool depth_in_range(const alb_vp *vp, const vp_face_setup *fs, uint32_t w, uint32_t h,
-                                  int64_t z)
+static inline void depth_extremes(const vp_face_setup *fs, uint32_t w, uint32_t h, int64_t z,
+                                  int64_t *zmin, int64_t *zmax)
 {
     const int64_t ec = (int64_t)(w - 1) * fs->depth.step_c, er = (int64_t)(h - 1) * fs->depth.step_r;
-    const int64_t zmin = z + (ec < 0 ? ec : 0) + (er < 0 ? er : 0);
-    const int64_t zmax = z + (ec > 0 ? ec : 0) + (er > 0 ? er : 0);
+    *zmin = z + (ec < 0 ? ec : 0) + (er < 0 ? er : 0);
+    *zmax = z + (ec > 0 ? ec : 0) + (er > 0 ? er : 0);
+}
+
+/* Whether every N from zmin to zmax lies in the store's range: the fast
+ * loop's. */
+static inline bool depth_in_range(const alb_vp *vp, const vp_face_setup *fs, int64_t zmin, int64_t zmax)
+{
     return !vp->plain_fill && zmin >= fs->depth_lo && zmax <= fs->depth_hi;
+}
+
+/* ---- the tiles' depth floors ----
+ *
+ * A sample's stored depth only grows during a frame, so once a fill has
+ * covered a whole tile of the store, none of the tile's samples is ever
+ * again below that face's least depth over it: the tile's floor
+ * (tile_floor, 0 when the frame begins).  A fill of the fast loop whose
+ * greatest depth over its cell (or block) is below the floor of the tile
+ * holding it can neither win a sample (it must be strictly nearer) nor tie
+ * one: it writes nothing and counts nothing but the samples it covers — the
+ * store and the counts the depth tests would have left, without the tests.
+ * Faces drawn behind others, and the copies of the stress scenes, skip so. */
+
+/* The depth the fast loop stores for N = z (in the store's range). */
+static inline uint32_t fast_depth(int64_t z, unsigned sr, unsigned sl)
+{
+    return (uint32_t)(((uint64_t)z >> sr) << sl);
+}
+
+static inline size_t tile_at(const alb_vp *vp, uint32_t c, uint32_t r)
+{
+    return ((size_t)(r >> vp->tile_hl) << vp->tiles_lw) + (c >> vp->tile_wl);
 }
 
 /* The fast loop over a cell that covers whole tiles of the store: tile row
  * by tile row, spans of clean tiles stored without reading (no clearing:
  * every sample beats the cleared store's 0) — or, in the store of counters
  * alone, left to the face's depth form until another fill reaches them
- * (VP_TILE_PLANE) — and spans of touched tiles through the depth test. */
-static void fill_tiles(alb_vp *vp, const vp_cell *k, int64_t z, int64_t dc, int64_t dr, unsigned sr,
+ * (VP_TILE_PLANE) — and runs of touched tiles through the depth test, but
+ * tiles whose floor the face is wholly below.  Each tile's floor rises to
+ * the face's least depth over it. */
+static void fill_tiles(alb_vp *vp, const vp_cell *k, const vp_face_setup *fs, int64_t z, unsigned sr,
                        unsigned sl, uint32_t t, fill_counts *n)
 {
+    const int64_t dc = fs->depth.step_c, dr = fs->depth.step_r;
     const unsigned twl = vp->tile_wl, thl = vp->tile_hl;
-    const uint32_t th = 1u << thl, c1 = k->c0 + (1u << k->wl), r1 = k->r0 + (1u << k->hl);
+    const uint32_t tw = 1u << twl, th = 1u << thl, c1 = k->c0 + (1u << k->wl), r1 = k->r0 + (1u << k->hl);
     for (uint32_t r = k->r0; r < r1; r += th) {
-        uint8_t *clean = vp->tile_clean + ((size_t)(r >> thl) << vp->tiles_lw);
+        const size_t row = (size_t)(r >> thl) << vp->tiles_lw;
+        uint8_t *clean = vp->tile_clean + row;
+        uint32_t *floor = vp->tile_floor + row;
         for (uint32_t c = k->c0; c < c1;) {
             const uint8_t cl = clean[c >> twl];
-            uint32_t e = c + (1u << twl);
+            uint32_t e = c + tw;
             while (e < c1 && clean[e >> twl] == cl)
-                e += 1u << twl;
+                e += tw;
             const int64_t zc = z + (int64_t)(c - k->c0) * dc + (int64_t)(r - k->r0) * dr;
             const size_t idx = (size_t)r * vp->sw + c;
             if (cl == VP_TILE_CLEAN) {
                 if (vp->counters_only) {
-                    uint32_t *face = vp->tile_face + ((size_t)(r >> thl) << vp->tiles_lw);
+                    uint32_t *face = vp->tile_face + row;
                     for (uint32_t x = c >> twl; x < e >> twl; x++)
                         face[x] = t >> VP_TAG_LEVEL_BITS;
                     memset(clean + (c >> twl), VP_TILE_PLANE, (e - c) >> twl);
@@ -592,17 +626,41 @@ static void fill_tiles(alb_vp *vp, const vp_cell *k, int64_t z, int64_t dc, int6
                 }
                 n->written += (uint64_t)(e - c) * th;
                 /* depth is monotone in N: the span's largest at a corner */
-                const int64_t ec = (int64_t)(e - c - 1) * dc, er = (int64_t)(th - 1) * dr;
-                const int64_t zmax = zc + (ec > 0 ? ec : 0) + (er > 0 ? er : 0);
-                const uint32_t top = (uint32_t)(((uint64_t)zmax >> sr) << sl);
+                int64_t zmin, zmax;
+                depth_extremes(fs, e - c, th, zc, &zmin, &zmax);
+                const uint32_t top = fast_depth(zmax, sr, sl);
                 n->nearest = top > n->nearest ? top : n->nearest;
-            } else {
-                if (cl == VP_TILE_PLANE)   /* another face's plane: written out first */
-                    for (uint32_t x = c >> twl; x < e >> twl; x++)
-                        vp_clear_tile(vp, ((size_t)(r >> thl) << vp->tiles_lw) + x);
-                vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, tags_at(vp, idx), vp->sw,
-                                                        e - c, th, zc, dc, dr, sr, sl, t);
-                add_rect(n, &x, idx);
+                for (uint32_t x = c >> twl; x < e >> twl; x++) {
+                    depth_extremes(fs, tw, th, zc + (int64_t)((x << twl) - c) * dc, &zmin, &zmax);
+                    floor[x] = fast_depth(zmin, sr, sl);
+                }
+                c = e;
+                continue;
+            }
+            /* touched tiles: the runs of those the face may reach */
+            uint32_t run = c;   /* the first tile of the run not yet filled */
+            for (uint32_t x = c; x <= e; x += tw) {
+                int64_t zmin = 0, zmax = 0;
+                bool below = false;
+                if (x < e) {
+                    depth_extremes(fs, tw, th, zc + (int64_t)(x - c) * dc, &zmin, &zmax);
+                    below = fast_depth(zmax, sr, sl) < floor[x >> twl];
+                }
+                if ((x == e || below) && x > run) {
+                    const size_t at = (size_t)r * vp->sw + run;
+                    for (uint32_t y = run >> twl; cl == VP_TILE_PLANE && y < x >> twl; y++)
+                        vp_clear_tile(vp, row + y);   /* another face's plane: written out first */
+                    vp_rect_result res = vp->depth_forms.rect(vp->s_depth + at, tags_at(vp, at), vp->sw,
+                                                              x - run, th, zc + (int64_t)(run - c) * dc,
+                                                              dc, dr, sr, sl, t);
+                    add_rect(n, &res, at);
+                }
+                if (x == e)
+                    break;
+                if (below)
+                    run = x + tw;
+                const uint32_t f = fast_depth(zmin, sr, sl);
+                floor[x >> twl] = f > floor[x >> twl] ? f : floor[x >> twl];
             }
             c = e;
         }
@@ -615,19 +673,22 @@ static void fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
     const uint32_t cw = 1u << k->wl, ch = 1u << k->hl, t = fs->tag | k->level;
     const int sh = units_depth_shift(vp, fs->depth.exp);
     const int64_t dc = fs->depth.step_c, dr = fs->depth.step_r;
-    int64_t z = units_form_at(&fs->depth, k->c0, k->r0);
+    int64_t z = units_form_at(&fs->depth, k->c0, k->r0), zmin, zmax;
     size_t idx = (size_t)k->r0 * vp->sw + k->c0;
     fill_counts n = {0, 0, 0, 0, 0, 0};
-    if (depth_in_range(vp, fs, cw, ch, z)) {
+    depth_extremes(fs, cw, ch, z, &zmin, &zmax);
+    if (depth_in_range(vp, fs, zmin, zmax)) {
         /* every sample in range: z > 0, so the shifts are exact */
         const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
         if (k->wl >= vp->tile_wl && k->hl >= vp->tile_hl) {
-            fill_tiles(vp, k, z, dc, dr, sr, sl, t, &n);
+            fill_tiles(vp, k, fs, z, sr, sl, t, &n);
         } else {
             vp_touch(vp, k);
-            vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, tags_at(vp, idx), vp->sw, cw,
-                                                    ch, z, dc, dr, sr, sl, t);
-            add_rect(&n, &x, idx);
+            if (fast_depth(zmax, sr, sl) >= vp->tile_floor[tile_at(vp, k->c0, k->r0)]) {
+                vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, tags_at(vp, idx), vp->sw, cw,
+                                                        ch, z, dc, dr, sr, sl, t);
+                add_rect(&n, &x, idx);
+            }
         }
     } else {
         vp_touch(vp, k);
@@ -660,11 +721,15 @@ void vp_fill_block8(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r
     const int64_t z = units_form_at(&fs->depth, c0, r0);
     const size_t idx = (size_t)r0 * vp->sw + c0;
     fill_counts n = {0, 0, 0, 0, 0, 0};
-    if (depth_in_range(vp, fs, 8, 8, z)) {
+    int64_t zmin, zmax;
+    depth_extremes(fs, 8, 8, z, &zmin, &zmax);
+    if (depth_in_range(vp, fs, zmin, zmax)) {
         const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
-        vp_rect_result x = vp->depth_forms.block8(vp->s_depth + idx, tags_at(vp, idx), vp->sw, z, dc, dr,
-                                            sr, sl, mask, mid, fine, t);
-        add_rect(&n, &x, idx);
+        if (fast_depth(zmax, sr, sl) >= vp->tile_floor[tile_at(vp, c0, r0)]) {
+            vp_rect_result x = vp->depth_forms.block8(vp->s_depth + idx, tags_at(vp, idx), vp->sw, z,
+                                                      dc, dr, sr, sl, mask, mid, fine, t);
+            add_rect(&n, &x, idx);
+        }
     } else {
         const int64_t dmax = ((int64_t)1 << vp->prof.depth_bits) - 1;
         for (uint64_t m = mask; m; m &= m - 1) {

@@ -73,7 +73,8 @@ int vp_store_init(alb_vp *vp)
     vp->s_tag = vp->counters_only || !vp->s_depth ? NULL : vp->s_depth + n + TAG_SKEW;
     vp->tile_clean = malloc(tiles);
     vp->tile_face = vp->counters_only ? malloc(tiles * sizeof *vp->tile_face) : NULL;
-    if (!vp->s_depth || (!vp->counters_only && !vp->s_tag) || !vp->tile_clean ||
+    vp->tile_floor = calloc(tiles, sizeof *vp->tile_floor);
+    if (!vp->s_depth || (!vp->counters_only && !vp->s_tag) || !vp->tile_clean || !vp->tile_floor ||
         (vp->counters_only && !vp->tile_face))
         return -1;
     memset(vp->tile_clean, VP_TILE_CLEAN, tiles);
@@ -95,13 +96,16 @@ void vp_store_free(alb_vp *vp)
     free(vp->s_depth);   /* and the tag plane, in the same block */
     free(vp->tile_clean);
     free(vp->tile_face);
+    free(vp->tile_floor);
     free(vp->edge_log);
     free(vp->edge_at);
 }
 
 void vp_store_begin(alb_vp *vp)
 {
-    memset(vp->tile_clean, VP_TILE_CLEAN, (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl));
+    const size_t tiles = (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl);
+    memset(vp->tile_clean, VP_TILE_CLEAN, tiles);
+    memset(vp->tile_floor, 0, tiles * sizeof *vp->tile_floor);
     vp->nfaces = 0;
     vp->nedge_log = 0;
     free_old_textures(vp);

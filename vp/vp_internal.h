@@ -109,6 +109,8 @@ struct alb_vp {
     uint32_t tie_lost_face;  /* the frame's index of the face that lost the lowest tie */
     uint8_t *tile_clean;     /* per tile: VP_TILE_CLEAN, VP_TILE_TOUCHED or VP_TILE_PLANE */
     uint32_t *tile_face;     /* counters alone: a VP_TILE_PLANE tile's face (frame index) */
+    uint32_t *tile_floor;    /* per tile: a depth no sample of it is below this frame (0
+                                until a fill covers it whole; fill.c) */
     unsigned tile_level;     /* tiles are the quadtree's cells of this level */
     unsigned tile_wl, tile_hl;   /* their log2 width and height in samples */
     unsigned tiles_lw;       /* log2 of tiles per row */
