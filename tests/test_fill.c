@@ -337,9 +337,9 @@ TEST(fast_fill_equals_plain_fill)
               (unsigned long long)sum.samples_written);
 }
 
-/* A fill wholly below the floor of its tile of the store — the least
- * depth of a face that covered the tile whole (fill.c) — is skipped without
- * its depth tests.  Against the plain loops, which test every sample: a
+/* A fill wholly below the floor of its tile of the store or of its 8 x 8
+ * block — the least depth of a face that covered it whole (fill.c) — is
+ * skipped without its depth tests.  Against the plain loops, which test every sample: a
  * wall over the whole screen, then a face behind it (skipped), a face at
  * the wall's own depth (parallel to the screen: its greatest depth over a
  * tile is the floor, and every sample ties), a plane crossing the wall

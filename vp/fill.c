@@ -566,17 +566,20 @@ static inline bool depth_in_range(const alb_vp *vp, const vp_face_setup *fs, int
     return !vp->plain_fill && zmin >= fs->depth_lo && zmax <= fs->depth_hi;
 }
 
-/* ---- the tiles' depth floors ----
+/* ---- depth floors ----
  *
  * A sample's stored depth only grows during a frame, so once a fill has
- * covered a whole tile of the store, none of the tile's samples is ever
- * again below that face's least depth over it: the tile's floor
- * (tile_floor, 0 when the frame begins).  A fill of the fast loop whose
- * greatest depth over its cell (or block) is below the floor of the tile
- * holding it can neither win a sample (it must be strictly nearer) nor tie
+ * covered a whole tile of the store, or a whole 8 x 8 block of samples, none
+ * of its samples is ever again below that face's least depth over it: the
+ * tile's floor (tile_floor) or the block's (block_floor), 0 when the frame
+ * begins; either bounds a block's samples from below.  A fill of the fast
+ * loop whose greatest depth over its cell (or 8 x 8 block, or tile) is below
+ * such a bound can neither win a sample (it must be strictly nearer) nor tie
  * one: it writes nothing and counts nothing but the samples it covers — the
- * store and the counts the depth tests would have left, without the tests.
- * Faces drawn behind others, and the copies of the stress scenes, skip so. */
+ * store and the counts its depth tests would have left, without the tests.
+ * Faces drawn behind others skip so.  Tiles' floors are raised by the fills
+ * of whole tiles (fill_tiles), blocks' by the fills of 8 x 8 cells (the
+ * most numerous of small faces' cells found inside). */
 
 /* The depth the fast loop stores for N = z (in the store's range). */
 static inline uint32_t fast_depth(int64_t z, unsigned sr, unsigned sl)
@@ -584,9 +587,18 @@ static inline uint32_t fast_depth(int64_t z, unsigned sr, unsigned sl)
     return (uint32_t)(((uint64_t)z >> sr) << sl);
 }
 
-static inline size_t tile_at(const alb_vp *vp, uint32_t c, uint32_t r)
+/* A bound below every depth of the block of sample (c, r), and so of a cell
+ * of 8 x 8 samples or fewer there. */
+static inline uint32_t *block_floor_at(const alb_vp *vp, uint32_t c, uint32_t r)
 {
-    return ((size_t)(r >> vp->tile_hl) << vp->tiles_lw) + (c >> vp->tile_wl);
+    return vp->block_floor + (size_t)(r >> 3) * vp->block_row + (c >> 3);
+}
+
+static inline uint32_t floor_of(const alb_vp *vp, uint32_t c, uint32_t r)
+{
+    const uint32_t t = vp->tile_floor[((size_t)(r >> vp->tile_hl) << vp->tiles_lw) + (c >> vp->tile_wl)];
+    const uint32_t b = *block_floor_at(vp, c, r);
+    return t > b ? t : b;
 }
 
 /* The fast loop over a cell that covers whole tiles of the store: tile row
@@ -684,10 +696,17 @@ static void fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
             fill_tiles(vp, k, fs, z, sr, sl, t, &n);
         } else {
             vp_touch(vp, k);
-            if (fast_depth(zmax, sr, sl) >= vp->tile_floor[tile_at(vp, k->c0, k->r0)]) {
+            /* a cell within a tile: within a block too if it is no larger */
+            const bool small = k->wl <= 3 && k->hl <= 3;
+            if (!small || fast_depth(zmax, sr, sl) >= floor_of(vp, k->c0, k->r0)) {
                 vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, tags_at(vp, idx), vp->sw, cw,
                                                         ch, z, dc, dr, sr, sl, t);
                 add_rect(&n, &x, idx);
+                if (k->wl == 3 && k->hl == 3) {   /* an 8 x 8 cell: its block's floor */
+                    uint32_t *f = block_floor_at(vp, k->c0, k->r0);
+                    const uint32_t lo = fast_depth(zmin, sr, sl);
+                    *f = lo > *f ? lo : *f;
+                }
             }
         }
     } else {
@@ -725,7 +744,7 @@ void vp_fill_block8(alb_vp *vp, const vp_face_setup *fs, uint32_t c0, uint32_t r
     depth_extremes(fs, 8, 8, z, &zmin, &zmax);
     if (depth_in_range(vp, fs, zmin, zmax)) {
         const unsigned sr = sh < 0 ? (unsigned)-sh : 0, sl = sh > 0 ? (unsigned)sh : 0;
-        if (fast_depth(zmax, sr, sl) >= vp->tile_floor[tile_at(vp, c0, r0)]) {
+        if (fast_depth(zmax, sr, sl) >= floor_of(vp, c0, r0)) {
             vp_rect_result x = vp->depth_forms.block8(vp->s_depth + idx, tags_at(vp, idx), vp->sw, z,
                                                       dc, dr, sr, sl, mask, mid, fine, t);
             add_rect(&n, &x, idx);

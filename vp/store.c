@@ -74,7 +74,10 @@ int vp_store_init(alb_vp *vp)
     vp->tile_clean = malloc(tiles);
     vp->tile_face = vp->counters_only ? malloc(tiles * sizeof *vp->tile_face) : NULL;
     vp->tile_floor = calloc(tiles, sizeof *vp->tile_floor);
+    vp->block_row = (vp->sw + 7) >> 3, vp->block_rows = (vp->sh + 7) >> 3;
+    vp->block_floor = calloc((size_t)vp->block_row * vp->block_rows, sizeof *vp->block_floor);
     if (!vp->s_depth || (!vp->counters_only && !vp->s_tag) || !vp->tile_clean || !vp->tile_floor ||
+        !vp->block_floor ||
         (vp->counters_only && !vp->tile_face))
         return -1;
     memset(vp->tile_clean, VP_TILE_CLEAN, tiles);
@@ -97,6 +100,7 @@ void vp_store_free(alb_vp *vp)
     free(vp->tile_clean);
     free(vp->tile_face);
     free(vp->tile_floor);
+    free(vp->block_floor);
     free(vp->edge_log);
     free(vp->edge_at);
 }
@@ -106,6 +110,7 @@ void vp_store_begin(alb_vp *vp)
     const size_t tiles = (size_t)1 << (vp->tiles_lw + vp->lh - vp->tile_hl);
     memset(vp->tile_clean, VP_TILE_CLEAN, tiles);
     memset(vp->tile_floor, 0, tiles * sizeof *vp->tile_floor);
+    memset(vp->block_floor, 0, (size_t)vp->block_row * vp->block_rows * sizeof *vp->block_floor);
     vp->nfaces = 0;
     vp->nedge_log = 0;
     free_old_textures(vp);

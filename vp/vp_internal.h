@@ -111,6 +111,8 @@ struct alb_vp {
     uint32_t *tile_face;     /* counters alone: a VP_TILE_PLANE tile's face (frame index) */
     uint32_t *tile_floor;    /* per tile: a depth no sample of it is below this frame (0
                                 until a fill covers it whole; fill.c) */
+    uint32_t *block_floor;   /* the same per 8 x 8 block of samples, rows of block_row */
+    unsigned block_row, block_rows;
     unsigned tile_level;     /* tiles are the quadtree's cells of this level */
     unsigned tile_wl, tile_hl;   /* their log2 width and height in samples */
     unsigned tiles_lw;       /* log2 of tiles per row */
