@@ -451,10 +451,24 @@ store_avx2_untagged(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, u
 }
 
 /* The masked 8 x 8 block: a row a step, its byte of the mask spread over
- * the lanes, the tags chosen by the level masks. */
-__attribute__((target("avx2,popcnt"))) static inline __m256i lanes_of(unsigned byte, __m256i bit)
+ * the lanes (a table: lane i of entry b is all ones where bit i of b is
+ * set), the tags chosen by the level masks. */
+#define LANE(b, i) ((b) >> (i) & 1 ? -1 : 0)
+#define LANES(b) {LANE(b, 0), LANE(b, 1), LANE(b, 2), LANE(b, 3), LANE(b, 4), LANE(b, 5), LANE(b, 6), LANE(b, 7)}
+#define LANES4(b) LANES(b), LANES((b) + 1), LANES((b) + 2), LANES((b) + 3)
+#define LANES16(b) LANES4(b), LANES4((b) + 4), LANES4((b) + 8), LANES4((b) + 12)
+#define LANES64(b) LANES16(b), LANES16((b) + 16), LANES16((b) + 32), LANES16((b) + 48)
+static const int32_t byte_lanes[256][8] __attribute__((aligned(32))) = {
+    LANES64(0), LANES64(64), LANES64(128), LANES64(192)};
+#undef LANE
+#undef LANES
+#undef LANES4
+#undef LANES16
+#undef LANES64
+
+__attribute__((target("avx2,popcnt"))) static inline __m256i lanes_of(unsigned byte)
 {
-    return _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32((int)byte), bit), bit);
+    return _mm256_load_si256((const __m256i *)(const void *)byte_lanes[byte]);
 }
 
 __attribute__((target("avx2,popcnt"))) static inline __attribute__((always_inline)) vp_rect_result
@@ -463,7 +477,6 @@ block8_avx2_body(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z, int64
                  const uint32_t t[3], const bool tagged)
 {
     vp_rect_result res = {0, 0, 0, 0};
-    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
     const __m256i down = _mm256_set1_epi64x(dr), four = _mm256_set1_epi64x(4 * dc);
     const __m256i t0 = _mm256_set1_epi32((int)t[0]), t1 = _mm256_set1_epi32((int)t[1]),
                   t2 = _mm256_set1_epi32((int)t[2]);
@@ -475,11 +488,11 @@ block8_avx2_body(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z, int64
             continue;
         __m256i tv = t0;
         if (tagged) {
-            tv = _mm256_blendv_epi8(t0, t1, lanes_of((unsigned)(mid >> 8 * y) & 0xFF, bit));
-            tv = _mm256_blendv_epi8(tv, t2, lanes_of((unsigned)(fine >> 8 * y) & 0xFF, bit));
+            tv = _mm256_blendv_epi8(t0, t1, lanes_of((unsigned)(mid >> 8 * y) & 0xFF));
+            tv = _mm256_blendv_epi8(tv, t2, lanes_of((unsigned)(fine >> 8 * y) & 0xFF));
         }
         row8_avx2(depth + y * stride, tagged ? tag + y * stride : NULL,
-                  narrow8(lo, _mm256_add_epi64(lo, four), vsr, vsl), lanes_of(m, bit), tv,
+                  narrow8(lo, _mm256_add_epi64(lo, four), vsr, vsl), lanes_of(m), tv,
                   y * stride, &best, &res, tagged);
     }
     res.nearest = hmax8(best);
