@@ -615,3 +615,24 @@ TEST(a_frame_resolves_only_the_planes_it_has)
     }
     free(text);
 }
+
+/* A run of one colour (the output stage's flat faces): every length from 0
+ * to 40 — eight samples a step, the last eight or four overlapping, a few
+ * alone — at every start, and not one value past the run. */
+TEST(fill_rgb_writes_the_run_and_nothing_else)
+{
+    const uint16_t rgb[3] = {0x1234, 0xABCD, 0x0F0F};
+    uint16_t buf[3 * 48];
+    unsigned bad = 0;
+    for (size_t at = 0; at < 4; at++)
+        for (size_t n = 0; n <= 40; n++) {
+            for (size_t i = 0; i < 3 * 48; i++)
+                buf[i] = (uint16_t)(0x5A00 + i);
+            vp_fill_rgb(buf + 3 * at, n, rgb);
+            for (size_t i = 0; i < 3 * 48; i++) {
+                const bool in = i >= 3 * at && i < 3 * (at + n);
+                bad += buf[i] != (in ? rgb[i % 3] : (uint16_t)(0x5A00 + i));
+            }
+        }
+    CHECK_MSG(bad == 0, "%u values wrong", bad);
+}

@@ -304,11 +304,27 @@ void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3])
     const __m128i p0 = _mm_setr_epi16((short)r, (short)g, (short)b, (short)r, (short)g, (short)b, (short)r, (short)g);
     const __m128i p1 = _mm_setr_epi16((short)b, (short)r, (short)g, (short)b, (short)r, (short)g, (short)b, (short)r);
     const __m128i p2 = _mm_setr_epi16((short)g, (short)b, (short)r, (short)g, (short)b, (short)r, (short)g, (short)b);
-    for (; i + 8 <= n; i += 8) {
-        __m128i *o = (__m128i *)(void *)(out + 3 * i);
-        _mm_storeu_si128(o, p0);
-        _mm_storeu_si128(o + 1, p1);
-        _mm_storeu_si128(o + 2, p2);
+    if (n >= 8) {
+        for (; i + 8 <= n; i += 8) {
+            __m128i *o = (__m128i *)(void *)(out + 3 * i);
+            _mm_storeu_si128(o, p0);
+            _mm_storeu_si128(o + 1, p1);
+            _mm_storeu_si128(o + 2, p2);
+        }
+        if (i < n) {   /* the last eight, over some already written: the same values */
+            __m128i *o = (__m128i *)(void *)(out + 3 * (n - 8));
+            _mm_storeu_si128(o, p0);
+            _mm_storeu_si128(o + 1, p1);
+            _mm_storeu_si128(o + 2, p2);
+        }
+        return;
+    }
+    if (n >= 4) {   /* four samples (24 bytes) at the start and at the end */
+        _mm_storeu_si128((__m128i *)(void *)out, p0);
+        _mm_storel_epi64((__m128i *)(void *)(out + 8), p1);
+        _mm_storeu_si128((__m128i *)(void *)(out + 3 * (n - 4)), p0);
+        _mm_storel_epi64((__m128i *)(void *)(out + 3 * (n - 4) + 8), p1);
+        return;
     }
 #endif
     for (; i < n; i++)
