@@ -536,27 +536,37 @@ ISA_AVX2_TARGET static inline void edge_block8_narrow(const vp_edge_fn *f, const
 #endif
 
 /* A 16-bit mask of grandchildren (bit 4 gy + gx) as their samples (bit 8 sy
- * + sx), and a 4-bit mask of children likewise. */
+ * + sx), and a 4-bit mask of children likewise: from tables, a byte of
+ * grandchildren (two rows of four) at a time.  Entry b of the first is
+ * rows 2i and 2i + 1 of cells to their four rows of samples: each bit
+ * doubled within its row, each row doubled. */
+#define S2(n) (((n) & 1 ? 0x03u : 0) | ((n) & 2 ? 0x0Cu : 0) | ((n) & 4 ? 0x30u : 0) | ((n) & 8 ? 0xC0u : 0))
+#define S4(b) ((S2((b) & 15) * 0x0101u) | (S2((b) >> 4) * 0x0101u) << 16)
+#define S4x4(b) S4(b), S4((b) + 1), S4((b) + 2), S4((b) + 3)
+#define S4x16(b) S4x4(b), S4x4((b) + 4), S4x4((b) + 8), S4x4((b) + 12)
+#define S4x64(b) S4x16(b), S4x16((b) + 16), S4x16((b) + 32), S4x16((b) + 48)
+static const uint32_t grandchild_rows[256] = {S4x64(0), S4x64(64), S4x64(128), S4x64(192)};
+#undef S2
+#undef S4
+#undef S4x4
+#undef S4x16
+#undef S4x64
+
 static inline uint64_t samples_of_grandchildren(unsigned g)
 {
-    /* each bit doubled (bit i to bits 2i and 2i + 1): a row of four cells
-     * to its byte of samples */
-    uint64_t x = g & 0xFFFF;
-    x = (x | x << 8) & 0x00FF00FFu;
-    x = (x | x << 4) & 0x0F0F0F0Fu;
-    x = (x | x << 2) & 0x33333333u;
-    x = (x | x << 1) & 0x55555555u;
-    x |= x << 1;
-    /* each byte doubled: a row of cells to its two rows of samples */
-    x = (x | x << 16) & 0x0000FFFF0000FFFFull;
-    x = (x | x << 8) & 0x00FF00FF00FF00FFull;
-    return x | x << 8;
+    return grandchild_rows[g & 0xFF] | (uint64_t)grandchild_rows[g >> 8 & 0xFF] << 32;
 }
 
 static inline uint64_t samples_of_children(unsigned c)
 {
-    return (c & 1 ? 0x0F0F0F0Full : 0) | (c & 2 ? 0xF0F0F0F0ull : 0) |
-           (c & 4 ? 0x0F0F0F0F00000000ull : 0) | (c & 8 ? 0xF0F0F0F000000000ull : 0);
+    static const uint64_t children[16] = {
+#define C4(c) (((c) & 1 ? 0x0F0F0F0Full : 0) | ((c) & 2 ? 0xF0F0F0F0ull : 0) | \
+               ((c) & 4 ? 0x0F0F0F0F00000000ull : 0) | ((c) & 8 ? 0xF0F0F0F000000000ull : 0))
+        C4(0), C4(1), C4(2),  C4(3),  C4(4),  C4(5),  C4(6),  C4(7),
+        C4(8), C4(9), C4(10), C4(11), C4(12), C4(13), C4(14), C4(15)
+#undef C4
+    };
+    return children[c & 15];
 }
 
 /* The steps below an 8 x 8 cell k in the walk's order, for the timer: each
