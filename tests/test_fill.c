@@ -326,6 +326,14 @@ TEST(fast_fill_equals_plain_fill)
         same_as_plain(what, text, "a256", sets[seed % 5], &sum);
         free(text);
     }
+    /* screens so wide or tall that cells one sample high or wide split
+     * with many edges active: their children lie side by side */
+    gp.faces = 60;
+    gp.flat = true;
+    char *wide = scenegen_random(99, &gp);
+    same_as_plain("256 x 4", wide, "a256", "height=4", &sum);
+    same_as_plain("4 x 256", wide, "a256", "width=4", &sum);
+    free(wide);
     char *builtin = builtin_scene_copy();
     same_as_plain("built-in", builtin, "a256", "", &sum);
     same_as_plain("built-in, aa=2", builtin, "a256", "aa=2", &sum);

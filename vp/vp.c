@@ -221,6 +221,13 @@ void vp_walk_begin(vp_walk *w, const alb_vp *vp, const vp_loaded_face *f)
     w->narrow = f->narrow;
     w->lanes_ready = false;
     w->top = 0;
+    if (f->narrow) {
+        unsigned i = 0;
+        for (; i < f->n; i++)
+            w->ea[i] = f->e[i].a, w->eb[i] = f->e[i].b, w->ec[i] = f->e[i].c;
+        for (; i % 4; i++)
+            w->ea[i] = w->eb[i] = w->ec[i] = 0;
+    }
     w->stack[w->top++] = (vp_cell){.wl = (uint8_t)vp->lw, .hl = (uint8_t)vp->lh,
                                    .edges = (uint8_t)f->n,
                                    .active = f->n == 64 ? ~0ull : (1ull << f->n) - 1};
@@ -960,6 +967,51 @@ children_verdicts_avx2(const vp_walk *w, const vp_cell *k, int64_t cw, int64_t c
 }
 #endif
 
+/* The same for a narrow face's cell with at least EDGES_AT_ONCE active
+ * edges, four edges a step in 64-bit lanes (vp_walk.ea, eb, ec; the
+ * children one after the other): every edge of the face, since an edge that
+ * holds the parent holds its children and rejects none, and a spare lane
+ * (a = b = c = 0) neither.  The face is narrow, so a and b are exact in the
+ * products' 32 bits.  Fewer active edges are fewer steps edge by edge
+ * (callgrind, random 10 000 flat faces at a1024: from 4 on, 2.5% fewer
+ * instructions in all; from 2, 3 or 6 on, 0.6% to 1.7%). */
+#define EDGES_AT_ONCE 4
+ISA_AVX2_TARGET static inline unsigned
+children_verdicts_edges_avx2(const vp_walk *w, const vp_cell *k, unsigned wl1, unsigned hl1, bool ox,
+                             bool oy, uint64_t held[4])
+{
+    const __m256i c0 = _mm256_set1_epi64x(2 * (int64_t)k->c0), r0 = _mm256_set1_epi64x(2 * (int64_t)k->r0);
+    const __m128i sx = _mm_cvtsi32_si128((int)wl1), sy = _mm_cvtsi32_si128((int)hl1);
+    const __m256i zero = _mm256_setzero_si256();
+    __m256i any[4] = {zero, zero, zero, zero};
+    for (unsigned g = 0; g < w->n; g += 4) {
+        const __m256i a = _mm256_loadu_si256((const __m256i *)(const void *)(w->ea + g));
+        const __m256i b = _mm256_loadu_si256((const __m256i *)(const void *)(w->eb + g));
+        const __m256i h = _mm256_add_epi64(_mm256_add_epi64(_mm256_mul_epi32(a, c0), _mm256_mul_epi32(b, r0)),
+                                           _mm256_loadu_si256((const __m256i *)(const void *)(w->ec + g)));
+        /* a child's sides: a (2 << wl), b (2 << hl); its extremes' offsets */
+        const __m256i ax = _mm256_sll_epi64(a, sx), by = _mm256_sll_epi64(b, sy);
+        const __m256i up = _mm256_add_epi64(_mm256_andnot_si256(_mm256_cmpgt_epi64(zero, ax), ax),
+                                            _mm256_andnot_si256(_mm256_cmpgt_epi64(zero, by), by));
+        const __m256i down = _mm256_sub_epi64(_mm256_add_epi64(ax, by), up);
+        __m256i t[4];
+        t[0] = h;
+        t[1] = ox ? _mm256_add_epi64(h, ax) : h;
+        t[2] = oy ? _mm256_add_epi64(h, by) : h;
+        t[3] = oy ? _mm256_add_epi64(t[1], by) : t[1];
+        for (unsigned j = 0; j < 4; j++) {
+            any[j] = _mm256_or_si256(any[j], _mm256_add_epi64(t[j], up));
+            const unsigned loose =
+                (unsigned)_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_add_epi64(t[j], down)));
+            held[j] |= (uint64_t)(~loose & 0xF) << g;
+        }
+    }
+    unsigned out = 0;
+    for (unsigned j = 0; j < 4; j++)
+        out |= (unsigned)(_mm256_movemask_pd(_mm256_castsi256_pd(any[j])) != 0) << j;
+    return out;
+}
+
 /* Edge by edge, the children's verdicts: out (bit j: some edge rejects
  * child j) and held[j] (the edges holding child j wholly).  An edge's value
  * at a child's top-left corner is the parent's corner value plus a child's
@@ -975,6 +1027,10 @@ children_verdicts(const vp_walk *w, const vp_cell *k, int64_t cw, int64_t ch, in
     const int64_t c0 = 2 * (int64_t)k->c0, r0 = 2 * (int64_t)k->r0;
     unsigned out = 0;
 #if VP_AVX2
+    if (isa == ISA_AVX2 && w->narrow && popcount_isa(k->active, isa) >= EDGES_AT_ONCE)
+        return children_verdicts_edges_avx2(w, k, (unsigned)__builtin_ctzll((uint64_t)cw),
+                                            (unsigned)__builtin_ctzll((uint64_t)ch), ox != 0, oy != 0,
+                                            held);
     if (isa == ISA_AVX2)
         return children_verdicts_avx2(w, k, cw, ch, ox, oy, held);
 #endif

@@ -198,6 +198,10 @@ typedef struct {
     unsigned n;              /* its edges */
     bool lanes_ready;        /* lanes computed (when the walk first needs them) */
     vp_lanes8 lanes[ALB_WS_MAX_EDGES];
+    /* a narrow face's edges as arrays of a, b and c, four to a group (the
+     * last group's spare lanes 0): the functional engine's children
+     * verdicts four edges at a time (vp.c) */
+    int64_t ea[ALB_WS_MAX_EDGES], eb[ALB_WS_MAX_EDGES], ec[ALB_WS_MAX_EDGES];
     vp_cell stack[3 * ALB_VP_MAX_LEVELS + 4];
     unsigned top;
 } vp_walk;
