@@ -685,7 +685,8 @@ static void fill_tiles(alb_vp *vp, const vp_cell *k, const vp_face_setup *fs, in
                 if (below)
                     run = x + tw;
                 const uint32_t f = fast_depth(zmin, sr, sl);
-                floor[x >> twl] = f > floor[x >> twl] ? f : floor[x >> twl];
+                if (f > floor[x >> twl])   /* written only if raised: the floors of */
+                    floor[x >> twl] = f;   /* tiles of other threads share its line */
             }
             c = e;
         }
@@ -718,7 +719,8 @@ static void fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
                 if (k->wl == 3 && k->hl == 3) {   /* an 8 x 8 cell: its block's floor */
                     uint32_t *f = block_floor_at(vp, k->c0, k->r0);
                     const uint32_t lo = fast_depth(zmin, sr, sl);
-                    *f = lo > *f ? lo : *f;
+                    if (lo > *f)
+                        *f = lo;
                 }
             }
         }
