@@ -212,6 +212,16 @@ TEST(units_a_scene_needs_change_no_pixel)
         text = scenegen_random(11, &p);
         same_with_all_units(flat ? "random, flat" : "random", text, "", &st);
         CHECK(st.faces_shaded == (flat ? 0 : st.faces) && st.faces_textured == 0);
+        /* in fog: flat faces use the fog unit alone */
+        const char *body = strchr(text, '\n');
+        char *fogged = body ? malloc(strlen(text) + 32) : NULL;
+        CHECK(fogged != NULL);
+        if (fogged) {
+            snprintf(fogged, strlen(text) + 32, "albatros-scene 1\nfog 250 240 230 0.5 4%s", body);
+            same_with_all_units(flat ? "random, flat, fog" : "random, fog", fogged, "", &st);
+            CHECK(st.faces_fogged == st.faces && st.faces_shaded == (flat ? 0 : st.faces));
+            free(fogged);
+        }
         free(text);
     }
 }

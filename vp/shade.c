@@ -94,7 +94,8 @@ void vp_shade_sample(const alb_vp *vp, const vp_face_setup *fs, int64_t nz, int6
 
 /* ---- the output stage's shading: only the units a face uses ---- */
 
-enum { U_SHADE = 1, U_TEXTURE = 2, U_FOG = 4 };
+enum { U_SHADE = 1, U_TEXTURE = 2, U_FOG = 4 };   /* vp_frame_units' bits */
+_Static_assert(U_FOG == 4 && (U_SHADE | U_TEXTURE) == 3, "vp_frame_units' masks");
 
 unsigned vp_face_units(const vp_face_setup *fs)
 {
@@ -471,9 +472,7 @@ void vp_shade_run(const alb_vp *vp, const vp_face_setup *fs, uint32_t r, uint32_
         shade_all_units(vp, fs, r, c0, c1, rgb);
         return;
     }
-    /* fog is a frame's choice as well as the face's */
-    unsigned units = fs->units & (vp->frame.fog ? 7u : (unsigned)~U_FOG & 7u);
-    shade_for_units[vp->shade_isa][units](vp, fs, r, c0, c1, rgb);
+    shade_for_units[vp->shade_isa][vp_frame_units(vp, fs)](vp, fs, r, c0, c1, rgb);
 }
 
 void vp_sample_colour(const alb_vp *vp, const vp_face_setup *fs, uint32_t c, uint32_t r,

@@ -413,7 +413,9 @@ static inline void emit_face(const alb_vp *vp, const row_out *o, const uint32_t 
                              uint32_t c, uint32_t e, const bool pixels)
 {
     const vp_face_setup *fs = &vp->faces[tag[c] >> VP_TAG_LEVEL_BITS];
-    if (o->rgb)
+    if (o->rgb && !vp->prof.all_units && !vp_frame_units(vp, fs))
+        vp_fill_rgb(o->rgb + 3 * (size_t)c, e - c, fs->flat);   /* vp_shade_run's, without the calls */
+    else if (o->rgb)
         vp_shade_run(vp, fs, r, c, e, o->rgb + 3 * (size_t)c);
     if (pixels) {
         if (o->face)
@@ -436,8 +438,9 @@ static inline uint32_t run_end(const uint32_t *tag, uint32_t e, uint32_t d, uint
                   m = _mm_set1_epi32((int)~VP_TAG_LEVEL_MASK);
     for (; e + 4 <= d; e += 4) {
         __m128i x = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)(tag + e)), m);
-        if (_mm_movemask_epi8(_mm_cmpeq_epi32(x, face)) != 0xFFFF)
-            break;
+        const unsigned same = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi32(x, face));
+        if (same != 0xFFFF)   /* the first sample of another face: four bits a sample */
+            return e + (unsigned)__builtin_ctz(~same) / 4;
     }
 #endif
     while (e < d && (tag[e] ^ t) <= VP_TAG_LEVEL_MASK)

@@ -400,6 +400,13 @@ void vp_store_begin(alb_vp *vp);
 void vp_store_resolve(alb_vp *vp, alb_frame *out);
 /* n copies of one colour (3 per sample) (store.c). */
 void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3]);
+/* The shading units face fs uses in this frame (shade.c: bit 0 intensity,
+ * 1 texture, 2 fog — a frame's choice as well as the face's); none: the
+ * face's flat colour everywhere. */
+static inline unsigned vp_frame_units(const alb_vp *vp, const vp_face_setup *fs)
+{
+    return fs->units & (vp->frame.fog ? 7u : 3u);
+}
 /* The output stage's scratch for one thread (vp->scratch). */
 size_t vp_store_scratch_bytes(const alb_vp *vp);
 /* Scratch for n threads; -1 if out of memory (parallel.c). */
