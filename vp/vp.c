@@ -967,6 +967,7 @@ children_verdicts_avx2(const vp_walk *w, const vp_cell *k, int64_t cw, int64_t c
 }
 #endif
 
+#if VP_AVX2
 /* The same for a narrow face's cell with at least EDGES_AT_ONCE active
  * edges, four edges a step in 64-bit lanes (vp_walk.ea, eb, ec; the
  * children one after the other): every edge of the face, since an edge that
@@ -1011,6 +1012,7 @@ children_verdicts_edges_avx2(const vp_walk *w, const vp_cell *k, unsigned wl1, u
         out |= (unsigned)(_mm256_movemask_pd(_mm256_castsi256_pd(any[j])) != 0) << j;
     return out;
 }
+#endif
 
 /* Edge by edge, the children's verdicts: out (bit j: some edge rejects
  * child j) and held[j] (the edges holding child j wholly).  An edge's value
