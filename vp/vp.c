@@ -540,6 +540,76 @@ ISA_AVX2_TARGET static inline void edge_block8_narrow(const vp_edge_fn *f, const
     const uint32_t m1 = (uint32_t)_mm256_movemask_epi8(_mm256_permutevar8x32_epi32(q1, order));
     v->outside |= (uint64_t)m0 | (uint64_t)m1 << 32;
 }
+
+/* The same over all the cell's active edges at once where no edge's own
+ * verdicts are counted (no timer, or one whose steps all take a cycle):
+ * the signs that reject or loosen a cell or sample are ORed over the edges
+ * in the registers, and turned into masks once. */
+typedef struct {
+    __m128i out4, loose4;
+    __m256i out2[2], loose2[2];
+    __m256i rows[4];          /* rows 2i and 2i + 1 of samples, packed to 16 bits */
+} block8_signs;
+
+ISA_AVX2_TARGET static inline void edge_block8_signs(const vp_edge_fn *f, const vp_lanes8 *ln, int64_t c0,
+                                                     int64_t r0, block8_signs *s)
+{
+    const int32_t h = (int32_t)(f->a * c0 + f->b * r0 + f->c);
+    const __m256i vh = _mm256_set1_epi32(h);
+    const __m128i t4 = _mm_add_epi32(_mm256_castsi256_si128(vh),
+                                     _mm_loadu_si128((const __m128i *)(const void *)ln->t4));
+    s->out4 = _mm_or_si128(s->out4, _mm_add_epi32(t4, _mm_set1_epi32(ln->up4)));
+    s->loose4 = _mm_or_si128(s->loose4, _mm_add_epi32(t4, _mm_set1_epi32(ln->down4)));
+    const __m256i g01 = _mm256_add_epi32(vh, _mm256_loadu_si256((const __m256i *)(const void *)ln->g01));
+    const __m256i g23 = _mm256_add_epi32(g01, _mm256_set1_epi32(4 * ln->step2));
+    const __m256i up2 = _mm256_set1_epi32(ln->up2), down2 = _mm256_set1_epi32(ln->down2);
+    s->out2[0] = _mm256_or_si256(s->out2[0], _mm256_add_epi32(g01, up2));
+    s->out2[1] = _mm256_or_si256(s->out2[1], _mm256_add_epi32(g23, up2));
+    s->loose2[0] = _mm256_or_si256(s->loose2[0], _mm256_add_epi32(g01, down2));
+    s->loose2[1] = _mm256_or_si256(s->loose2[1], _mm256_add_epi32(g23, down2));
+    const __m256i step = _mm256_set1_epi32(ln->step2);
+    __m256i r = _mm256_add_epi32(vh, _mm256_loadu_si256((const __m256i *)(const void *)ln->row0));
+    for (unsigned i = 0; i < 4; i++) {
+        const __m256i next = _mm256_add_epi32(r, step);
+        s->rows[i] = _mm256_or_si256(s->rows[i], _mm256_packs_epi32(r, next));
+        r = _mm256_add_epi32(next, step);
+    }
+}
+
+/* The masks of the signs ORed over the edges into v (as edge_block8_narrow
+ * would have left them, but the timer's counts). */
+ISA_AVX2_TARGET static inline void block8_signs_done(const block8_signs *s, block8_verdicts *v);
+
+/* Every active edge's signs ORed, then their masks into v. */
+ISA_AVX2_TARGET static inline void block8_narrow_all(const vp_walk *w, uint64_t active, int64_t c0, int64_t r0,
+                                              block8_verdicts *v)
+{
+    block8_signs sg;
+    sg.out4 = sg.loose4 = _mm_setzero_si128();
+    sg.out2[0] = sg.out2[1] = sg.loose2[0] = sg.loose2[1] = _mm256_setzero_si256();
+    sg.rows[0] = sg.rows[1] = sg.rows[2] = sg.rows[3] = _mm256_setzero_si256();
+    for (; active; active &= active - 1) {
+        const unsigned i = (unsigned)__builtin_ctzll(active);
+        edge_block8_signs(&w->e[i], &w->lanes[i], c0, r0, &sg);
+    }
+    block8_signs_done(&sg, v);
+}
+
+ISA_AVX2_TARGET static inline void block8_signs_done(const block8_signs *s, block8_verdicts *v)
+{
+    v->out4 |= (unsigned)_mm_movemask_ps(_mm_castsi128_ps(s->out4));
+    v->held4 &= ~(unsigned)_mm_movemask_ps(_mm_castsi128_ps(s->loose4));
+    v->out2 |= (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(s->out2[0])) |
+               (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(s->out2[1])) << 8;
+    v->held2 &= ~((unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(s->loose2[0])) |
+                  (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(s->loose2[1])) << 8);
+    const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+    const __m256i q0 = _mm256_packs_epi16(s->rows[0], s->rows[1]);
+    const __m256i q1 = _mm256_packs_epi16(s->rows[2], s->rows[3]);
+    const uint32_t m0 = (uint32_t)_mm256_movemask_epi8(_mm256_permutevar8x32_epi32(q0, order));
+    const uint32_t m1 = (uint32_t)_mm256_movemask_epi8(_mm256_permutevar8x32_epi32(q1, order));
+    v->outside |= (uint64_t)m0 | (uint64_t)m1 << 32;
+}
 #endif
 
 /* A 16-bit mask of grandchildren (bit 4 gy + gx) as their samples (bit 8 sy
@@ -873,9 +943,13 @@ draw_split8(alb_vp *vp, vp_walk *w, const vp_face_setup *fs, const vp_cell *k, v
                 narrow_lanes(&w->e[i], &w->lanes[i]);
             w->lanes_ready = true;
         }
-        for (uint64_t act = k->active; act; act &= act - 1) {
-            const unsigned i = (unsigned)__builtin_ctzll(act);
-            edge_block8_narrow(&w->e[i], &w->lanes[i], c0, r0, &v, timed && !unit);
+        if (timed && !unit) {
+            for (uint64_t act = k->active; act; act &= act - 1) {
+                const unsigned i = (unsigned)__builtin_ctzll(act);
+                edge_block8_narrow(&w->e[i], &w->lanes[i], c0, r0, &v, true);
+            }
+        } else {
+            block8_narrow_all(w, k->active, c0, r0, &v);
         }
     } else
 #endif
