@@ -482,6 +482,7 @@ block8_avx2_body(uint32_t *depth, uint32_t *tag, size_t stride, int64_t z, int64
                   t2 = _mm256_set1_epi32((int)t[2]);
     const __m128i vsr = _mm_cvtsi32_si128((int)sr), vsl = _mm_cvtsi32_si128((int)sl);
     __m256i lo = _mm256_set_epi64x(z + 3 * dc, z + 2 * dc, z + dc, z), best = _mm256_setzero_si256();
+#pragma GCC unroll 8
     for (unsigned y = 0; y < 8; y++, lo = _mm256_add_epi64(lo, down)) {
         const unsigned m = (unsigned)(mask >> 8 * y) & 0xFF;
         if (!m)

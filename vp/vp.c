@@ -521,6 +521,7 @@ ISA_AVX2_TARGET static inline void edge_block8_narrow(const vp_edge_fn *f, const
     v->held2 &= ~loose2;
     if (timed) {
         v->loose4 += spread4[loose4];
+#pragma GCC unroll 4
         for (unsigned gy = 0; gy < 4; gy++)
             v->loose2[gy] += spread4[loose2 >> 4 * gy & 0xF];
     }
@@ -528,6 +529,7 @@ ISA_AVX2_TARGET static inline void edge_block8_narrow(const vp_edge_fn *f, const
     const __m256i step = _mm256_set1_epi32(ln->step2);
     __m256i r[8];
     r[0] = _mm256_add_epi32(vh, _mm256_loadu_si256((const __m256i *)(const void *)ln->row0));
+#pragma GCC unroll 7
     for (unsigned sy = 1; sy < 8; sy++)
         r[sy] = _mm256_add_epi32(r[sy - 1], step);
     /* per 128-bit half the packs give bytes of rows 0..3 (or 4..7), columns
@@ -569,6 +571,7 @@ ISA_AVX2_TARGET static inline void edge_block8_signs(const vp_edge_fn *f, const 
     s->loose2[1] = _mm256_or_si256(s->loose2[1], _mm256_add_epi32(g23, down2));
     const __m256i step = _mm256_set1_epi32(ln->step2);
     __m256i r = _mm256_add_epi32(vh, _mm256_loadu_si256((const __m256i *)(const void *)ln->row0));
+#pragma GCC unroll 4
     for (unsigned i = 0; i < 4; i++) {
         const __m256i next = _mm256_add_epi32(r, step);
         s->rows[i] = _mm256_or_si256(s->rows[i], _mm256_packs_epi32(r, next));
@@ -1074,6 +1077,7 @@ children_verdicts_edges_avx2(const vp_walk *w, const vp_cell *k, unsigned wl1, u
         t[1] = ox ? _mm256_add_epi64(h, ax) : h;
         t[2] = oy ? _mm256_add_epi64(h, by) : h;
         t[3] = oy ? _mm256_add_epi64(t[1], by) : t[1];
+#pragma GCC unroll 4
         for (unsigned j = 0; j < 4; j++) {
             any[j] = _mm256_or_si256(any[j], _mm256_add_epi64(t[j], up));
             const unsigned loose =
@@ -1082,6 +1086,7 @@ children_verdicts_edges_avx2(const vp_walk *w, const vp_cell *k, unsigned wl1, u
         }
     }
     unsigned out = 0;
+#pragma GCC unroll 4
     for (unsigned j = 0; j < 4; j++)
         out |= (unsigned)(_mm256_movemask_pd(_mm256_castsi256_pd(any[j])) != 0) << j;
     return out;
