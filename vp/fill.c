@@ -396,10 +396,16 @@ rect_avx2_body(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32
     return res;
 }
 
+/* The most common widths, 8 and 16 samples (cells, tiles), with the width a
+ * constant: rows the compiler lays out in full. */
 __attribute__((target("avx2,popcnt"))) static vp_rect_result
 rect_avx2(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
           int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
 {
+    if (w == 8)
+        return rect_avx2_body(depth, tag, stride, 8, h, z, dc, dr, sr, sl, t, true);
+    if (w == 16)
+        return rect_avx2_body(depth, tag, stride, 16, h, z, dc, dr, sr, sl, t, true);
     return rect_avx2_body(depth, tag, stride, w, h, z, dc, dr, sr, sl, t, true);
 }
 
@@ -407,6 +413,10 @@ __attribute__((target("avx2,popcnt"))) static vp_rect_result
 rect_avx2_untagged(uint32_t *depth, uint32_t *tag, size_t stride, uint32_t w, uint32_t h, int64_t z,
                    int64_t dc, int64_t dr, unsigned sr, unsigned sl, uint32_t t)
 {
+    if (w == 8)
+        return rect_avx2_body(depth, tag, stride, 8, h, z, dc, dr, sr, sl, t, false);
+    if (w == 16)
+        return rect_avx2_body(depth, tag, stride, 16, h, z, dc, dr, sr, sl, t, false);
     return rect_avx2_body(depth, tag, stride, w, h, z, dc, dr, sr, sl, t, false);
 }
 
