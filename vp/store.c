@@ -436,6 +436,16 @@ static inline uint32_t run_end(const uint32_t *tag, uint32_t e, uint32_t d, uint
 #if VP_SSE2
     const __m128i face = _mm_set1_epi32((int)(t & ~VP_TAG_LEVEL_MASK)),
                   m = _mm_set1_epi32((int)~VP_TAG_LEVEL_MASK);
+    /* eight a step while they match (one test for both halves), then four */
+    for (; e + 8 <= d; e += 8) {
+        const __m128i *p = (const __m128i *)(const void *)(tag + e);
+        const __m128i a = _mm_cmpeq_epi32(_mm_and_si128(_mm_loadu_si128(p), m), face);
+        const __m128i b = _mm_cmpeq_epi32(_mm_and_si128(_mm_loadu_si128(p + 1), m), face);
+        if ((unsigned)_mm_movemask_epi8(_mm_and_si128(a, b)) != 0xFFFF) {
+            const unsigned same = (unsigned)_mm_movemask_epi8(a) | (unsigned)_mm_movemask_epi8(b) << 16;
+            return e + (unsigned)__builtin_ctz(~same) / 4;
+        }
+    }
     for (; e + 4 <= d; e += 4) {
         __m128i x = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)(tag + e)), m);
         const unsigned same = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi32(x, face));
