@@ -458,6 +458,23 @@ static inline uint32_t run_end(const uint32_t *tag, uint32_t e, uint32_t d, uint
     return e;
 }
 
+/* The end of the run of samples from e on (before d) that no face wrote. */
+static inline uint32_t none_end(const uint32_t *tag, uint32_t e, uint32_t d)
+{
+#if VP_SSE2
+    const __m128i none = _mm_set1_epi32((int)VP_TAG_NONE);
+    for (; e + 4 <= d; e += 4) {
+        const unsigned same = (unsigned)_mm_movemask_epi8(
+            _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(tag + e)), none));
+        if (same != 0xFFFF)
+            return e + (unsigned)__builtin_ctz(~same) / 4;
+    }
+#endif
+    while (e < d && tag[e] == VP_TAG_NONE)
+        e++;
+    return e;
+}
+
 /* One sample row as the output stage sees it: clean tiles are no surface
  * in the background; in the others, runs of samples of one face share
  * their shading set-up and step its forms along the row. */
@@ -488,8 +505,7 @@ static inline void sample_row(const alb_vp *vp, uint32_t r, const row_out *o, co
         while (c < d) {
             uint32_t t = tag[c], e = c + 1;
             if (t == VP_TAG_NONE) {
-                while (e < d && tag[e] == VP_TAG_NONE)
-                    e++;
+                e = none_end(tag, e, d);
                 emit_none(vp, o, c, e, pixels);
             } else {
                 e = run_end(tag, e, d, t);
