@@ -612,7 +612,10 @@ static inline uint32_t fast_depth(int64_t z, unsigned sr, unsigned sl)
 }
 
 /* A bound below every depth of the block of sample (c, r), and so of a cell
- * of 8 x 8 samples or fewer there. */
+ * of 8 x 8 samples or fewer there.  Only 8 x 8 cells raise it, and those
+ * exist only on square screens (a cell keeps the screen's aspect until a
+ * side is one sample), whose store tiles are 16 x 16 or the whole screen:
+ * a block lies in one tile, so in one thread's tiles (parallel.c). */
 static inline uint32_t *block_floor_at(const alb_vp *vp, uint32_t c, uint32_t r)
 {
     return vp->block_floor + (size_t)(r >> 3) * vp->block_row + (c >> 3);
