@@ -621,9 +621,17 @@ static inline uint32_t *block_floor_at(const alb_vp *vp, uint32_t c, uint32_t r)
     return vp->block_floor + (size_t)(r >> 3) * vp->block_row + (c >> 3);
 }
 
+/* A floor raised to d if that is higher; written only then: the floors of
+ * tiles that other threads draw share its cache line. */
+static inline void floor_raise(uint32_t *f, uint32_t d)
+{
+    if (d > *f)
+        *f = d;
+}
+
 static inline uint32_t floor_of(const alb_vp *vp, uint32_t c, uint32_t r)
 {
-    const uint32_t t = vp->tile_floor[((size_t)(r >> vp->tile_hl) << vp->tiles_lw) + (c >> vp->tile_wl)];
+    const uint32_t t = vp->tile_floor[vp_tile_of(vp, c, r)];
     const uint32_t b = *block_floor_at(vp, c, r);
     return t > b ? t : b;
 }
@@ -698,9 +706,7 @@ static void fill_tiles(alb_vp *vp, const vp_cell *k, const vp_face_setup *fs, in
                     break;
                 if (below)
                     run = x + tw;
-                const uint32_t f = fast_depth(zmin, sr, sl);
-                if (f > floor[x >> twl])   /* written only if raised: the floors of */
-                    floor[x >> twl] = f;   /* tiles of other threads share its line */
+                floor_raise(&floor[x >> twl], fast_depth(zmin, sr, sl));
             }
             c = e;
         }
@@ -730,12 +736,8 @@ static void fill_cell(alb_vp *vp, const vp_face_setup *fs, const vp_cell *k)
                 vp_rect_result x = vp->depth_forms.rect(vp->s_depth + idx, tags_at(vp, idx), vp->sw, cw,
                                                         ch, z, dc, dr, sr, sl, t);
                 add_rect(&n, &x, idx);
-                if (k->wl == 3 && k->hl == 3) {   /* an 8 x 8 cell: its block's floor */
-                    uint32_t *f = block_floor_at(vp, k->c0, k->r0);
-                    const uint32_t lo = fast_depth(zmin, sr, sl);
-                    if (lo > *f)
-                        *f = lo;
-                }
+                if (k->wl == 3 && k->hl == 3)   /* an 8 x 8 cell: its block's floor */
+                    floor_raise(block_floor_at(vp, k->c0, k->r0), fast_depth(zmin, sr, sl));
             }
         }
     } else {

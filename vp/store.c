@@ -296,6 +296,17 @@ void vp_touch_tiles(alb_vp *vp, const vp_cell *k)
 
 /* n copies of one sample's colour: eight samples (48 bytes, three 16-byte
  * stores) a step where the host has SSE2, then one at a time. */
+#if VP_SSE2
+/* Eight samples of one colour: its pattern over 48 bytes. */
+static inline void store8_rgb(uint16_t *out, __m128i p0, __m128i p1, __m128i p2)
+{
+    __m128i *o = (__m128i *)(void *)out;
+    _mm_storeu_si128(o, p0);
+    _mm_storeu_si128(o + 1, p1);
+    _mm_storeu_si128(o + 2, p2);
+}
+#endif
+
 void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3])
 {
     size_t i = 0;
@@ -305,18 +316,10 @@ void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3])
     const __m128i p1 = _mm_setr_epi16((short)b, (short)r, (short)g, (short)b, (short)r, (short)g, (short)b, (short)r);
     const __m128i p2 = _mm_setr_epi16((short)g, (short)b, (short)r, (short)g, (short)b, (short)r, (short)g, (short)b);
     if (n >= 8) {
-        for (; i + 8 <= n; i += 8) {
-            __m128i *o = (__m128i *)(void *)(out + 3 * i);
-            _mm_storeu_si128(o, p0);
-            _mm_storeu_si128(o + 1, p1);
-            _mm_storeu_si128(o + 2, p2);
-        }
-        if (i < n) {   /* the last eight, over some already written: the same values */
-            __m128i *o = (__m128i *)(void *)(out + 3 * (n - 8));
-            _mm_storeu_si128(o, p0);
-            _mm_storeu_si128(o + 1, p1);
-            _mm_storeu_si128(o + 2, p2);
-        }
+        for (; i + 8 <= n; i += 8)
+            store8_rgb(out + 3 * i, p0, p1, p2);
+        if (i < n)   /* the last eight, over some already written: the same values */
+            store8_rgb(out + 3 * (n - 8), p0, p1, p2);
         return;
     }
     if (n >= 4) {   /* four samples (24 bytes) at the start and at the end */
@@ -458,23 +461,6 @@ static inline uint32_t run_end(const uint32_t *tag, uint32_t e, uint32_t d, uint
     return e;
 }
 
-/* The end of the run of samples from e on (before d) that no face wrote. */
-static inline uint32_t none_end(const uint32_t *tag, uint32_t e, uint32_t d)
-{
-#if VP_SSE2
-    const __m128i none = _mm_set1_epi32((int)VP_TAG_NONE);
-    for (; e + 4 <= d; e += 4) {
-        const unsigned same = (unsigned)_mm_movemask_epi8(
-            _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(tag + e)), none));
-        if (same != 0xFFFF)
-            return e + (unsigned)__builtin_ctz(~same) / 4;
-    }
-#endif
-    while (e < d && tag[e] == VP_TAG_NONE)
-        e++;
-    return e;
-}
-
 /* One sample row as the output stage sees it: clean tiles are no surface
  * in the background; in the others, runs of samples of one face share
  * their shading set-up and step its forms along the row. */
@@ -505,7 +491,10 @@ static inline void sample_row(const alb_vp *vp, uint32_t r, const row_out *o, co
         while (c < d) {
             uint32_t t = tag[c], e = c + 1;
             if (t == VP_TAG_NONE) {
-                e = none_end(tag, e, d);
+                /* no face's index has every bit of VP_TAG_NONE's (the
+                 * frame's faces are fewer than VP_MAX_FRAME_FACES): a run of
+                 * no face is a face's run to run_end */
+                e = run_end(tag, e, d, VP_TAG_NONE);
                 emit_none(vp, o, c, e, pixels);
             } else {
                 e = run_end(tag, e, d, t);

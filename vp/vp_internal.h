@@ -360,6 +360,11 @@ void *vp_plane_alloc(size_t count, size_t size, bool zeroed);
  * write out those a face's plane holds (store.c); vp_touch is the same,
  * quicker for a cell within one tile. */
 void vp_touch_tiles(alb_vp *vp, const vp_cell *k);
+/* The store tile that holds sample (c, r). */
+static inline size_t vp_tile_of(const alb_vp *vp, uint32_t c, uint32_t r)
+{
+    return ((size_t)(r >> vp->tile_hl) << vp->tiles_lw) + (c >> vp->tile_wl);
+}
 void vp_clear_tile(alb_vp *vp, size_t tile);
 static inline void vp_touch(alb_vp *vp, const vp_cell *k)
 {
@@ -367,7 +372,7 @@ static inline void vp_touch(alb_vp *vp, const vp_cell *k)
         vp_touch_tiles(vp, k);
         return;
     }
-    size_t t = ((size_t)(k->r0 >> vp->tile_hl) << vp->tiles_lw) + (k->c0 >> vp->tile_wl);
+    size_t t = vp_tile_of(vp, k->c0, k->r0);
     if (vp->tile_clean[t])
         vp_clear_tile(vp, t);
 }
