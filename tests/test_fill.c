@@ -252,14 +252,12 @@ static alb_err run_vp(const alb_profile *p, const alb_ws_buf *b, bool plain, uns
 
 /* The fast paths against the plain loops on a scene: every plane of every
  * frame and every statistic, on one thread and on three. */
-static void stream_as_plain(const char *what, const alb_profile *pp, const alb_ws_buf *bp,
+static void stream_as_plain(const char *what, const alb_profile *p, const alb_ws_buf *b,
                             alb_vp_stats *sum)
 {
-    const alb_profile p = *pp;
-    const alb_ws_buf b = *bp;
     frames plain, fast, fast3;
-    if (run_vp(&p, &b, true, 1, &plain) || run_vp(&p, &b, false, 1, &fast) ||
-        run_vp(&p, &b, false, 3, &fast3)) {
+    if (run_vp(p, b, true, 1, &plain) || run_vp(p, b, false, 1, &fast) ||
+        run_vp(p, b, false, 3, &fast3)) {
         CHECK_MSG(0, "%s: a run failed", what);
     } else {
         CHECK(plain.n == fast.n && plain.n == fast3.n && plain.n > 0);
@@ -520,33 +518,33 @@ TEST(a_frame_after_another_is_drawn_on_a_clear_store)
     alb_ws_buf a, b;
     CHECK(stream_of(big, &p, &a) == 0);
     for (unsigned which = 0; which < 2; which++) {
-    CHECK(stream_of(small[which], &p, &b) == 0);
-    for (unsigned threads = 1; threads <= 3; threads += 2) {
-        frames alone, after;
-        memset(&alone, 0, sizeof alone);
-        memset(&after, 0, sizeof after);
-        CHECK(run_vp(&p, &b, false, threads, &alone) == 0 && alone.n == 1);
-        /* one VP: the big frame's stream, then the small one's */
-        alb_vp *vp = NULL;
-        alb_diag d;
-        alb_diag_init(&d, NULL);
-        bool ok = !alb_vp_create(&vp, &p, &d) && !alb_vp_set_threads(vp, threads) &&
-                  !alb_vp_run_stream(vp, a.w, a.n, "big", keep, &after, &d) &&
-                  !alb_vp_run_stream(vp, b.w, b.n, "small", keep, &after, &d);
-        CHECK(ok && after.n == 2 && alone.n == 1);
-        if (ok && after.n == 2 && alone.n == 1) {
-            /* the first covered the screen; the second is the small face alone */
-            CHECK(after.f[0].face[0] != ALB_FRAME_NO_FACE);
-            CHECK(after.f[1].face[0] == ALB_FRAME_NO_FACE);
-            CHECK_MSG(alb_frame_count_differences(&after.f[1], &alone.f[0]) == 0,
-                      "%u thread(s): %zu pixels of the second frame differ from it on a new VP",
-                      threads, alb_frame_count_differences(&after.f[1], &alone.f[0]));
+        CHECK(stream_of(small[which], &p, &b) == 0);
+        for (unsigned threads = 1; threads <= 3; threads += 2) {
+            frames alone, after;
+            memset(&alone, 0, sizeof alone);
+            memset(&after, 0, sizeof after);
+            CHECK(run_vp(&p, &b, false, threads, &alone) == 0 && alone.n == 1);
+            /* one VP: the big frame's stream, then the small one's */
+            alb_vp *vp = NULL;
+            alb_diag d;
+            alb_diag_init(&d, NULL);
+            bool ok = !alb_vp_create(&vp, &p, &d) && !alb_vp_set_threads(vp, threads) &&
+                      !alb_vp_run_stream(vp, a.w, a.n, "big", keep, &after, &d) &&
+                      !alb_vp_run_stream(vp, b.w, b.n, "small", keep, &after, &d);
+            CHECK(ok && after.n == 2 && alone.n == 1);
+            if (ok && after.n == 2 && alone.n == 1) {
+                /* the first covered the screen; the second is the small face alone */
+                CHECK(after.f[0].face[0] != ALB_FRAME_NO_FACE);
+                CHECK(after.f[1].face[0] == ALB_FRAME_NO_FACE);
+                CHECK_MSG(alb_frame_count_differences(&after.f[1], &alone.f[0]) == 0,
+                          "%u thread(s): %zu pixels of the second frame differ from it on a new VP",
+                          threads, alb_frame_count_differences(&after.f[1], &alone.f[0]));
+            }
+            alb_vp_destroy(vp);
+            frames_free(&alone);
+            frames_free(&after);
         }
-        alb_vp_destroy(vp);
-        frames_free(&alone);
-        frames_free(&after);
-    }
-    alb_ws_buf_free(&b);
+        alb_ws_buf_free(&b);
     }
     alb_ws_buf_free(&a);
 }
