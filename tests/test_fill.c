@@ -6,6 +6,7 @@
  * it was drawn with; a frame drawn after another as if on a cleared store. */
 #include "t.h"
 #include "gp_helpers.h"
+#include "../tools/scenegen.h"
 #include "../vp/units.h"
 
 #include <stdlib.h>
@@ -549,16 +550,21 @@ TEST(a_frame_after_another_is_drawn_on_a_clear_store)
     alb_ws_buf_free(&a);
 }
 
-/* The frames of a stream through one VP, each resolved into every plane
- * and into a frame with only the planes `planes` has: those must hold the
- * full frame's values, the others stay NULL. */
-static unsigned planes_alone(const alb_profile *p, const alb_ws_buf *b, unsigned planes)
+/* The frames of a stream through one VP on `threads` threads, each
+ * resolved into every plane and into a frame with only the planes `planes`
+ * has: those must hold the full frame's values, the others stay NULL. */
+static unsigned planes_alone(const alb_profile *p, const alb_ws_buf *b, unsigned planes,
+                             unsigned threads)
 {
     alb_vp *vp = NULL;
     alb_diag d;
     alb_diag_init(&d, NULL);
     if (alb_vp_create(&vp, p, &d))
         return 1;
+    if (alb_vp_set_threads(vp, threads)) {
+        alb_vp_destroy(vp);
+        return 1;
+    }
     alb_ws_reader r;
     alb_ws_reader_init(&r, b->w, b->n, "test");
     alb_ws_event *ev = malloc(sizeof *ev);
@@ -615,11 +621,123 @@ TEST(a_frame_resolves_only_the_planes_it_has)
             break;
         }
         for (unsigned planes = 0; planes <= ALB_FRAME_PLANES; planes++)
-            CHECK_MSG(planes_alone(&p, &b, planes) == 0, "%s: planes 0x%02x differ from the full "
+            CHECK_MSG(planes_alone(&p, &b, planes, 1) == 0, "%s: planes 0x%02x differ from the full "
                       "frame's", sets[k], planes);
         alb_ws_buf_free(&b);
     }
     free(text);
+}
+
+/* A frame of flat faces resolved into its colour plane alone takes each
+ * sample's colour from the palette (vp_flat_samples); into every plane,
+ * from the runs of one face (sample_row) — two ways to the same bits.
+ * Scenes of few large faces (steps of one face: the pattern), of many
+ * small ones (rows sample by sample) and both at once, on square and
+ * narrow screens, one sample a pixel and four (where the runs alone
+ * serve), on one thread and three. */
+TEST(flat_colour_plane_alone_is_the_full_frames)
+{
+    static const struct {
+        unsigned faces;
+        double size;
+    } scenes[] = {{12, 0.5}, {1500, 0.03}, {400, 0.08}};
+    static const struct {
+        unsigned w, h;
+        const char *sets;
+    } screens[] = {{256, 256, ""}, {256, 4, ""}, {4, 256, ""}, {128, 128, "aa=1"}};
+    for (unsigned k = 0; k < sizeof scenes / sizeof *scenes; k++)
+        for (unsigned q = 0; q < sizeof screens / sizeof *screens; q++) {
+            alb_profile p;
+            alb_profile_lookup("t32", &p);
+            profile_set_all(&p, screens[q].sets);
+            p.width = screens[q].w;
+            p.height = screens[q].h;
+            p.edge_frac_bits = 14;
+            scenegen_params gp = scenegen_defaults();
+            gp.faces = scenes[k].faces;
+            gp.size = scenes[k].size;
+            gp.flat = true;
+            gp.backfacing = 0;
+            alb_ws_buf b;
+            char *text = random_frames_stream(40 + k, &gp, 1, &p, &b);
+            if (!text) {
+                CHECK_MSG(0, "no stream");
+                continue;
+            }
+            for (unsigned threads = 1; threads <= 3; threads += 2)
+                CHECK_MSG(planes_alone(&p, &b, ALB_FRAME_RGB, threads) == 0,
+                          "%u faces of size %g, %u x %u %s, %u thread(s): the colour plane alone "
+                          "differs from the full frame's", scenes[k].faces, scenes[k].size,
+                          screens[q].w, screens[q].h, screens[q].sets, threads);
+            free(text);
+            alb_ws_buf_free(&b);
+        }
+}
+
+/* vp_flat_samples against the rule it keeps — a sample's colour is the
+ * palette's entry for its tag's face, the background's after the faces for
+ * no face — over runs of faces from one sample long to many steps, at any
+ * level: every length from 1 to 70 at every start, both ways of storing a
+ * step, and not one value written past the samples; its count of steps of
+ * more than one face is checked against a count made here. */
+TEST(flat_samples_are_the_palettes_and_nothing_else)
+{
+    enum { N = 70, NF = 5 };
+    /* the palette's words hold a sample's six bytes as the plane does */
+    uint16_t col[NF + 1][3];
+    uint64_t pal[NF + 1];
+    for (unsigned f = 0; f <= NF; f++) {
+        for (unsigned ch = 0; ch < 3; ch++)
+            col[f][ch] = (uint16_t)(0x1000 * (ch + 1) + f);
+        pal[f] = 0;
+        memcpy(&pal[f], col[f], sizeof col[f]);
+    }
+    uint64_t seed = 5;
+    uint32_t tag[N + 8];
+    uint16_t buf[3 * (N + 8)];
+    unsigned bad = 0, bad_count = 0, mixed_seen = 0, one_seen = 0;
+    for (unsigned trial = 0; trial < 200; trial++) {
+        /* runs of 1 to 20 samples of a face or of none, levels at random */
+        for (size_t i = 0; i < N + 8;) {
+            const uint64_t r = t_rand(&seed);
+            const uint32_t f = (uint32_t)(r % (NF + 1)), len = 1 + (uint32_t)(r >> 8) % (trial % 2 ? 4 : 20);
+            for (uint32_t j = 0; j < len && i < N + 8; j++, i++)
+                tag[i] = f == NF ? VP_TAG_NONE : f << VP_TAG_LEVEL_BITS | (uint32_t)(t_rand(&seed) % 16);
+        }
+        for (size_t at = 0; at < 4; at++)
+            for (size_t n = 1; n + at <= N; n++)
+                for (int by_sample = 0; by_sample < 2; by_sample++) {
+                    for (size_t i = 0; i < 3 * (N + 8); i++)
+                        buf[i] = (uint16_t)(0x5A00 + i);
+                    vp_flat_rows fr = {pal, NF, by_sample, 0, 0};
+                    vp_flat_samples(buf + 3 * at, tag + at, n, &fr);
+                    for (size_t i = 0; i < N + 8; i++) {
+                        const bool in = i >= at && i < at + n;
+                        const uint32_t f = tag[i] >> VP_TAG_LEVEL_BITS;
+                        const uint16_t *c = col[f < NF ? f : NF];
+                        for (unsigned ch = 0; ch < 3; ch++)
+                            bad += buf[3 * i + ch] != (in ? c[ch] : (uint16_t)(0x5A00 + 3 * i + ch));
+                    }
+                    /* the steps: eight samples with at least one more after them */
+                    size_t steps = 0, mixed = 0;
+                    for (size_t s = 0; s + 8 < n; s += 8, steps++) {
+                        unsigned faces = 1;
+                        for (unsigned j = 1; j < 8; j++)
+                            faces += (tag[at + s + j] | VP_TAG_LEVEL_MASK) != (tag[at + s] | VP_TAG_LEVEL_MASK);
+                        mixed += faces > 1;
+                        mixed_seen += faces > 1;
+                        one_seen += faces == 1;
+                    }
+#if defined(__SSE2__) && !defined(ALB_NO_SIMD)
+                    bad_count += fr.steps != steps || fr.mixed != mixed;
+#else
+                    bad_count += fr.steps != 0 || fr.mixed != 0;   /* plain C: no steps */
+#endif
+                }
+    }
+    CHECK_EQ(bad, 0);
+    CHECK_EQ(bad_count, 0);
+    CHECK(mixed_seen > 1000 && one_seen > 1000);
 }
 
 /* A run of one colour (the output stage's flat faces): every length from 0

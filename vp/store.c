@@ -96,6 +96,7 @@ void vp_store_free(alb_vp *vp)
     free_old_textures(vp);
     free(vp->old_tex);
     free(vp->faces);
+    free(vp->flat_colour);
     free(vp->s_depth);   /* and the tag plane, in the same block */
     free(vp->tile_clean);
     free(vp->tile_face);
@@ -112,6 +113,7 @@ void vp_store_begin(alb_vp *vp)
     memset(vp->tile_floor, 0, tiles * sizeof *vp->tile_floor);
     memset(vp->block_floor, 0, (size_t)vp->block_row * vp->block_rows * sizeof *vp->block_floor);
     vp->nfaces = 0;
+    vp->shaded_faces = 0;
     vp->nedge_log = 0;
     free_old_textures(vp);
 }
@@ -195,6 +197,16 @@ void vp_store_name_tie(alb_vp *vp)
     vp->st.tie_kept = vp->faces[kept].id;
 }
 
+/* A colour's three channels in one word: the six bytes of a sample of the
+ * RGB plane as the plane holds them (red in the low 16 bits on a
+ * little-endian host, as every one with SSE2), two bytes of zero. */
+static uint64_t flat_word(const uint16_t rgb[3])
+{
+    uint64_t w = 0;
+    memcpy(&w, rgb, 3 * sizeof *rgb);
+    return w;
+}
+
 int vp_store_reserve_faces(alb_vp *vp, uint32_t more)
 {
     uint64_t want = (uint64_t)vp->nfaces + more;
@@ -209,6 +221,10 @@ int vp_store_reserve_faces(alb_vp *vp, uint32_t more)
     if (!n)
         return -1;
     vp->faces = n;
+    uint64_t *fc = realloc(vp->flat_colour, ((size_t)cap + 1) * sizeof *fc);
+    if (!fc)
+        return -1;
+    vp->flat_colour = fc;
     if (vp->counters_only) {
         size_t *at = realloc(vp->edge_at, ((size_t)cap + 1) * sizeof *at);
         if (!at)
@@ -230,6 +246,8 @@ alb_err vp_begin_face(alb_vp *vp, vp_loaded_face *f, alb_diag *d)
     if (vp->counters_only && log_edges(vp, f))
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the frame's edges");
     f->fs.tag = vp->nfaces << VP_TAG_LEVEL_BITS;
+    vp->flat_colour[vp->nfaces] = flat_word(f->fs.flat);
+    vp->shaded_faces += vp->prof.all_units || vp_frame_units(vp, &f->fs);
     vp->faces[vp->nfaces++] = f->fs;
     vp->st.faces++;
     vp->st.edges += f->n;
@@ -461,10 +479,75 @@ static inline uint32_t run_end(const uint32_t *tag, uint32_t e, uint32_t d, uint
     return e;
 }
 
+/* The colour of the sample of tag t where every face is flat: its face's
+ * from the palette, the background (after the faces) for no face. */
+static inline uint64_t flat_of(uint32_t t, const uint64_t *pal, uint32_t nfaces)
+{
+    const uint32_t k = t >> VP_TAG_LEVEL_BITS;
+    return pal[k < nfaces ? k : nfaces];
+}
+
+/* A sample is stored as eight bytes, its colour's six and two the next
+ * sample overwrites; the last one's six alone. */
+void vp_flat_samples(uint16_t *out, const uint32_t *tag, size_t n, vp_flat_rows *fr)
+{
+    const uint64_t *pal = fr->pal;
+    const uint32_t nfaces = fr->nfaces;
+    size_t i = 0;
+#if VP_SSE2
+    const __m128i m = _mm_set1_epi32((int)~VP_TAG_LEVEL_MASK), vn = _mm_set1_epi32((int)nfaces);
+    uint32_t pat_of = VP_TAG_NONE;   /* the face (masked tag) of the pattern: none yet */
+    __m128i p0 = _mm_setzero_si128(), p1 = p0, p2 = p0;
+    size_t mixed = 0;
+    for (; i + 8 < n; i += 8) {
+        const __m128i *p = (const __m128i *)(const void *)(tag + i);
+        const __m128i t0 = _mm_loadu_si128(p), t1 = _mm_loadu_si128(p + 1);
+        const uint32_t t = tag[i] & ~VP_TAG_LEVEL_MASK;
+        const __m128i face = _mm_set1_epi32((int)t);
+        const bool one = (unsigned)_mm_movemask_epi8(_mm_and_si128(
+                             _mm_cmpeq_epi32(_mm_and_si128(t0, m), face),
+                             _mm_cmpeq_epi32(_mm_and_si128(t1, m), face))) == 0xFFFF;
+        mixed += !one;
+        if (!fr->by_sample && one) {
+            if (t != pat_of) {
+                /* x = r | g << 16 | b << 32: A = r g b r, B = g b r g, C = b r g b */
+                const uint64_t x = flat_of(t, pal, nfaces);
+                const uint64_t A = x | x << 48, B = x >> 16 | x << 32, C = x >> 32 | x << 16;
+                p0 = _mm_set_epi64x((long long)B, (long long)A);
+                p1 = _mm_set_epi64x((long long)A, (long long)C);
+                p2 = _mm_set_epi64x((long long)C, (long long)B);
+                pat_of = t;
+            }
+            store8_rgb(out + 3 * i, p0, p1, p2);
+            continue;
+        }
+        /* the eight palette indices at once (below 2^27: signed compares) */
+        uint32_t k[8];
+        __m128i k0 = _mm_srli_epi32(t0, VP_TAG_LEVEL_BITS), k1 = _mm_srli_epi32(t1, VP_TAG_LEVEL_BITS);
+        k0 = _mm_xor_si128(k0, _mm_and_si128(_mm_xor_si128(k0, vn), _mm_cmpgt_epi32(k0, vn)));
+        k1 = _mm_xor_si128(k1, _mm_and_si128(_mm_xor_si128(k1, vn), _mm_cmpgt_epi32(k1, vn)));
+        _mm_storeu_si128((__m128i *)(void *)k, k0);
+        _mm_storeu_si128((__m128i *)(void *)(k + 4), k1);
+#pragma GCC unroll 8
+        for (unsigned j = 0; j < 8; j++)
+            memcpy(out + 3 * (i + j), &pal[k[j]], 8);
+    }
+    fr->steps += i / 8;
+    fr->mixed += mixed;
+#endif
+    for (; i + 1 < n; i++) {
+        const uint64_t x = flat_of(tag[i], pal, nfaces);
+        memcpy(out + 3 * i, &x, 8);
+    }
+    const uint64_t x = flat_of(tag[i], pal, nfaces);
+    memcpy(out + 3 * i, &x, 6);
+}
+
 /* One sample row as the output stage sees it: clean tiles are no surface
  * in the background; in the others, runs of samples of one face share
  * their shading set-up and step its forms along the row. */
-static inline void sample_row(const alb_vp *vp, uint32_t r, const row_out *o, const bool pixels)
+static inline void sample_row(const alb_vp *vp, uint32_t r, const row_out *o, const bool pixels,
+                              vp_flat_rows *flat)
 {
     const uint32_t sw = vp->sw, twl = vp->tile_wl;
     const uint8_t *clean = vp->tile_clean + ((size_t)(r >> vp->tile_hl) << vp->tiles_lw);
@@ -486,6 +569,11 @@ static inline void sample_row(const alb_vp *vp, uint32_t r, const row_out *o, co
             memcpy(o->depth + c, vp->s_depth + (size_t)r * sw + c, (d - c) * sizeof *o->depth);
         if (pixels && !o->rgb && !o->face && !o->level && !o->coverage) {
             c = d;   /* the depth alone: no run of the tags matters */
+            continue;
+        }
+        if (flat && o->rgb && !o->face && !o->level && !o->coverage) {
+            vp_flat_samples(o->rgb + 3 * (size_t)c, tag + c, d - c, flat);
+            c = d;
             continue;
         }
         while (c < d) {
@@ -531,12 +619,20 @@ static void resolve_rows(alb_vp *vp, void *ctx, unsigned worker, uint32_t y0, ui
     const size_t sw = vp->sw;
     if (aa == 0) {
         /* one sample per pixel: the rows are the frame's */
+        vp_flat_rows fr = {vp->flat_colour, vp->nfaces, false, 0, 0};
+        vp_flat_rows *flat = vp->shaded_faces || !vp->flat_colour ? NULL : &fr;
         for (uint32_t y = y0; y < y1; y++) {
             size_t p = (size_t)y * w;
             row_out o = {out->rgb ? out->rgb + 3 * p : NULL, out->depth ? out->depth + p : NULL, NULL,
                          out->face ? out->face + p : NULL, out->level ? out->level + p : NULL,
                          out->coverage ? out->coverage + p : NULL};
-            sample_row(vp, y, &o, true);
+            if (flat) {
+                /* more than a quarter of the last row's steps mixed: this
+                 * row by sample */
+                fr.by_sample = 4 * fr.mixed > fr.steps;
+                fr.steps = fr.mixed = 0;
+            }
+            sample_row(vp, y, &o, true, flat);
         }
         return;
     }
@@ -549,7 +645,7 @@ static void resolve_rows(alb_vp *vp, void *ctx, unsigned worker, uint32_t y0, ui
         for (unsigned sy = 0; sy < n; sy++) {
             row_out o = {out->rgb ? rgb + 3 * sy * sw : NULL, depth + sy * sw, tag + sy * sw, NULL,
                          NULL, NULL};
-            sample_row(vp, (y << aa) + sy, &o, false);
+            sample_row(vp, (y << aa) + sy, &o, false, NULL);
         }
         for (uint32_t x = 0; x < w; x++, p++) {
             /* the pixel's nearest sample gives depth, face and level (ties:
@@ -587,5 +683,7 @@ static void resolve_rows(alb_vp *vp, void *ctx, unsigned worker, uint32_t y0, ui
 
 void vp_store_resolve(alb_vp *vp, alb_frame *out)
 {
+    if (vp->flat_colour)
+        vp->flat_colour[vp->nfaces] = flat_word(vp->bg);
     vp_parallel_rows(vp, vp->prof.height, resolve_rows, out);
 }

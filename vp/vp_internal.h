@@ -119,6 +119,11 @@ struct alb_vp {
     /* the faces the engine took this frame, for the output stage's shading */
     vp_face_setup *faces;
     uint32_t nfaces, cap_faces;
+    /* per face of the frame, its flat colour (red, green, blue in 16 bits
+     * each from the least significant) and one more entry for the
+     * background (store.c, the output stage's flat frames) */
+    uint64_t *flat_colour;
+    uint32_t shaded_faces;   /* faces of the frame whose colour is not flat */
     uint32_t *tex[ALB_WS_MAX_TEXTURES];
     uint8_t tex_log2[ALB_WS_MAX_TEXTURES];
     /* textures replaced while faces of the frame still refer to them: freed
@@ -405,6 +410,22 @@ void vp_store_begin(alb_vp *vp);
 void vp_store_resolve(alb_vp *vp, alb_frame *out);
 /* n copies of one colour (3 per sample) (store.c). */
 void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3]);
+/* The output stage of a frame whose faces are all flat: a sample's colour
+ * is a palette entry (alb_vp.flat_colour: a face's, and after the frame's
+ * faces the background's for no face).  Samples go eight a step; a step of
+ * one face (at any level), as most are where faces are large, takes its
+ * colour's pattern over 48 bytes in three stores — a test whose branch
+ * mispredicts where faces are small, so a row after one with many steps of
+ * more than one face stores every step sample by sample (store.c). */
+typedef struct {
+    const uint64_t *pal;
+    uint32_t nfaces;
+    bool by_sample;           /* no test: every step sample by sample */
+    size_t steps, mixed;      /* steps so far, and those of more than one face */
+} vp_flat_rows;
+/* The colours of the n > 0 samples whose tags are tag[0, n), the steps
+ * counted in *fr. */
+void vp_flat_samples(uint16_t *out, const uint32_t *tag, size_t n, vp_flat_rows *fr);
 /* The shading units face fs uses in this frame (shade.c: bit 0 intensity,
  * 1 texture, 2 fog — a frame's choice as well as the face's); none: the
  * face's flat colour everywhere. */
