@@ -7,6 +7,7 @@
 #include "t.h"
 #include "gp_helpers.h"
 #include "../tools/scenegen.h"
+#include "../vp/simd.h"
 #include "../vp/units.h"
 
 #include <stdlib.h>
@@ -728,7 +729,7 @@ TEST(flat_samples_are_the_palettes_and_nothing_else)
                         mixed_seen += faces > 1;
                         one_seen += faces == 1;
                     }
-#if defined(__SSE2__) && !defined(ALB_NO_SIMD)
+#if VP_SSE2
                     bad_count += fr.steps != steps || fr.mixed != mixed;
 #else
                     bad_count += fr.steps != 0 || fr.mixed != 0;   /* plain C: no steps */

@@ -113,7 +113,6 @@ void vp_store_begin(alb_vp *vp)
     memset(vp->tile_floor, 0, tiles * sizeof *vp->tile_floor);
     memset(vp->block_floor, 0, (size_t)vp->block_row * vp->block_rows * sizeof *vp->block_floor);
     vp->nfaces = 0;
-    vp->shaded_faces = 0;
     vp->nedge_log = 0;
     free_old_textures(vp);
 }
@@ -247,7 +246,6 @@ alb_err vp_begin_face(alb_vp *vp, vp_loaded_face *f, alb_diag *d)
         return alb_diag_at(d, ALB_ERR_NOMEM, "", 0, 0, "out of memory for the frame's edges");
     f->fs.tag = vp->nfaces << VP_TAG_LEVEL_BITS;
     vp->flat_colour[vp->nfaces] = flat_word(f->fs.flat);
-    vp->shaded_faces += vp->prof.all_units || vp_frame_units(vp, &f->fs);
     vp->faces[vp->nfaces++] = f->fs;
     vp->st.faces++;
     vp->st.edges += f->n;
@@ -323,16 +321,26 @@ static inline void store8_rgb(uint16_t *out, __m128i p0, __m128i p1, __m128i p2)
     _mm_storeu_si128(o + 1, p1);
     _mm_storeu_si128(o + 2, p2);
 }
+
+/* A colour's pattern over 48 bytes (eight samples) as three registers,
+ * from its word (flat_word, little-endian: x = r | g << 16 | b << 32): the
+ * words A = r g b r, B = g b r g, C = b r g b, as A B, C A, B C. */
+static inline void rgb_pattern(uint64_t x, __m128i p[3])
+{
+    const uint64_t A = x | x << 48, B = x >> 16 | x << 32, C = x >> 32 | x << 16;
+    p[0] = _mm_set_epi64x((long long)B, (long long)A);
+    p[1] = _mm_set_epi64x((long long)A, (long long)C);
+    p[2] = _mm_set_epi64x((long long)C, (long long)B);
+}
 #endif
 
 void vp_fill_rgb(uint16_t *out, size_t n, const uint16_t rgb[3])
 {
     size_t i = 0;
 #if VP_SSE2
-    const uint16_t r = rgb[0], g = rgb[1], b = rgb[2];
-    const __m128i p0 = _mm_setr_epi16((short)r, (short)g, (short)b, (short)r, (short)g, (short)b, (short)r, (short)g);
-    const __m128i p1 = _mm_setr_epi16((short)b, (short)r, (short)g, (short)b, (short)r, (short)g, (short)b, (short)r);
-    const __m128i p2 = _mm_setr_epi16((short)g, (short)b, (short)r, (short)g, (short)b, (short)r, (short)g, (short)b);
+    __m128i p[3];
+    rgb_pattern(flat_word(rgb), p);
+    const __m128i p0 = p[0], p1 = p[1], p2 = p[2];
     if (n >= 8) {
         for (; i + 8 <= n; i += 8)
             store8_rgb(out + 3 * i, p0, p1, p2);
@@ -450,6 +458,23 @@ static inline void emit_face(const alb_vp *vp, const row_out *o, const uint32_t 
     }
 }
 
+#if VP_SSE2
+/* Of the eight tags from tag on, the lanes (a: the first four, b: the
+ * next) where the tag, its level bits cleared by m, is `face`. */
+static inline void face_lanes8(const uint32_t *tag, __m128i face, __m128i m, __m128i *a, __m128i *b)
+{
+    const __m128i *p = (const __m128i *)(const void *)tag;
+    *a = _mm_cmpeq_epi32(_mm_and_si128(_mm_loadu_si128(p), m), face);
+    *b = _mm_cmpeq_epi32(_mm_and_si128(_mm_loadu_si128(p + 1), m), face);
+}
+
+/* Whether all eight are (one test for both halves). */
+static inline bool face_all8(__m128i a, __m128i b)
+{
+    return (unsigned)_mm_movemask_epi8(_mm_and_si128(a, b)) == 0xFFFF;
+}
+#endif
+
 /* The end of the run of samples from e on (before d) whose tags name the
  * face of tag t, at whatever level. */
 static inline uint32_t run_end(const uint32_t *tag, uint32_t e, uint32_t d, uint32_t t)
@@ -457,12 +482,11 @@ static inline uint32_t run_end(const uint32_t *tag, uint32_t e, uint32_t d, uint
 #if VP_SSE2
     const __m128i face = _mm_set1_epi32((int)(t & ~VP_TAG_LEVEL_MASK)),
                   m = _mm_set1_epi32((int)~VP_TAG_LEVEL_MASK);
-    /* eight a step while they match (one test for both halves), then four */
+    /* eight a step while they match, then four */
     for (; e + 8 <= d; e += 8) {
-        const __m128i *p = (const __m128i *)(const void *)(tag + e);
-        const __m128i a = _mm_cmpeq_epi32(_mm_and_si128(_mm_loadu_si128(p), m), face);
-        const __m128i b = _mm_cmpeq_epi32(_mm_and_si128(_mm_loadu_si128(p + 1), m), face);
-        if ((unsigned)_mm_movemask_epi8(_mm_and_si128(a, b)) != 0xFFFF) {
+        __m128i a, b;
+        face_lanes8(tag + e, face, m, &a, &b);
+        if (!face_all8(a, b)) {   /* the first sample of another face: four bits a sample */
             const unsigned same = (unsigned)_mm_movemask_epi8(a) | (unsigned)_mm_movemask_epi8(b) << 16;
             return e + (unsigned)__builtin_ctz(~same) / 4;
         }
@@ -497,33 +521,28 @@ void vp_flat_samples(uint16_t *out, const uint32_t *tag, size_t n, vp_flat_rows 
 #if VP_SSE2
     const __m128i m = _mm_set1_epi32((int)~VP_TAG_LEVEL_MASK), vn = _mm_set1_epi32((int)nfaces);
     uint32_t pat_of = VP_TAG_NONE;   /* the face (masked tag) of the pattern: none yet */
-    __m128i p0 = _mm_setzero_si128(), p1 = p0, p2 = p0;
+    __m128i pat[3] = {_mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128()};
     size_t mixed = 0;
     for (; i + 8 < n; i += 8) {
-        const __m128i *p = (const __m128i *)(const void *)(tag + i);
-        const __m128i t0 = _mm_loadu_si128(p), t1 = _mm_loadu_si128(p + 1);
         const uint32_t t = tag[i] & ~VP_TAG_LEVEL_MASK;
         const __m128i face = _mm_set1_epi32((int)t);
-        const bool one = (unsigned)_mm_movemask_epi8(_mm_and_si128(
-                             _mm_cmpeq_epi32(_mm_and_si128(t0, m), face),
-                             _mm_cmpeq_epi32(_mm_and_si128(t1, m), face))) == 0xFFFF;
+        __m128i a, b;
+        face_lanes8(tag + i, face, m, &a, &b);
+        const bool one = face_all8(a, b);
         mixed += !one;
         if (!fr->by_sample && one) {
             if (t != pat_of) {
-                /* x = r | g << 16 | b << 32: A = r g b r, B = g b r g, C = b r g b */
-                const uint64_t x = flat_of(t, pal, nfaces);
-                const uint64_t A = x | x << 48, B = x >> 16 | x << 32, C = x >> 32 | x << 16;
-                p0 = _mm_set_epi64x((long long)B, (long long)A);
-                p1 = _mm_set_epi64x((long long)A, (long long)C);
-                p2 = _mm_set_epi64x((long long)C, (long long)B);
+                rgb_pattern(flat_of(t, pal, nfaces), pat);
                 pat_of = t;
             }
-            store8_rgb(out + 3 * i, p0, p1, p2);
+            store8_rgb(out + 3 * i, pat[0], pat[1], pat[2]);
             continue;
         }
         /* the eight palette indices at once (below 2^27: signed compares) */
+        const __m128i *p = (const __m128i *)(const void *)(tag + i);
         uint32_t k[8];
-        __m128i k0 = _mm_srli_epi32(t0, VP_TAG_LEVEL_BITS), k1 = _mm_srli_epi32(t1, VP_TAG_LEVEL_BITS);
+        __m128i k0 = _mm_srli_epi32(_mm_loadu_si128(p), VP_TAG_LEVEL_BITS),
+                k1 = _mm_srli_epi32(_mm_loadu_si128(p + 1), VP_TAG_LEVEL_BITS);
         k0 = _mm_xor_si128(k0, _mm_and_si128(_mm_xor_si128(k0, vn), _mm_cmpgt_epi32(k0, vn)));
         k1 = _mm_xor_si128(k1, _mm_and_si128(_mm_xor_si128(k1, vn), _mm_cmpgt_epi32(k1, vn)));
         _mm_storeu_si128((__m128i *)(void *)k, k0);
@@ -620,7 +639,11 @@ static void resolve_rows(alb_vp *vp, void *ctx, unsigned worker, uint32_t y0, ui
     if (aa == 0) {
         /* one sample per pixel: the rows are the frame's */
         vp_flat_rows fr = {vp->flat_colour, vp->nfaces, false, 0, 0};
-        vp_flat_rows *flat = vp->shaded_faces || !vp->flat_colour ? NULL : &fr;
+        /* every face flat: none uses a unit in this frame (vp_frame_units,
+         * as the frame's statistics count them) */
+        const bool all_flat = !vp->prof.all_units && !vp->st.faces_shaded &&
+                              !vp->st.faces_textured && !vp->st.faces_fogged;
+        vp_flat_rows *flat = all_flat && vp->flat_colour ? &fr : NULL;
         for (uint32_t y = y0; y < y1; y++) {
             size_t p = (size_t)y * w;
             row_out o = {out->rgb ? out->rgb + 3 * p : NULL, out->depth ? out->depth + p : NULL, NULL,

@@ -119,11 +119,10 @@ struct alb_vp {
     /* the faces the engine took this frame, for the output stage's shading */
     vp_face_setup *faces;
     uint32_t nfaces, cap_faces;
-    /* per face of the frame, its flat colour (red, green, blue in 16 bits
-     * each from the least significant) and one more entry for the
-     * background (store.c, the output stage's flat frames) */
+    /* per face of the frame, its flat colour as a sample's six bytes in
+     * the RGB plane (store.c, flat_word), and one more entry for the
+     * background: the output stage's flat frames */
     uint64_t *flat_colour;
-    uint32_t shaded_faces;   /* faces of the frame whose colour is not flat */
     uint32_t *tex[ALB_WS_MAX_TEXTURES];
     uint8_t tex_log2[ALB_WS_MAX_TEXTURES];
     /* textures replaced while faces of the frame still refer to them: freed
