@@ -261,6 +261,36 @@ static unsigned frames_for(double ms, double budget)
 
 #define ROUNDS 5
 
+/* Untimed frames before each timed run, in seconds: a run starts where
+ * another measurement left the machine — a core idle for a while (its
+ * clock lowered by the host), the caches holding another VP's or
+ * llvmpipe's buffers.  On a 2-vCPU virtual machine the first frame of two
+ * threads after runs on one took 2.2x to 3.4x the steady state's time (the
+ * built-in geometry, 0.72 ms), the second 1.5x to 2.3x, the third 1.1x to
+ * 1.5x: steady from about the fifth. */
+#define WARM_S 0.02
+
+/* The six measurements of a row: ours on 1 thread, GP + VP, ours on every
+ * core, llvmpipe on 1, on every core, ours on 1 thread into every plane. */
+typedef struct {
+    ours *o1, *on;
+    peer *g1, *gn;
+} sbs_runs;
+
+/* ms per frame of measurement k over `frames` frames (0 for llvmpipe's when
+ * it is not there). */
+static double sbs_time(const sbs_runs *m, int k, unsigned frames)
+{
+    switch (k) {
+    case 0: return ours_time(m->o1, frames, false);
+    case 1: return ours_time(m->o1, frames, true);
+    case 2: return ours_time(m->on, frames, false);
+    case 3: return m->g1 ? peer_time(m->g1, frames) : 0;
+    case 4: return m->gn ? peer_time(m->gn, frames) : 0;
+    default: return ours_time_into(m->o1, frames, false, true);
+    }
+}
+
 /* One line of the table: ours and llvmpipe on one and on every core, timed
  * in turn over ROUNDS rounds (the best of each: the least disturbed by the
  * machine's other work), and the face maps compared (flat scenes: within
@@ -290,30 +320,29 @@ static void side_by_side(bench_scene *b, const alb_profile *p)
      * every core, ours on 1 thread into every plane */
     double t[6] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
     double adds1 = INFINITY, addsn = INFINITY;   /* the machine's loop on 1 and every core */
+    sbs_runs m = {&o1, &on, g1, gn};
     if (fixed_reps) {
-        ours_time(&o1, fixed_reps, false);
-        ours_time(&o1, fixed_reps, true);
-        ours_time(&on, fixed_reps, false);
-        ours_time_into(&o1, fixed_reps, false, true);
+        for (int k = 0; k < 6; k++)
+            if (k != 3 && k != 4)
+                sbs_time(&m, k, fixed_reps);
     } else {
-        /* a warm-up of each, then rounds of about 0.1 s a measurement */
-        double w[6] = {ours_time(&o1, 2, false), ours_time(&o1, 2, true), ours_time(&on, 2, false),
-                       g1 ? peer_time(g1, 2) : 0, gn ? peer_time(gn, 2) : 0,
-                       ours_time_into(&o1, 2, false, true)};
+        /* a first measurement of each (its frame time), then rounds of
+         * about 0.1 s a measurement, each after WARM_S of untimed frames */
+        double w[6];
+        for (int k = 0; k < 6; k++)
+            w[k] = sbs_time(&m, k, 2);
+        static const int order[6] = {0, 3, 5, 1, 2, 4};
         for (int r = 0; r < ROUNDS; r++) {
-            double x[6];
-            x[0] = ours_time(&o1, frames_for(w[0], 0.1), false);
-            x[3] = g1 ? peer_time(g1, frames_for(w[3], 0.1)) : 0;
-            x[5] = ours_time_into(&o1, frames_for(w[5], 0.1), false, true);
-            x[1] = ours_time(&o1, frames_for(w[1], 0.1), true);
-            x[2] = ours_time(&on, frames_for(w[2], 0.1), false);
-            x[4] = gn ? peer_time(gn, frames_for(w[4], 0.1)) : 0;
-            for (int i = 0; i < 6; i++)
-                t[i] = x[i] < t[i] ? x[i] : t[i];
+            for (int q = 0; q < 6; q++) {
+                const int k = order[q];
+                sbs_time(&m, k, frames_for(w[k], WARM_S));
+                const double x = sbs_time(&m, k, frames_for(w[k], 0.1));
+                t[k] = x < t[k] ? x : t[k];
+            }
             /* the machine's own, in the same round */
-            const double a = adds_time(1, ADDS_STEPS), m = adds_time(cores, ADDS_STEPS);
+            const double a = adds_time(1, ADDS_STEPS), n = adds_time(cores, ADDS_STEPS);
             adds1 = a < adds1 ? a : adds1;
-            addsn = m < addsn ? m : addsn;
+            addsn = n < addsn ? n : addsn;
         }
     }
     const double machine = isfinite(addsn) ? cores * adds1 / addsn : 0;   /* 0: not measured */

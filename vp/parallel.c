@@ -2,17 +2,19 @@
  *
  * The screen is cut into tiles, the cells of one level of the subdivision
  * quadtree, and each tile belongs to one thread at a time.  Faces are loaded
- * in stream order into a batch; then, on the caller's thread, each face's
- * walk is made down to the level of the tiles (vp_walk_to_tiles), and every
+ * in stream order into a batch; then each face's walk is made down to the
+ * level of the tiles (vp_walk_to_tiles; a large batch's faces shared out
+ * between the threads, a run of them each), and every
  * tile the face reaches — a cell found inside, or a tile that splits — is
  * put on that tile's list, in stream order.  The threads then take the
- * tiles, and each walks its list: fills, and the walks below the tiles
- * (vp_draw_below).  A sample lies in one tile only, so it sees the same
- * faces in the same order as on one thread: the same depth tests, the same
- * winner, the same colour and decision level.  Every cell is counted once —
- * above the tiles by the caller, below by the tile's thread, each into
- * statistics of its own — so the sums are the single-threaded counts too
- * (tests/test_timing.c checks all of it). */
+ * tiles (each the run of its share first: vp_shares), and walk each tile's
+ * list: fills, and the walks below the tiles (vp_draw_below).  A sample
+ * lies in one tile only, so it sees the same faces in the same order as on
+ * one thread: the same depth tests, the same winner, the same colour and
+ * decision level.  Every cell is counted once — above the tiles by the
+ * caller, below by the tile's thread, each into statistics of its own — so
+ * the sums are the single-threaded counts too (tests/test_timing.c checks
+ * all of it). */
 #define _GNU_SOURCE   /* sched_getaffinity: the cores this process may run on */
 #include "vp_internal.h"
 
@@ -273,6 +275,52 @@ static void pool_run(vp_pool *p, vp_task_fn fn, void *ctx)
 /* The workers of the VP's pool and the caller. */
 static unsigned pool_threads(const vp_pool *p) { return p ? p->n + 1 : 1; }
 
+/* ---- shares: work cut into items, each thread its own run first ----
+ *
+ * Thread i of n takes the items of its share, [items * i / n, items * (i + 1)
+ * / n), from the front, then helps the others with theirs, in turn from
+ * i + 1.  Each item is taken once.  A thread keeps the same part of the
+ * screen from batch to batch and frame to frame — the tiles it drew are in
+ * its cache when it draws them again, and their rows when it resolves them —
+ * where items taken from one counter fell to either thread at random, and
+ * every sample of the store moved between the cores' caches (1024², two
+ * threads: a 44-face frame 1.58x of one thread, 1.81x with shares;
+ * docs/performance.md).  Each counter has a cache line of its own. */
+
+typedef struct {
+    struct {
+        atomic_uint next;
+        char pad[64 - sizeof(atomic_uint)];
+    } at[ALB_VP_MAX_THREADS];
+    unsigned end[ALB_VP_MAX_THREADS];
+    unsigned n;
+} vp_shares;
+
+static void shares_init(vp_shares *s, unsigned items, unsigned n)
+{
+    s->n = n;
+    for (unsigned i = 0; i < n; i++) {
+        atomic_init(&s->at[i].next, (unsigned)((uint64_t)items * i / n));
+        s->end[i] = (unsigned)((uint64_t)items * (i + 1) / n);
+    }
+}
+
+/* The next item for thread i into *item; false when every share is done. */
+static bool shares_take(vp_shares *s, unsigned i, unsigned *item)
+{
+    for (unsigned k = 0; k < s->n; k++) {
+        const unsigned o = (i + k) % s->n;
+        if (atomic_load_explicit(&s->at[o].next, memory_order_relaxed) >= s->end[o])
+            continue;   /* done: no write to its line */
+        const unsigned t = atomic_fetch_add_explicit(&s->at[o].next, 1, memory_order_relaxed);
+        if (t < s->end[o]) {
+            *item = t;
+            return true;
+        }
+    }
+    return false;
+}
+
 /* ---- faces drawn on the threads ---- */
 
 /* A tile's part of a face: fill it at the level of the cell that held it,
@@ -308,7 +356,7 @@ struct batch_job {
     unsigned ntiles, per_row, level, nw;
     unsigned walkers;         /* the threads that walk above the tiles: 1 or nw */
     uint8_t wl, hl;           /* the tiles' sides, log2 */
-    atomic_uint next;         /* the next tile to take */
+    vp_shares take;           /* the tiles, a run of them a thread */
     worker *wk;               /* nw of them */
 };
 
@@ -371,16 +419,15 @@ static void walk_task(void *ctx, unsigned i)
         vp_walk_to_tiles(&w->local, &j->faces[w->face], j->level, put_on_tiles, w);
 }
 
-/* The second: the threads take tiles as they finish, and walk each tile's
- * jobs — thread 0's lists, then thread 1's, ...: stream order. */
+/* The second: each thread takes the tiles of its share, then helps the
+ * others (vp_shares), and walks each tile's jobs — thread 0's lists, then
+ * thread 1's, ...: stream order. */
 static void draw_task(void *ctx, unsigned i)
 {
     batch_job *j = ctx;
     alb_vp *local = &j->wk[i].local;
-    for (;;) {
-        const unsigned t = atomic_fetch_add(&j->next, 1);
-        if (t >= j->ntiles)
-            return;
+    unsigned t;
+    while (shares_take(&j->take, i, &t))
         for (unsigned k = 0; k < j->nw; k++) {
             const job_list *l = &j->wk[k].jobs[t];
             for (size_t q = 0; q < l->n; q++) {
@@ -391,11 +438,10 @@ static void draw_task(void *ctx, unsigned i)
                     vp_draw_below(local, f, &l->a[q].cell);
             }
         }
-    }
 }
 
 /* The tiles: the cells of the first level with at least 16 per thread (for
- * balance; threads take them as they finish), at most VP_MAX_TILES, and no
+ * balance: a thread done with its share takes from the others'), at most VP_MAX_TILES, and no
  * smaller than the sample store's tiles (store.c), so that each store tile
  * is cleared by the one thread whose tile holds it. */
 static void make_tiles(const alb_vp *vp, batch_job *j)
@@ -436,7 +482,7 @@ static bool walk_batch(alb_vp *vp, batch_job *j)
     j->faces = vp->batch;
     j->nfaces = vp->nbatch;
     make_tiles(vp, j);
-    atomic_init(&j->next, 0);
+    shares_init(&j->take, j->ntiles, j->nw);
     /* a short batch (a frame's last, or a frame of few faces) is walked
      * above the tiles here: less work than a hand-over to the threads */
     j->walkers = vp->nbatch < VP_WALK_ALONE ? 1 : j->nw;
@@ -528,17 +574,15 @@ typedef struct {
     alb_vp *vp;
     void *ctx;
     uint32_t rows, chunk;
-    atomic_uint next;
+    vp_shares take;           /* the chunks, a run of them a thread */
 } row_job;
 
 static void row_task(void *arg, unsigned id)
 {
     row_job *j = arg;
-    for (;;) {
-        uint32_t k = atomic_fetch_add(&j->next, 1);
+    unsigned k;
+    while (shares_take(&j->take, id, &k)) {
         uint32_t r0 = k * j->chunk;
-        if (k >= (j->rows + j->chunk - 1) / j->chunk)
-            return;
         j->fn(j->vp, j->ctx, id, r0, r0 + j->chunk < j->rows ? r0 + j->chunk : j->rows);
     }
 }
@@ -550,8 +594,10 @@ void vp_parallel_rows(alb_vp *vp, uint32_t rows, vp_row_fn fn, void *ctx)
         fn(vp, ctx, 0, 0, rows);
         return;
     }
-    row_job j = {fn, vp, ctx, rows, (rows + 4 * nt - 1) / (4 * nt), 0};
-    atomic_init(&j.next, 0);
+    /* four chunks a thread: thread i's run the rows of the tiles it draws
+     * (its share of the tiles, cut the same way, row by row) */
+    row_job j = {.fn = fn, .vp = vp, .ctx = ctx, .rows = rows, .chunk = (rows + 4 * nt - 1) / (4 * nt)};
+    shares_init(&j.take, (rows + j.chunk - 1) / j.chunk, nt);
     pool_run(vp->pool, row_task, &j);
 }
 
