@@ -76,8 +76,11 @@ void vp_stats_add(alb_vp_stats *dst, const alb_vp_stats *src)
  *
  * alb_vp_set_threads starts threads - 1 workers that live as long as the VP
  * (or until the count changes).  A task is a function every worker and the
- * caller run once, as worker 0 .. n; the caller returns when all have.
- * Between tasks a worker first watches the task counter for a while (a
+ * caller run once, as worker 0 .. n; the caller waits for the workers to be
+ * done with it.  Two tasks may be given at once (two slots): a worker done
+ * with the first goes on to the second while the caller still works at the
+ * first (the walk of the next batch after the draw of this one).  Between
+ * tasks a worker first watches the task counter for a while (a
  * frame's batches follow each other within a fraction of a millisecond, and
  * a sleeping thread takes tens of microseconds to wake), then sleeps on a
  * condition variable; it watches only if the VP has no more threads than
@@ -100,10 +103,12 @@ struct vp_pool {
     pool_arg arg[ALB_VP_MAX_THREADS];
     unsigned n;               /* workers started */
     bool spin;                /* watch before sleeping */
-    atomic_uint gen;          /* tasks given so far */
-    atomic_uint pending;      /* workers still on the task */
-    vp_task_fn fn;            /* the task: written before gen is raised */
-    void *ctx;
+    atomic_uint gen;          /* tasks given so far; task g is in slot g % 2 */
+    struct {
+        vp_task_fn fn;        /* written before gen is raised */
+        void *ctx;
+        atomic_uint pending;  /* workers still on it */
+    } slot[2];
     atomic_bool quit;
 };
 
@@ -151,17 +156,20 @@ static void *pool_main(void *argp)
         /* a worker that sees the task while it watches takes no lock: the
          * task was written before the counter was raised (release), and is
          * read after it was seen raised (acquire) */
-        if (!p->spin || !spin_until(&p->gen, seen, false)) {
+        if (atomic_load_explicit(&p->gen, memory_order_acquire) == seen &&
+            (!p->spin || !spin_until(&p->gen, seen, false))) {
             pthread_mutex_lock(&p->mu);
             while (atomic_load(&p->gen) == seen && !atomic_load(&p->quit))
                 pthread_cond_wait(&p->go, &p->mu);
             pthread_mutex_unlock(&p->mu);
         }
-        seen = atomic_load_explicit(&p->gen, memory_order_acquire);
+        atomic_thread_fence(memory_order_acquire);
         if (atomic_load(&p->quit))
             return NULL;
-        p->fn(p->ctx, arg->id);
-        if (atomic_fetch_sub_explicit(&p->pending, 1, memory_order_acq_rel) == 1) {
+        /* the tasks in the order given, one after the other */
+        const unsigned k = seen++ % 2;
+        p->slot[k].fn(p->slot[k].ctx, arg->id);
+        if (atomic_fetch_sub_explicit(&p->slot[k].pending, 1, memory_order_acq_rel) == 1) {
             pthread_mutex_lock(&p->mu);
             pthread_cond_signal(&p->done);
             pthread_mutex_unlock(&p->mu);
@@ -212,7 +220,8 @@ static vp_pool *pool_start(unsigned workers, bool spin, bool *nomem)
         return NULL;
     }
     atomic_init(&p->gen, 0);
-    atomic_init(&p->pending, 0);
+    atomic_init(&p->slot[0].pending, 0);
+    atomic_init(&p->slot[1].pending, 0);
     atomic_init(&p->quit, false);
     p->spin = spin;
     sigset_t all, old;
@@ -233,43 +242,46 @@ static vp_pool *pool_start(unsigned workers, bool spin, bool *nomem)
     return p;
 }
 
-/* fn(ctx, i) on worker i, 1 .. n, without waiting for them (pool_join
- * does); every worker must be done with the last task. */
-static void pool_post(vp_pool *p, vp_task_fn fn, void *ctx)
+/* Back when every worker is done with task `task` (pool_post's number). */
+static void pool_wait(vp_pool *p, unsigned task)
 {
     if (!p)
         return;
-    /* every worker is done with the last task (pending was 0), so none
-     * reads fn and ctx while they change */
-    p->fn = fn;
-    p->ctx = ctx;
-    atomic_store_explicit(&p->pending, p->n, memory_order_relaxed);
+    atomic_uint *pending = &p->slot[task % 2].pending;
+    if (p->spin)
+        spin_until(pending, 0, true);
+    pthread_mutex_lock(&p->mu);
+    while (atomic_load_explicit(pending, memory_order_acquire))
+        pthread_cond_wait(&p->done, &p->mu);
+    pthread_mutex_unlock(&p->mu);
+}
+
+/* fn(ctx, i) on worker i, 1 .. n, after the tasks given before it, without
+ * waiting for them (pool_wait does); the task's number.  The task two
+ * before it must be done (it is waited for here if not: its slot). */
+static unsigned pool_post(vp_pool *p, vp_task_fn fn, void *ctx)
+{
+    if (!p)
+        return 0;
+    const unsigned g = atomic_load_explicit(&p->gen, memory_order_relaxed), k = g % 2;
+    pool_wait(p, g - 2);
+    /* no worker reads the slot: every one is done with the task in it */
+    p->slot[k].fn = fn;
+    p->slot[k].ctx = ctx;
+    atomic_store_explicit(&p->slot[k].pending, p->n, memory_order_relaxed);
     pthread_mutex_lock(&p->mu);
     atomic_fetch_add_explicit(&p->gen, 1, memory_order_release);
     pthread_cond_broadcast(&p->go);
     pthread_mutex_unlock(&p->mu);
-}
-
-/* fn(ctx, 0) here, then back when every worker is done with the task
- * pool_post gave them (fn and ctx the same). */
-static void pool_join(vp_pool *p, vp_task_fn fn, void *ctx)
-{
-    fn(ctx, 0);
-    if (!p)
-        return;
-    if (p->spin)
-        spin_until(&p->pending, 0, true);
-    pthread_mutex_lock(&p->mu);
-    while (atomic_load_explicit(&p->pending, memory_order_acquire))
-        pthread_cond_wait(&p->done, &p->mu);
-    pthread_mutex_unlock(&p->mu);
+    return g;
 }
 
 /* fn(ctx, 0) here and fn(ctx, i) on worker i, 1 .. n; back when all are. */
 static void pool_run(vp_pool *p, vp_task_fn fn, void *ctx)
 {
-    pool_post(p, fn, ctx);
-    pool_join(p, fn, ctx);
+    const unsigned task = pool_post(p, fn, ctx);
+    fn(ctx, 0);
+    pool_wait(p, task);
 }
 
 /* The workers of the VP's pool and the caller. */
@@ -279,49 +291,69 @@ static unsigned pool_threads(const vp_pool *p) { return p ? p->n + 1 : 1; }
  *
  * Thread i of n takes the items of its share, [items * i / n, items * (i + 1)
  * / n), from the front, then helps the others with theirs, in turn from
- * i + 1.  Each item is taken once.  A thread keeps the same part of the
- * screen from batch to batch and frame to frame — the tiles it drew are in
- * its cache when it draws them again, and their rows when it resolves them —
- * where items taken from one counter fell to either thread at random, and
- * every sample of the store moved between the cores' caches (1024², two
- * threads: a 44-face frame 1.58x of one thread, 1.81x with shares;
- * docs/performance.md).  Each counter has a cache line of its own. */
+ * i + 1, from the back of theirs.  Each item is taken once.  A thread keeps
+ * the same part of the screen from batch to batch and frame to frame — the
+ * tiles it drew are in its cache when it draws them again, and their rows
+ * when it resolves them — where items taken from one counter fell to either
+ * thread at random, and every sample of the store moved between the cores'
+ * caches (1024², two threads: a 44-face frame 1.58x of one thread, 1.81x
+ * with shares; docs/performance.md).  A share's front and back are one
+ * word, with a cache line of its own.  The items of a share may be taken in
+ * any order the caller sets (the tiles: the costliest first, so that what
+ * is left to help with at the end is the cheapest). */
 
 typedef struct {
     struct {
-        atomic_uint next;
-        char pad[64 - sizeof(atomic_uint)];
+        _Atomic uint64_t fb;  /* the next item from the front | one past the last << 32 */
+        char pad[64 - sizeof(uint64_t)];
     } at[ALB_VP_MAX_THREADS];
-    unsigned end[ALB_VP_MAX_THREADS];
     unsigned n;
 } vp_shares;
 
 static void shares_init(vp_shares *s, unsigned items, unsigned n)
 {
     s->n = n;
-    for (unsigned i = 0; i < n; i++) {
-        atomic_init(&s->at[i].next, (unsigned)((uint64_t)items * i / n));
-        s->end[i] = (unsigned)((uint64_t)items * (i + 1) / n);
+    for (unsigned i = 0; i < n; i++)
+        atomic_init(&s->at[i].fb, (uint64_t)((uint64_t)items * i / n) |
+                                      (uint64_t)((uint64_t)items * (i + 1) / n) << 32);
+}
+
+/* Share o's first item (own) or last (!own) into *item; false if none is
+ * left. */
+static bool share_take(vp_shares *s, unsigned o, bool own, unsigned *item)
+{
+    uint64_t fb = atomic_load_explicit(&s->at[o].fb, memory_order_relaxed);
+    for (;;) {
+        const uint32_t f = (uint32_t)fb, b = (uint32_t)(fb >> 32);
+        if (f >= b)
+            return false;   /* done: no write to its line */
+        const uint64_t to = own ? fb + 1 : (uint64_t)f | (uint64_t)(b - 1) << 32;
+        if (atomic_compare_exchange_weak_explicit(&s->at[o].fb, &fb, to, memory_order_relaxed,
+                                                  memory_order_relaxed)) {
+            *item = own ? f : b - 1;
+            return true;
+        }
     }
 }
 
 /* The next item for thread i into *item; false when every share is done. */
 static bool shares_take(vp_shares *s, unsigned i, unsigned *item)
 {
-    for (unsigned k = 0; k < s->n; k++) {
-        const unsigned o = (i + k) % s->n;
-        if (atomic_load_explicit(&s->at[o].next, memory_order_relaxed) >= s->end[o])
-            continue;   /* done: no write to its line */
-        const unsigned t = atomic_fetch_add_explicit(&s->at[o].next, 1, memory_order_relaxed);
-        if (t < s->end[o]) {
-            *item = t;
+    for (unsigned k = 0; k < s->n; k++)
+        if (share_take(s, (i + k) % s->n, k == 0, item))
             return true;
-        }
-    }
     return false;
 }
 
-/* ---- faces drawn on the threads ---- */
+/* ---- faces drawn on the threads ----
+ *
+ * A batch is walked above the tiles in chunks, runs of its faces in stream
+ * order that the threads take as they finish, each chunk onto lists of its
+ * own, a list a tile; then drawn, each tile's chunks' lists in turn: stream
+ * order.  A full batch is drawn by the workers while the caller loads the
+ * next; when the next is full, the caller joins the draw, and the walk of
+ * the next is given as the task after it: a thread done with its tiles
+ * walks chunks of the next batch instead of waiting for the others. */
 
 /* A tile's part of a face: fill it at the level of the cell that held it,
  * or walk below it (the cell, with its active edges). */
@@ -338,15 +370,20 @@ typedef struct {
 
 typedef struct batch_job batch_job;
 
-/* One thread's part: the VP's state with statistics of its own, and its
- * faces' jobs, a list a tile. */
+/* One thread's part: the VP's state with statistics of its own, and the
+ * chunk it walks.  Apart from the next thread's by a cache line. */
 typedef struct {
     batch_job *j;
     alb_vp local;
     uint32_t face;            /* the face being put on the lists */
+    unsigned chunk;           /* the chunk it is in */
     bool nomem;
-    job_list jobs[VP_MAX_TILES];
+    char apart[64];
 } worker;
+
+/* Chunks of a batch: at most this many a thread, and at most VP_CHUNKS. */
+#define VP_CHUNKS_PER_THREAD 8
+#define VP_CHUNKS 128
 
 struct batch_job {
     alb_vp *vp;
@@ -354,15 +391,22 @@ struct batch_job {
     uint32_t nfaces;
     vp_cell tiles[VP_MAX_TILES];
     unsigned ntiles, per_row, level, nw;
-    unsigned walkers;         /* the threads that walk above the tiles: 1 or nw */
     uint8_t wl, hl;           /* the tiles' sides, log2 */
-    vp_shares take;           /* the tiles, a run of them a thread */
+    unsigned nchunks;         /* this batch's */
+    unsigned most_chunks;     /* of any batch: lists for so many */
+    atomic_uint next_chunk;   /* the next chunk to walk */
+    job_list *lists;          /* chunk c's list for tile t: lists[c * VP_MAX_TILES + t] */
+    vp_shares take;           /* the tiles' places in `order`, a run of them a thread */
+    uint16_t order[VP_MAX_TILES];   /* the tiles of each share, the costliest first */
+    _Atomic uint32_t *cost;   /* each tile's work when it was last drawn (tile_cost) */
+    _Atomic uint32_t own_cost[VP_MAX_TILES];   /* the VP's first batch_job's: both point to it */
+    unsigned task;            /* its draw's task (pool_post) */
     worker *wk;               /* nw of them */
 };
 
 static void job_add(worker *w, unsigned t, bool fill, const vp_cell *k)
 {
-    job_list *l = &w->jobs[t];
+    job_list *l = &w->j->lists[(size_t)w->chunk * VP_MAX_TILES + t];
     if (l->n == l->cap) {
         size_t cap = l->cap ? 2 * l->cap : 64;
         tile_job *a = realloc(l->a, cap * sizeof *a);
@@ -397,56 +441,97 @@ static void put_on_tiles(void *ctx, const vp_cell *k, bool fill)
         }
 }
 
-/* Batches shorter than this are walked above the tiles on the caller's
- * thread alone. */
+/* Batches shorter than this are one chunk, walked above the tiles on the
+ * caller's thread alone when nothing else is in flight. */
 #define VP_WALK_ALONE 64
 
-/* The first task: thread i walks its share of the batch, a run of faces in
- * stream order, down to the tiles, onto its own lists. */
+/* The lines of face f that a walk reads first (its set-up and first edges)
+ * fetched ahead: the faces were loaded on the caller's core, and a walk
+ * waits on them (10 000 faces, two threads: 2% of the frame). */
+static inline void face_prefetch(const vp_loaded_face *f)
+{
+    const char *p = (const char *)f;
+    for (size_t b = 0; b < offsetof(vp_loaded_face, e) + 4 * sizeof f->e[0]; b += 64)
+        __builtin_prefetch(p + b);
+}
+
+/* A tile's work, from the statistics before and after its draw: cells
+ * classified, samples covered, jobs begun; in rough units of a covered
+ * sample, saturated.  It orders the tiles of the next batch. */
+static uint32_t tile_cost(const alb_vp_stats *before, const alb_vp_stats *after, size_t jobs)
+{
+    const uint64_t cells = (after->cells_inside + after->cells_outside + after->cells_split) -
+                           (before->cells_inside + before->cells_outside + before->cells_split);
+    const uint64_t w = 32 * cells + (after->samples_covered - before->samples_covered) + 256 * (uint64_t)jobs;
+    return w < UINT32_MAX ? (uint32_t)w : UINT32_MAX;
+}
+
+/* The walk's task: thread i takes chunks until none is left, and walks each
+ * chunk's faces down to the tiles, onto the chunk's lists. */
 static void walk_task(void *ctx, unsigned i)
 {
     batch_job *j = ctx;
     worker *w = &j->wk[i];
-    alb_vp *vp = j->vp;
-    w->local = *vp;
-    memset(&w->local.st, 0, sizeof w->local.st);
-    w->nomem = false;
-    for (unsigned t = 0; t < j->ntiles; t++)
-        w->jobs[t].n = 0;
-    const uint32_t f0 = i < j->walkers ? (uint32_t)((uint64_t)j->nfaces * i / j->walkers) : 0,
-                   f1 = i < j->walkers ? (uint32_t)((uint64_t)j->nfaces * (i + 1) / j->walkers) : 0;
-    for (w->face = f0; w->face < f1 && !w->nomem; w->face++)
-        vp_walk_to_tiles(&w->local, &j->faces[w->face], j->level, put_on_tiles, w);
+    for (;;) {
+        const unsigned c = atomic_fetch_add_explicit(&j->next_chunk, 1, memory_order_relaxed);
+        if (c >= j->nchunks || w->nomem)
+            return;
+        job_list *l = &j->lists[(size_t)c * VP_MAX_TILES];
+        for (unsigned t = 0; t < j->ntiles; t++)
+            l[t].n = 0;
+        w->chunk = c;
+        const uint32_t f0 = (uint32_t)((uint64_t)j->nfaces * c / j->nchunks),
+                       f1 = (uint32_t)((uint64_t)j->nfaces * (c + 1) / j->nchunks);
+        for (w->face = f0; w->face < f1 && !w->nomem; w->face++) {
+            if (w->face + 2 < f1)
+                face_prefetch(&j->faces[w->face + 2]);
+            vp_walk_to_tiles(&w->local, &j->faces[w->face], j->level, put_on_tiles, w);
+        }
+    }
 }
 
-/* The second: each thread takes the tiles of its share, then helps the
- * others (vp_shares), and walks each tile's jobs — thread 0's lists, then
- * thread 1's, ...: stream order. */
+/* The draw's: each thread takes the tiles of its share, then helps the
+ * others (vp_shares), and walks each tile's jobs — chunk 0's list, then
+ * chunk 1's, ...: stream order. */
 static void draw_task(void *ctx, unsigned i)
 {
     batch_job *j = ctx;
     alb_vp *local = &j->wk[i].local;
-    unsigned t;
-    while (shares_take(&j->take, i, &t))
-        for (unsigned k = 0; k < j->nw; k++) {
-            const job_list *l = &j->wk[k].jobs[t];
+    unsigned at;
+    while (shares_take(&j->take, i, &at)) {
+        const unsigned t = j->order[at];
+        const alb_vp_stats before = local->st;
+        size_t jobs = 0;
+        for (unsigned c = 0; c < j->nchunks; c++) {
+            const job_list *l = &j->lists[(size_t)c * VP_MAX_TILES + t];
+            jobs += l->n;
             for (size_t q = 0; q < l->n; q++) {
-                const vp_loaded_face *f = &j->faces[l->a[q].face];
-                if (l->a[q].fill)
-                    vp_fill(local, &f->fs, &l->a[q].cell);
+                const tile_job *b = &l->a[q];
+                if (q + 2 < l->n)
+                    face_prefetch(&j->faces[l->a[q + 2].face]);
+                const vp_loaded_face *f = &j->faces[b->face];
+                if (b->fill)
+                    vp_fill(local, &f->fs, &b->cell);
                 else
-                    vp_draw_below(local, f, &l->a[q].cell);
+                    vp_draw_below(local, f, &b->cell);
             }
         }
+        atomic_store_explicit(&j->cost[t], tile_cost(&before, &local->st, jobs), memory_order_relaxed);
+    }
 }
 
-/* The tiles: the cells of the first level with at least 16 per thread (for
- * balance: a thread done with its share takes from the others'), at most VP_MAX_TILES, and no
- * smaller than the sample store's tiles (store.c), so that each store tile
- * is cleared by the one thread whose tile holds it. */
+/* The tiles: the cells of the first level with at least VP_TILES_PER_THREAD
+ * per thread (for balance: a thread done with its share takes from the
+ * others'), at most VP_MAX_TILES, and no smaller than the sample store's
+ * tiles (store.c), so that each store tile is cleared by the one thread
+ * whose tile holds it.  Fewer, larger tiles: fewer levels walked above them
+ * and fewer jobs, and a large face's rows filled in longer runs; more: a
+ * finer balance.  With the next batch's walk after a draw, a thread done
+ * early has work, and eight are the better (docs/performance.md). */
+#define VP_TILES_PER_THREAD 8
 static void make_tiles(const alb_vp *vp, batch_job *j)
 {
-    unsigned want = 16 * j->nw, l = 0, wl = vp->lw, hl = vp->lh;
+    unsigned want = VP_TILES_PER_THREAD * j->nw, l = 0, wl = vp->lw, hl = vp->lh;
     while (l < vp->tile_level && (1u << ((vp->lw - wl) + (vp->lh - hl))) < want &&
            (4u << ((vp->lw - wl) + (vp->lh - hl))) <= VP_MAX_TILES) {
         l++;
@@ -462,49 +547,111 @@ static void make_tiles(const alb_vp *vp, batch_job *j)
             j->tiles[j->ntiles++] = (vp_cell){c, r, (uint8_t)wl, (uint8_t)hl, (uint8_t)l, 0, 0};
 }
 
-/* The batch in flight drawn to its end, the caller taking tiles too, and
- * its counts into the VP's. */
-static void finish_inflight(alb_vp *vp)
+/* Each share's tiles in the order of their cost when last drawn, the
+ * costliest first (insertion sort: a share is a few tiles); the tiles are
+ * the same from batch to batch, the costs from the last batch or frame. */
+static void order_shares(batch_job *j)
 {
-    batch_job *j = vp->inflight;
-    if (!j)
-        return;
-    pool_join(vp->pool, draw_task, j);
-    for (unsigned i = 0; i < j->nw; i++)
-        vp_stats_add(&vp->st, &j->wk[i].local.st);
-    vp->inflight = NULL;
+    for (unsigned i = 0; i < j->nw; i++) {
+        const unsigned a = (unsigned)((uint64_t)j->ntiles * i / j->nw),
+                       b = (unsigned)((uint64_t)j->ntiles * (i + 1) / j->nw);
+        for (unsigned p = a; p < b; p++) {
+            const uint16_t t = (uint16_t)p;
+            const uint32_t c = atomic_load_explicit(&j->cost[t], memory_order_relaxed);
+            unsigned q = p;
+            for (; q > a && atomic_load_explicit(&j->cost[j->order[q - 1]], memory_order_relaxed) < c; q--)
+                j->order[q] = j->order[q - 1];
+            j->order[q] = t;
+        }
+    }
 }
 
-/* The walks of the batch's faces above the tiles onto j's lists; false if
- * out of memory for them. */
-static bool walk_batch(alb_vp *vp, batch_job *j)
+/* The batch being loaded (vp->batch) made ready to walk as j: its tiles,
+ * chunks, and each thread's state with statistics of its own. */
+static void batch_ready(alb_vp *vp, batch_job *j)
 {
     j->faces = vp->batch;
     j->nfaces = vp->nbatch;
     make_tiles(vp, j);
     shares_init(&j->take, j->ntiles, j->nw);
-    /* a short batch (a frame's last, or a frame of few faces) is walked
-     * above the tiles here: less work than a hand-over to the threads */
-    j->walkers = vp->nbatch < VP_WALK_ALONE ? 1 : j->nw;
-    if (j->walkers == 1)
-        for (unsigned i = 0; i < j->nw; i++)
-            walk_task(j, i);
-    else
-        pool_run(vp->pool, walk_task, j);
+    order_shares(j);
+    const unsigned most = j->most_chunks;
+    j->nchunks = j->nfaces < VP_WALK_ALONE ? 1 : j->nfaces < most ? j->nfaces : most;
+    atomic_init(&j->next_chunk, 0);
+    for (unsigned i = 0; i < j->nw; i++) {
+        worker *w = &j->wk[i];
+        w->local = *vp;
+        memset(&w->local.st, 0, sizeof w->local.st);
+        w->nomem = false;
+    }
+}
+
+/* Whether j's walk found memory for its lists. */
+static bool batch_walked(const batch_job *j)
+{
     bool ok = true;
     for (unsigned i = 0; i < j->nw; i++)
         ok &= !j->wk[i].nomem;
     return ok;
 }
 
-/* The batch drawn here and now: on the threads, or with no memory for the
- * lists on this one, the whole screen, as if no thread had been tried (the
- * walks above the tiles were counted only in the workers' statistics). */
-static void draw_batch_now(alb_vp *vp, batch_job *j)
+/* The batch in flight drawn to its end, the caller taking tiles too, and
+ * its counts into the VP's. */
+static void inflight_done(alb_vp *vp)
 {
-    if (walk_batch(vp, j)) {
-        pool_post(vp->pool, draw_task, j);
-        vp->inflight = j;
+    batch_job *j = vp->inflight;
+    for (unsigned i = 0; i < j->nw; i++)
+        vp_stats_add(&vp->st, &j->wk[i].local.st);
+    vp->inflight = NULL;
+}
+
+static void finish_inflight(alb_vp *vp)
+{
+    if (!vp->inflight)
+        return;
+    draw_task(vp->inflight, 0);
+    pool_wait(vp->pool, vp->inflight->task);
+    inflight_done(vp);
+}
+
+/* The loaded batch walked above the tiles as j, and the batch in flight
+ * drawn to its end: with one in flight, the walk is the task after its
+ * draw; a short batch with none is walked here (less work than a hand-over
+ * to the threads).  False if out of memory for the lists. */
+static bool walk_batch(alb_vp *vp, batch_job *j)
+{
+    batch_ready(vp, j);
+    if (vp->inflight) {
+        const unsigned walk = pool_post(vp->pool, walk_task, j);
+        draw_task(vp->inflight, 0);
+        walk_task(j, 0);
+        pool_wait(vp->pool, vp->inflight->task);
+        pool_wait(vp->pool, walk);
+        inflight_done(vp);
+    } else if (j->nchunks == 1) {
+        walk_task(j, 0);
+    } else {
+        pool_run(vp->pool, walk_task, j);
+    }
+    return batch_walked(j);
+}
+
+/* j's draw given to the workers; the caller joins it in finish_inflight
+ * (or walk_batch). */
+static void draw_post(alb_vp *vp, batch_job *j)
+{
+    j->task = pool_post(vp->pool, draw_task, j);
+    vp->inflight = j;
+}
+
+/* The loaded batch drawn here and now: on the threads, or with no memory
+ * for the lists on this one, the whole screen, as if no thread had been
+ * tried (the walks above the tiles were counted only in the workers'
+ * statistics). */
+static void draw_batch_now(alb_vp *vp, batch_job *j, bool walked)
+{
+    if (walked) {
+        draw_post(vp, j);
         finish_inflight(vp);
     } else {
         for (unsigned i = 0; i < vp->nbatch; i++)
@@ -518,35 +665,45 @@ static unsigned batch_index(const alb_vp *vp) { return vp->batch == vp->batches[
 
 void vp_flush_batch(alb_vp *vp)
 {
-    finish_inflight(vp);
-    if (vp->nbatch)
-        draw_batch_now(vp, vp->par[batch_index(vp)]);
+    if (!vp->nbatch) {
+        finish_inflight(vp);
+        return;
+    }
+    batch_job *j = vp->par[batch_index(vp)];
+    draw_batch_now(vp, j, walk_batch(vp, j));
 }
 
 void vp_batch_full(alb_vp *vp)
 {
-    finish_inflight(vp);
     const unsigned cur = batch_index(vp);
     batch_job *j = vp->par[cur];
-    /* the workers read the face list (a tie names the face that kept it)
-     * while the next batch's faces are added: room for them first */
-    if (!vp_store_reserve_faces(vp, VP_BATCH) && walk_batch(vp, j)) {
-        pool_post(vp->pool, draw_task, j);
-        vp->inflight = j;
+    const bool walked = walk_batch(vp, j);
+    /* nothing in flight now; the workers read the face list (a tie names
+     * the face that kept it) while the next batch's faces are added: room
+     * for them first, and the threads' state the VP's as it is now (the
+     * list may have moved), the walk's statistics kept */
+    if (walked && !vp_store_reserve_faces(vp, VP_BATCH)) {
+        for (unsigned i = 0; i < j->nw; i++) {
+            const alb_vp_stats st = j->wk[i].local.st;
+            j->wk[i].local = *vp;
+            j->wk[i].local.st = st;
+        }
+        draw_post(vp, j);
         vp->batch = vp->batches[cur ^ 1];
         vp->nbatch = 0;
         return;
     }
-    draw_batch_now(vp, j);
+    draw_batch_now(vp, j, walked);
 }
 
 static void batch_job_free(batch_job *j)
 {
     if (!j)
         return;
-    for (unsigned i = 0; i < j->nw; i++)
-        for (unsigned t = 0; t < VP_MAX_TILES; t++)
-            free(j->wk[i].jobs[t].a);
+    if (j->lists)
+        for (size_t k = 0; k < (size_t)j->most_chunks * VP_MAX_TILES; k++)
+            free(j->lists[k].a);
+    free(j->lists);
     free(j->wk);
     free(j);
 }
@@ -556,12 +713,17 @@ static batch_job *batch_job_new(alb_vp *vp, unsigned nw)
     batch_job *j = calloc(1, sizeof *j);
     if (!j)
         return NULL;
-    if (!(j->wk = calloc(nw, sizeof *j->wk))) {
+    const unsigned chunks = nw * VP_CHUNKS_PER_THREAD < VP_CHUNKS ? nw * VP_CHUNKS_PER_THREAD : VP_CHUNKS;
+    if (!(j->wk = calloc(nw, sizeof *j->wk)) ||
+        !(j->lists = calloc((size_t)chunks * VP_MAX_TILES, sizeof *j->lists))) {
+        free(j->wk);
         free(j);
         return NULL;
     }
     j->vp = vp;
     j->nw = nw;
+    j->most_chunks = chunks;
+    j->cost = j->own_cost;
     for (unsigned i = 0; i < nw; i++)
         j->wk[i].j = j;
     return j;
@@ -642,6 +804,7 @@ int alb_vp_set_threads(alb_vp *vp, unsigned n)
             vp_threads_free(vp);
             return -1;
         }
+    vp->par[1]->cost = vp->par[0]->own_cost;   /* one table of the tiles' costs */
     vp->batch = vp->batches[0];
     return 0;
 }
