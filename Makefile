@@ -90,7 +90,7 @@ COST     := $(BUILD)/tools/cost
 BENCH    := $(BUILD)/tools/bench
 BENCH_MODEL := $(BUILD)/tools/bench-model
 
-.PHONY: all test unit vectors bless asan memcheck bench demo setup deps clean help crosscheck sweep \
+.PHONY: all test unit vectors bless asan tsan memcheck bench demo setup deps clean help crosscheck sweep \
         usb-bench
 # libFuzzer harnesses and their replay over the seeds and regressions
 include fuzz/fuzz.mk
@@ -109,6 +109,7 @@ help:
 	@echo "make vectors    check the golden vectors only"
 	@echo "make bless      regenerate the golden vectors' expected outputs"
 	@echo "make asan       build and test under AddressSanitizer + UBSan"
+	@echo "make tsan       the unit tests under ThreadSanitizer (the worker threads)"
 	@echo "make memcheck   the tests under valgrind memcheck (slow)"
 	@echo "make bench      print speed and work figures (docs/performance.md)"
 	@echo "make usb-bench  USB bulk throughput through libusb on the emulated bus"
@@ -260,6 +261,14 @@ asan:
 	$(MAKE) BUILD=build-asan OPT=-O1 \
 	  EXTRA_CFLAGS="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer" \
 	  EXTRA_LDLIBS="-fsanitize=address,undefined,float-cast-overflow" test
+
+# the unit tests under ThreadSanitizer: the worker threads' tasks, shares
+# and batches (vp/parallel.c; tests/test_threads.c, and every thread count
+# against one in tests/test_timing.c); any report fails the run
+tsan:
+	$(MAKE) BUILD=build-tsan OPT=-O1 EXTRA_CFLAGS="-fsanitize=thread -fno-omit-frame-pointer" \
+	  EXTRA_LDLIBS="-fsanitize=thread" build-tsan/tests/unit
+	TSAN_OPTIONS="halt_on_error=1 exitcode=66" build-tsan/tests/unit
 
 # bit-exact across compilers, optimisation and C libraries: every golden
 # vector (streams, frames, counters) from gcc -O0 and clang -O3 builds, and

@@ -98,12 +98,28 @@ EOF
             [[ $got == "$want" ]] || echo "profiles.md: $p's $key is $got, the table says $want"
         done
     done < <(grep -E '^\| `[a-z_]+`( × `height`)? \|' "$d/profiles.md")
+    # docs/vp.md §9: the threads' tiles, batches and chunks, as vp/ defines them
+    local tpt mt vb cpt nc wa
+    tpt=$(def VP_TILES_PER_THREAD) mt=$(def VP_MAX_TILES) vb=$(def VP_BATCH)
+    cpt=$(def VP_CHUNKS_PER_THREAD) nc=$(def VP_CHUNKS) wa=$(def VP_WALK_ALONE)
+    [[ -n $tpt && -n $mt && -n $vb && -n $cpt && -n $nc && -n $wa ]] ||
+        echo "vp/: a constant of the threads is not found"
+    local nine
+    nine=$(sed -n '/^## 9\. /,/^## 10\. /p' "$d/vp.md" | tr '\n' ' ' | tr -s ' ')
+    for want in "with at least $tpt per thread, at most $mt," "into batches of $vb." \
+                "$cpt a thread (at most $nc, and one for a batch of fewer than $wa faces,"; do
+        [[ $nine == *"$want"* ]] || echo "vp.md §9 does not say \"$want\""
+    done
     # docs/word-format.md: every § it cites is one of its sections
     local s
     for s in $(grep -o '(§[0-9]*' "$d/word-format.md" | tr -d '(§' | sort -u); do
         grep -q "^## $s\. " "$d/word-format.md" || echo "word-format.md cites §$s, which it does not have"
     done
 }
+
+# a constant #defined in vp/ (its first definition)
+src=$(cd "$(dirname "$0")/.." && pwd)
+def() { grep -h "^#define $1 " "$src"/vp/*.c "$src"/vp/*.h | head -1 | awk '{print $3}'; }
 
 # a face of 33 vertices for the vertices-per-face limit
 { echo "albatros-scene 1"; echo "object t"
@@ -143,5 +159,6 @@ plant vp.md 's/22 for t32/27 for t32/' "vp.md: t32's registers are 22 bits"
 plant limits.md 's/or 32 (`bisector`/or 4 (`bisector`/' "bound=bisector on a 32-gon gives 64 edges, the table says 32 + 4"
 plant limits.md 's/| 1\.\.64 (default: one per core/| 1..128 (default: one per core/' "the threads row does not say  1..64 "
 plant profiles.md '/^| `edge_frac_bits`/s/| 13 |/| 12 |/' "profiles.md: a256's edge_frac_bits is 13, the table says 12"
+plant vp.md 's/with at least 8 per thread/with at least 16 per thread/' "vp.md §9 does not say \"with at least 8 per thread, at most 1024,\""
 plant word-format.md 's/(§4, "Edges"/(§5/' "word-format.md cites §5, which it does not have"
 finish

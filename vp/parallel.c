@@ -289,33 +289,32 @@ static unsigned pool_threads(const vp_pool *p) { return p ? p->n + 1 : 1; }
 
 /* ---- shares: work cut into items, each thread its own run first ----
  *
- * Thread i of n takes the items of its share, [items * i / n, items * (i + 1)
- * / n), from the front, then helps the others with theirs, in turn from
- * i + 1, from the back of theirs.  Each item is taken once.  A thread keeps
- * the same part of the screen from batch to batch and frame to frame — the
- * tiles it drew are in its cache when it draws them again, and their rows
- * when it resolves them — where items taken from one counter fell to either
- * thread at random, and every sample of the store moved between the cores'
- * caches (1024², two threads: a 44-face frame 1.58x of one thread, 1.81x
- * with shares; docs/performance.md).  A share's front and back are one
- * word, with a cache line of its own.  The items of a share may be taken in
- * any order the caller sets (the tiles: the costliest first, so that what
- * is left to help with at the end is the cheapest). */
+ * Thread i of n takes the items of its share from the front, then helps
+ * the others with theirs, in turn from i + 1, from the back of theirs.  A
+ * thread keeps the same part of the screen from batch to batch and frame to
+ * frame — the tiles it drew are in its cache when it draws them again, and
+ * their rows when it resolves them — where items taken from one counter
+ * fell to either thread at random, and every sample of the store moved
+ * between the cores' caches (1024², two threads: a 44-face frame 1.58x of
+ * one thread, 1.81x with shares; docs/performance.md).  A share's front and
+ * back are one word, so that its owner and a helper never take the same
+ * item.  The tiles are shared by their cost when last drawn, each share
+ * about the same, and taken the costliest first, so that what is left to
+ * help with at the end is the cheapest (vp_share_by_cost). */
 
-typedef struct {
-    struct {
-        _Atomic uint64_t fb;  /* the next item from the front | one past the last << 32 */
-        char pad[64 - sizeof(uint64_t)];
-    } at[ALB_VP_MAX_THREADS];
-    unsigned n;
-} vp_shares;
-
-static void shares_init(vp_shares *s, unsigned items, unsigned n)
+void vp_shares_init_at(vp_shares *s, const unsigned *start, unsigned n)
 {
     s->n = n;
     for (unsigned i = 0; i < n; i++)
-        atomic_init(&s->at[i].fb, (uint64_t)((uint64_t)items * i / n) |
-                                      (uint64_t)((uint64_t)items * (i + 1) / n) << 32);
+        atomic_init(&s->at[i].fb, (uint64_t)start[i] | (uint64_t)start[i + 1] << 32);
+}
+
+void vp_shares_init(vp_shares *s, unsigned items, unsigned n)
+{
+    unsigned start[ALB_VP_MAX_THREADS + 1];
+    for (unsigned i = 0; i <= n; i++)
+        start[i] = (unsigned)((uint64_t)items * i / n);
+    vp_shares_init_at(s, start, n);
 }
 
 /* Share o's first item (own) or last (!own) into *item; false if none is
@@ -336,8 +335,7 @@ static bool share_take(vp_shares *s, unsigned o, bool own, unsigned *item)
     }
 }
 
-/* The next item for thread i into *item; false when every share is done. */
-static bool shares_take(vp_shares *s, unsigned i, unsigned *item)
+bool vp_shares_take(vp_shares *s, unsigned i, unsigned *item)
 {
     for (unsigned k = 0; k < s->n; k++)
         if (share_take(s, (i + k) % s->n, k == 0, item))
@@ -498,7 +496,7 @@ static void draw_task(void *ctx, unsigned i)
     batch_job *j = ctx;
     alb_vp *local = &j->wk[i].local;
     unsigned at;
-    while (shares_take(&j->take, i, &at)) {
+    while (vp_shares_take(&j->take, i, &at)) {
         const unsigned t = j->order[at];
         const alb_vp_stats before = local->st;
         size_t jobs = 0;
@@ -547,23 +545,37 @@ static void make_tiles(const alb_vp *vp, batch_job *j)
             j->tiles[j->ntiles++] = (vp_cell){c, r, (uint8_t)wl, (uint8_t)hl, (uint8_t)l, 0, 0};
 }
 
-/* Each share's tiles in the order of their cost when last drawn, the
- * costliest first (insertion sort: a share is a few tiles); the tiles are
- * the same from batch to batch, the costs from the last batch or frame. */
-static void order_shares(batch_job *j)
+void vp_share_by_cost(const uint64_t *cost, unsigned items, unsigned n, unsigned *start, uint16_t *order)
 {
-    for (unsigned i = 0; i < j->nw; i++) {
-        const unsigned a = (unsigned)((uint64_t)j->ntiles * i / j->nw),
-                       b = (unsigned)((uint64_t)j->ntiles * (i + 1) / j->nw);
-        for (unsigned p = a; p < b; p++) {
-            const uint16_t t = (uint16_t)p;
-            const uint32_t c = atomic_load_explicit(&j->cost[t], memory_order_relaxed);
-            unsigned q = p;
-            for (; q > a && atomic_load_explicit(&j->cost[j->order[q - 1]], memory_order_relaxed) < c; q--)
-                j->order[q] = j->order[q - 1];
-            j->order[q] = t;
-        }
+    uint64_t total = 0, sum = 0;
+    for (unsigned t = 0; t < items; t++)
+        total += cost[t];
+    for (unsigned t = 0, i = 0; i <= n; i++) {
+        const uint64_t want = total * i / n;   /* share i begins where this much is before it */
+        while (t < items && sum < want)
+            sum += cost[t++];
+        start[i] = i == n ? items : t;
     }
+    for (unsigned i = 0; i < n; i++)
+        for (unsigned p = start[i]; p < start[i + 1]; p++) {
+            unsigned q = p;
+            for (; q > start[i] && cost[order[q - 1]] < cost[p]; q--)
+                order[q] = order[q - 1];
+            order[q] = (uint16_t)p;
+        }
+}
+
+/* The tiles shared out by their costs when last drawn (the tiles are the
+ * same from batch to batch, the costs from the last batch or frame; each at
+ * least 1: equal shares before any cost is known). */
+static void share_tiles(batch_job *j)
+{
+    uint64_t cost[VP_MAX_TILES];
+    for (unsigned t = 0; t < j->ntiles; t++)
+        cost[t] = 1 + (uint64_t)atomic_load_explicit(&j->cost[t], memory_order_relaxed);
+    unsigned start[ALB_VP_MAX_THREADS + 1];
+    vp_share_by_cost(cost, j->ntiles, j->nw, start, j->order);
+    vp_shares_init_at(&j->take, start, j->nw);
 }
 
 /* The batch being loaded (vp->batch) made ready to walk as j: its tiles,
@@ -573,8 +585,7 @@ static void batch_ready(alb_vp *vp, batch_job *j)
     j->faces = vp->batch;
     j->nfaces = vp->nbatch;
     make_tiles(vp, j);
-    shares_init(&j->take, j->ntiles, j->nw);
-    order_shares(j);
+    share_tiles(j);
     const unsigned most = j->most_chunks;
     j->nchunks = j->nfaces < VP_WALK_ALONE ? 1 : j->nfaces < most ? j->nfaces : most;
     atomic_init(&j->next_chunk, 0);
@@ -743,7 +754,7 @@ static void row_task(void *arg, unsigned id)
 {
     row_job *j = arg;
     unsigned k;
-    while (shares_take(&j->take, id, &k)) {
+    while (vp_shares_take(&j->take, id, &k)) {
         uint32_t r0 = k * j->chunk;
         j->fn(j->vp, j->ctx, id, r0, r0 + j->chunk < j->rows ? r0 + j->chunk : j->rows);
     }
@@ -759,7 +770,7 @@ void vp_parallel_rows(alb_vp *vp, uint32_t rows, vp_row_fn fn, void *ctx)
     /* four chunks a thread: thread i's run the rows of the tiles it draws
      * (its share of the tiles, cut the same way, row by row) */
     row_job j = {.fn = fn, .vp = vp, .ctx = ctx, .rows = rows, .chunk = (rows + 4 * nt - 1) / (4 * nt)};
-    shares_init(&j.take, (rows + j.chunk - 1) / j.chunk, nt);
+    vp_shares_init(&j.take, (rows + j.chunk - 1) / j.chunk, nt);
     pool_run(vp->pool, row_task, &j);
 }
 

@@ -466,6 +466,27 @@ typedef void (*vp_row_fn)(alb_vp *vp, void *ctx, unsigned worker, uint32_t first
 void vp_parallel_rows(alb_vp *vp, uint32_t rows, vp_row_fn fn, void *ctx);
 /* dst += src, field by field. */
 void vp_stats_add(alb_vp_stats *dst, const alb_vp_stats *src);
+/* Work cut into items, shared out between n threads (parallel.c): thread i
+ * takes the items of its share from the front, then those of the others,
+ * in turn from i + 1, from their backs; each item is taken once. */
+typedef struct {
+    struct {
+        _Atomic uint64_t fb;  /* the next item from the front | one past the last << 32 */
+        char pad[64 - sizeof(uint64_t)];   /* a cache line a share */
+    } at[ALB_VP_MAX_THREADS];
+    unsigned n;
+} vp_shares;
+/* Share i the items [start[i], start[i + 1]), start[n] = the count. */
+void vp_shares_init_at(vp_shares *s, const unsigned *start, unsigned n);
+/* `items` items in n shares as equal as can be. */
+void vp_shares_init(vp_shares *s, unsigned items, unsigned n);
+/* The next item for thread i into *item; false when every share is done. */
+bool vp_shares_take(vp_shares *s, unsigned i, unsigned *item);
+/* Items of cost[] (each at least 1) in n shares, runs in their order of
+ * about the same cost: share i starts at start[i] (start[n] = items); and
+ * order[] the items of each share, the costliest first (ties in their
+ * order), at the share's own places. */
+void vp_share_by_cost(const uint64_t *cost, unsigned items, unsigned n, unsigned *start, uint16_t *order);
 /* A face the engine takes: counted in the frame's statistics and added to
  * its face list, which gives it its tag.  ALB_ERR_NOMEM, or ALB_ERR_STREAM
  * past VP_MAX_FRAME_FACES faces in a frame (d says which). */
