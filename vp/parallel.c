@@ -691,14 +691,16 @@ void vp_batch_full(alb_vp *vp)
     const bool walked = walk_batch(vp, j);
     /* nothing in flight now; the workers read the face list (a tie names
      * the face that kept it) while the next batch's faces are added: room
-     * for them first, and the threads' state the VP's as it is now (the
-     * list may have moved), the walk's statistics kept */
-    if (walked && !vp_store_reserve_faces(vp, VP_BATCH)) {
-        for (unsigned i = 0; i < j->nw; i++) {
-            const alb_vp_stats st = j->wk[i].local.st;
-            j->wk[i].local = *vp;
-            j->wk[i].local.st = st;
-        }
+     * for them first (drawn here and now if there is none), and the
+     * threads' state the VP's as it is now (the list may have moved, even
+     * if the room was not all found), the walk's statistics kept */
+    const bool room = walked && !vp_store_reserve_faces(vp, VP_BATCH);
+    for (unsigned i = 0; walked && i < j->nw; i++) {
+        const alb_vp_stats st = j->wk[i].local.st;
+        j->wk[i].local = *vp;
+        j->wk[i].local.st = st;
+    }
+    if (room) {
         draw_post(vp, j);
         vp->batch = vp->batches[cur ^ 1];
         vp->nbatch = 0;
