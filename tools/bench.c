@@ -350,6 +350,7 @@ static void side_by_side(bench_scene *b, const alb_profile *p)
                 sbs_warm(&m, k);
                 const double x = sbs_time(&m, k, frames_for(w[k], 0.1));
                 t[k] = x < t[k] ? x : t[k];
+                w[k] = t[k];   /* the next rounds' counts from a warm frame's time */
             }
             /* the machine's own, in the same round */
             const double a = adds_time(1, ADDS_STEPS), n = adds_time(cores, ADDS_STEPS);
