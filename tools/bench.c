@@ -279,18 +279,6 @@ typedef struct {
 
 /* ms per frame of measurement k over `frames` frames (0 for llvmpipe's when
  * it is not there). */
-static double sbs_time(const sbs_runs *m, int k, unsigned frames);
-
-/* Frames of measurement k, untimed, for WARM_S seconds (by the clock: a
- * count from a first, cold frame's time would be too few). */
-static void sbs_warm(const sbs_runs *m, int k)
-{
-    const double t0 = now();
-    do
-        sbs_time(m, k, 1);
-    while (now() - t0 < WARM_S);
-}
-
 static double sbs_time(const sbs_runs *m, int k, unsigned frames)
 {
     switch (k) {
@@ -301,6 +289,16 @@ static double sbs_time(const sbs_runs *m, int k, unsigned frames)
     case 4: return m->gn ? peer_time(m->gn, frames) : 0;
     default: return ours_time_into(m->o1, frames, false, true);
     }
+}
+
+/* Frames of measurement k, untimed, for WARM_S seconds (by the clock: a
+ * count from a first, cold frame's time would be too few). */
+static void sbs_warm(const sbs_runs *m, int k)
+{
+    const double t0 = now();
+    do
+        sbs_time(m, k, 1);
+    while (now() - t0 < WARM_S);
 }
 
 /* One line of the table: ours and llvmpipe on one and on every core, timed

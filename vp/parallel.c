@@ -3,18 +3,18 @@
  * The screen is cut into tiles, the cells of one level of the subdivision
  * quadtree, and each tile belongs to one thread at a time.  Faces are loaded
  * in stream order into a batch; then each face's walk is made down to the
- * level of the tiles (vp_walk_to_tiles; a large batch's faces shared out
- * between the threads, a run of them each), and every
- * tile the face reaches — a cell found inside, or a tile that splits — is
- * put on that tile's list, in stream order.  The threads then take the
- * tiles (each the run of its share first: vp_shares), and walk each tile's
- * list: fills, and the walks below the tiles (vp_draw_below).  A sample
- * lies in one tile only, so it sees the same faces in the same order as on
- * one thread: the same depth tests, the same winner, the same colour and
+ * level of the tiles (vp_walk_to_tiles; a large batch's faces in chunks,
+ * runs of them that the threads take as they finish), and every tile the
+ * face reaches — a cell found inside, or a tile that splits — is put on
+ * that tile's list, in stream order.  The threads then take the tiles
+ * (each the run of its share first: vp_shares), and walk each tile's list:
+ * fills, and the walks below the tiles (vp_draw_below).  A sample lies in
+ * one tile only, so it sees the same faces in the same order as on one
+ * thread: the same depth tests, the same winner, the same colour and
  * decision level.  Every cell is counted once — above the tiles by the
- * caller, below by the tile's thread, each into statistics of its own — so
- * the sums are the single-threaded counts too (tests/test_timing.c checks
- * all of it). */
+ * thread that walked its face's chunk, below by the tile's thread, each
+ * into statistics of its own — so the sums are the single-threaded counts
+ * too (tests/test_timing.c checks all of it). */
 #define _GNU_SOURCE   /* sched_getaffinity: the cores this process may run on */
 #include "vp_internal.h"
 
